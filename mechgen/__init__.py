@@ -1,0 +1,58 @@
+"""mechgen: a symbolic code-generation compiler for the kinematics of planar mechanisms.
+
+Describe a mechanism with :class:`Model`; ``mechgen build`` expands Φ, Φ_q, ν and γ
+symbolically and writes a numba-compiled solver module; :func:`load` runs it.
+
+The modelling names (``Model``, ``T``, ``sin``, the output functions) import sympy when
+first used; ``import mechgen`` and the runtime (``load``, ``Mechanism``) do not.
+"""
+from .errors import (BranchJumpWarning, ConvergenceError, MechgenError, ModelError,
+                     RedundancyWarning, SingularError, SolveError)
+
+__version__ = "0.1.0"
+
+_SYMPY_NAMES = ("sin", "cos", "tan", "sqrt", "atan2", "atan", "asin", "acos", "exp", "log",
+                "pi", "E", "Abs", "sign", "sinh", "cosh", "tanh", "Rational", "Piecewise",
+                "Symbol", "Matrix")
+_QUANTITIES = ("location", "distance", "point_to_line_distance", "angle", "rotation",
+               "intersection", "project_on_line", "direction", "magnitude", "unit", "cross",
+               "rotation_matrix", "point_to_local", "polar_to_xy", "xy_to_polar", "velocity",
+               "acceleration", "dt")
+_LAZY = {"Model": "model", "T": "geometry", "Line": "geometry", "Mechanism": "runtime",
+         "Solution": "results", "Sweep": "results", "Equations": "symbolic"}
+
+
+def __getattr__(name):
+    import importlib
+    if name in _SYMPY_NAMES:
+        import sympy
+        value = getattr(sympy, name)
+    elif name in _QUANTITIES:
+        value = getattr(importlib.import_module(".quantities", __name__), name)
+    elif name in _LAZY:
+        value = getattr(importlib.import_module("." + _LAZY[name], __name__), name)
+    else:
+        raise AttributeError(f"module 'mechgen' has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_SYMPY_NAMES) | set(_QUANTITIES) | set(_LAZY))
+
+
+def load(path_or_module, **kwargs):
+    """Load a generated module (a path or an imported module) as a :class:`Mechanism`."""
+    from .runtime import load as _load
+    return _load(path_or_module, **kwargs)
+
+
+def compile(model, **kwargs):  # noqa: A001 - the API name
+    """Build ``model`` into a module and load it, keeping the symbolic side for evaluate()."""
+    from .build import compile_model
+    return compile_model(model, **kwargs)
+
+
+__all__ = ["ModelError", "ConvergenceError", "SingularError", "MechgenError", "SolveError",
+           "BranchJumpWarning", "RedundancyWarning", "load", "compile", "__version__",
+           *_SYMPY_NAMES, *_QUANTITIES, *_LAZY]

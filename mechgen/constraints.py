@@ -1,0 +1,238 @@
+"""Constraints: each a small class that checks its arguments and returns labelled equations.
+
+The forms reproduce the equations Mech prints (seed 001): see API.md §1.
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from .errors import ModelError
+from .geometry import Body, Line, Point, T, as_pair
+
+
+def cross2(a, b):
+    return a[0] * b[1] - a[1] * b[0]
+
+
+def dot2(a, b):
+    return a[0] * b[0] + a[1] * b[1]
+
+
+class Constraint:
+    """Base class: ``kind`` names the call; ``rows()`` gives (expression, label suffix)."""
+
+    kind = "constraint"
+    components: tuple = ("",)
+
+    def __init__(self, model, number: int, name: str | None, args_text: str, where: str | None):
+        self.model = model
+        self.number = number
+        self.name = name
+        self.args_text = args_text
+        self.where = where
+        self.exprs: list = []
+
+    @property
+    def label(self) -> str:
+        base = f"{self.kind}({self.args_text})"
+        return f"{self.name}: {base}" if self.name else base
+
+    def rows(self):
+        """[(expr, row label)] with row labels such as ``"1 revolute(base[2], manivela[1]) x"``."""
+        out = []
+        for expr, comp in zip(self.exprs, self.components):
+            text = f"{self.number} {self.label}"
+            out.append((expr, f"{text} {comp}".rstrip()))
+        return out
+
+    @property
+    def is_driver(self) -> bool:
+        return any(T in sp.sympify(e).free_symbols for e in self.exprs)
+
+    def __repr__(self):
+        return f"<constraint {self.number} {self.label}>"
+
+
+def _point(model, value, kind, pos):
+    if not isinstance(value, Point):
+        raise ModelError(f"{kind}: argument {pos} must be a point such as body[1], got {_show(value)}")
+    _same_model(model, value.body, kind)
+    return value
+
+
+def _line(model, value, kind, pos):
+    if not isinstance(value, Line):
+        raise ModelError(f"{kind}: argument {pos} must be an axis such as body.line(1, 2) "
+                         f"or Line(p1, p2), got {_show(value)}")
+    _same_model(model, value.first.body, kind)
+    if value.second is not None:
+        _same_model(model, value.second.body, kind)
+    return value
+
+
+def _body(model, value, kind, pos):
+    if not isinstance(value, Body):
+        raise ModelError(f"{kind}: argument {pos} must be a body, got {_show(value)}")
+    _same_model(model, value, kind)
+    return value
+
+
+def _same_model(model, body, kind):
+    if body.model is not model:
+        raise ModelError(f"{kind}: body '{body.name}' belongs to model '{body.model.name}', "
+                         f"not to model '{model.name}'")
+
+
+def _show(value):
+    if isinstance(value, (Body, Point, Line)):
+        return f"{type(value).__name__.lower()} {value}"
+    text = repr(value)
+    return text if len(text) < 60 else text[:57] + "..."
+
+
+class Revolute(Constraint):
+    kind = "revolute"
+    components = ("x", "y")
+
+    def build(self, p1, p2):
+        p1 = _point(self.model, p1, self.kind, 1)
+        p2 = _point(self.model, p2, self.kind, 2)
+        d = p1.r - p2.r
+        self.exprs = [d[0], d[1]]
+        return f"{p1}, {p2}"
+
+
+class Translate(Constraint):
+    kind = "translate"
+    components = ("parallel", "offset")
+
+    def build(self, a1, a2):
+        a1 = _line(self.model, a1, self.kind, 1)
+        a2 = _line(self.model, a2, self.kind, 2)
+        u1, u2 = a1.u, a2.u
+        self.exprs = [cross2(u1, u2), cross2(a2.first.r - a1.first.r, u2)]
+        return f"{a1}, {a2}"
+
+
+class PointOnLine(Constraint):
+    kind = "point_on_line"
+
+    def build(self, p, a):
+        p = _point(self.model, p, self.kind, 1)
+        a = _line(self.model, a, self.kind, 2)
+        self.exprs = [cross2(a.first.r - p.r, a.u)]
+        return f"{p}, {a}"
+
+
+class RelativeDistance(Constraint):
+    kind = "relative_distance"
+
+    def build(self, p1, p2, d):
+        p1 = _point(self.model, p1, self.kind, 1)
+        p2 = _point(self.model, p2, self.kind, 2)
+        d = self.model._expr(d, f"{self.kind}: the distance")
+        r = p1.r - p2.r
+        self.exprs = [r[0] ** 2 + r[1] ** 2 - d ** 2]
+        return f"{p1}, {p2}, {d}"
+
+
+class RotationLock(Constraint):
+    kind = "rotation_lock"
+
+    def build(self, b1, b2, angle=None):
+        if angle is None:  # rotation_lock(b, angle)
+            b1 = _body(self.model, b1, self.kind, 1)
+            angle = self.model._expr(b2, f"{self.kind}: the angle")
+            self.exprs = [b1.th - angle]
+            return f"{b1}, {angle}"
+        b1 = _body(self.model, b1, self.kind, 1)
+        b2 = _body(self.model, b2, self.kind, 2)
+        angle = self.model._expr(angle, f"{self.kind}: the angle")
+        self.exprs = [b1.th - b2.th - angle]
+        return f"{b1}, {b2}, {angle}"
+
+
+class _RelativeAxis(Constraint):
+    axis = 0
+
+    def build(self, p1, p2, value=None):
+        if value is None:  # relative_x(p, x)
+            p1 = _point(self.model, p1, self.kind, 1)
+            value = self.model._expr(p2, f"{self.kind}: the value")
+            self.exprs = [p1.r[self.axis] - value]
+            return f"{p1}, {value}"
+        p1 = _point(self.model, p1, self.kind, 1)
+        p2 = _point(self.model, p2, self.kind, 2)
+        value = self.model._expr(value, f"{self.kind}: the offset")
+        self.exprs = [p2.r[self.axis] - p1.r[self.axis] - value]
+        return f"{p1}, {p2}, {value}"
+
+
+class RelativeX(_RelativeAxis):
+    kind = "relative_x"
+    axis = 0
+
+
+class RelativeY(_RelativeAxis):
+    kind = "relative_y"
+    axis = 1
+
+
+class Parallel(Constraint):
+    kind = "parallel"
+
+    def build(self, a1, a2):
+        a1 = _line(self.model, a1, self.kind, 1)
+        a2 = _line(self.model, a2, self.kind, 2)
+        self.exprs = [cross2(a1.u, a2.u)]
+        return f"{a1}, {a2}"
+
+
+class Orthogonal(Constraint):
+    kind = "orthogonal"
+
+    def build(self, a1, a2):
+        a1 = _line(self.model, a1, self.kind, 1)
+        a2 = _line(self.model, a2, self.kind, 2)
+        self.exprs = [dot2(a1.u, a2.u)]
+        return f"{a1}, {a2}"
+
+
+class RelativeAngle(Constraint):
+    """Angle from a1 to a2 held at ``angle``. Between body-fixed axes this is the linear
+    form Th2 + α2 − Th1 − α1 − angle (one solution); otherwise
+    (u1 × u2) cos(angle) − (u1 · u2) sin(angle), i.e. |u1||u2| sin(θ − angle)."""
+
+    kind = "relative_angle"
+
+    def build(self, a1, a2, angle):
+        a1 = _line(self.model, a1, self.kind, 1)
+        a2 = _line(self.model, a2, self.kind, 2)
+        angle = self.model._expr(angle, f"{self.kind}: the angle")
+        f1, f2 = a1.body_fixed_angle(), a2.body_fixed_angle()
+        if f1 is not None and f2 is not None:
+            (b1, al1), (b2, al2) = f1, f2
+            self.exprs = [(b2.th + al2) - (b1.th + al1) - angle]
+        else:
+            u1, u2 = a1.u, a2.u
+            self.exprs = [cross2(u1, u2) * sp.cos(angle) - dot2(u1, u2) * sp.sin(angle)]
+        return f"{a1}, {a2}, {angle}"
+
+
+class Expression(Constraint):
+    kind = "constraint"
+
+    def build(self, expr):
+        if isinstance(expr, (sp.Equality,)):
+            expr = expr.lhs - expr.rhs
+        expr = self.model._expr(expr, "constraint(expr)", allow_coordinates=True)
+        if expr.is_number:
+            raise ModelError(f"constraint({expr}): the expression holds no coordinate")
+        self.exprs = [expr]
+        return f"{expr}"
+
+
+KINDS = {c.kind: c for c in (Revolute, Translate, PointOnLine, RelativeDistance, RotationLock,
+                             RelativeX, RelativeY, Parallel, Orthogonal, RelativeAngle, Expression)}
+
+__all__ = ["Constraint", "KINDS", "cross2", "dot2", "as_pair"]

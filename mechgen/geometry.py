@@ -1,0 +1,172 @@
+"""Bodies, points and axes: the nouns of a model. Pure sympy, no numbers solved here."""
+from __future__ import annotations
+
+import sympy as sp
+
+from .errors import ModelError
+
+T = sp.Symbol("T", real=True)
+
+
+def as_pair(value, what: str):
+    """A 2-vector as a tuple of sympy expressions, or a ModelError naming `what`."""
+    if isinstance(value, sp.MatrixBase):
+        if value.shape not in ((2, 1), (1, 2)):
+            raise ModelError(f"{what} must be a 2-vector, got a matrix of shape {value.shape}")
+        value = list(value)
+    try:
+        x, y = value
+    except (TypeError, ValueError):
+        raise ModelError(f"{what} must be a pair (x, y), got {value!r}") from None
+    try:
+        return sp.sympify(x), sp.sympify(y)
+    except (sp.SympifyError, TypeError):
+        raise ModelError(f"{what} must hold numbers or expressions, got {value!r}") from None
+
+
+class Body:
+    """A rigid body: ground (number 1, fixed) or moving (numbered 2, 3, ...).
+
+    A moving body carries the coordinates ``X<n>, Y<n>, Th<n>``; its points are given in
+    its local frame.
+    """
+
+    def __init__(self, model, name: str, number: int, points, ground: bool):
+        self.model = model
+        self.name = name
+        self.number = number
+        self.is_ground = ground
+        self.points = tuple(as_pair(p, f"point {k} of body '{name}'")
+                            for k, p in enumerate(points, start=1))
+        if ground:
+            self.x = self.y = self.th = sp.Integer(0)
+        else:
+            self.x = sp.Symbol(f"X{number}", real=True)
+            self.y = sp.Symbol(f"Y{number}", real=True)
+            self.th = sp.Symbol(f"Th{number}", real=True)
+
+    def __repr__(self):
+        return f"<body {self.name!r} #{self.number}>"
+
+    def __str__(self):
+        return self.name
+
+    def __getitem__(self, k) -> "Point":
+        if isinstance(k, bool) or not isinstance(k, (int, sp.Integer)):
+            raise ModelError(f"body '{self.name}': a point index must be an integer, got {k!r}")
+        k = int(k)
+        if k == 0:
+            return Point(self, (sp.Integer(0), sp.Integer(0)), f"{self.name}[0]")
+        if not 1 <= k <= len(self.points):
+            raise ModelError(f"body '{self.name}' has {len(self.points)} points; "
+                             f"point {k} does not exist (points count from 1, 0 is the origin)")
+        return Point(self, self.points[k - 1], f"{self.name}[{k}]")
+
+    def at(self, x, y) -> "Point":
+        """A point at local coordinates (x, y)."""
+        local = as_pair((x, y), f"body '{self.name}'.at(...)")
+        return Point(self, local, f"{self.name}.at({local[0]}, {local[1]})")
+
+    def line(self, i, j) -> "Line":
+        """The axis from point i to point j of this body."""
+        return Line(self[i], self[j])
+
+    def vector(self, k) -> "Line":
+        """Mech's Vector[body, k]: the axis from the body origin to its point k."""
+        return Line(self[0], self[k])
+
+    @property
+    def coordinates(self):
+        return () if self.is_ground else (self.x, self.y, self.th)
+
+    def rotation(self):
+        return sp.Matrix([[sp.cos(self.th), -sp.sin(self.th)],
+                          [sp.sin(self.th), sp.cos(self.th)]])
+
+    def to_global(self, local) -> sp.Matrix:
+        sx, sy = local
+        if self.is_ground:
+            return sp.Matrix([sx, sy])
+        c, s = sp.cos(self.th), sp.sin(self.th)
+        return sp.Matrix([self.x + c * sx - s * sy, self.y + s * sx + c * sy])
+
+    def rotate(self, local) -> sp.Matrix:
+        """A local direction expressed globally."""
+        sx, sy = local
+        if self.is_ground:
+            return sp.Matrix([sx, sy])
+        c, s = sp.cos(self.th), sp.sin(self.th)
+        return sp.Matrix([c * sx - s * sy, s * sx + c * sy])
+
+
+class Point:
+    """A point fixed in a body, at local coordinates ``local``."""
+
+    def __init__(self, body: Body, local, label: str):
+        self.body = body
+        self.local = local
+        self.label = label
+
+    def __repr__(self):
+        return self.label
+
+    @property
+    def r(self) -> sp.Matrix:
+        """Global position (2×1 sympy Matrix)."""
+        return self.body.to_global(self.local)
+
+
+class Line:
+    """An axis: ``Line(p1, p2)`` from p1 to p2 (any bodies), or ``Line(p, direction=(dx, dy))``
+    through p with a direction fixed in p's body. Its direction u is not normalised."""
+
+    def __init__(self, p1, p2=None, *, direction=None):
+        if not isinstance(p1, Point):
+            raise ModelError(f"Line: the first argument must be a point such as body[1], got {p1!r}")
+        if (p2 is None) == (direction is None):
+            raise ModelError("Line takes a second point or direction=(dx, dy), exactly one of them")
+        if p2 is not None and not isinstance(p2, Point):
+            raise ModelError(f"Line: the second argument must be a point, got {p2!r}")
+        self.first = p1
+        self.second = p2
+        self.local_direction = None if direction is None else as_pair(direction, "Line direction")
+        if p2 is not None and p2.body.model is not p1.body.model:
+            raise ModelError(f"Line({p1}, {p2}): the points belong to different models")
+
+    @property
+    def model(self):
+        return self.first.body.model
+
+    def __repr__(self):
+        if self.second is not None:
+            b1, b2 = self.first.body, self.second.body
+            if b1 is b2:
+                i, j = self.first.label[len(b1.name):], self.second.label[len(b2.name):]
+                if i.startswith("[") and j.startswith("["):
+                    return f"{b1.name}.line({i[1:-1]}, {j[1:-1]})"
+            return f"Line({self.first}, {self.second})"
+        d = self.local_direction
+        return f"Line({self.first}, direction=({d[0]}, {d[1]}))"
+
+    @property
+    def u(self) -> sp.Matrix:
+        """The direction vector in global coordinates."""
+        if self.second is None:
+            return self.first.body.rotate(self.local_direction)
+        b1, b2 = self.first.body, self.second.body
+        if b1 is b2:  # rotate the local difference: shorter expressions, same value
+            d = (self.second.local[0] - self.first.local[0],
+                 self.second.local[1] - self.first.local[1])
+            return b1.rotate(d)
+        return self.second.r - self.first.r
+
+    def body_fixed_angle(self):
+        """(body, local angle) when the direction is fixed in one body, else None."""
+        if self.second is None:
+            d = self.local_direction
+            return self.first.body, sp.atan2(d[1], d[0])
+        if self.first.body is self.second.body:
+            d = (self.second.local[0] - self.first.local[0],
+                 self.second.local[1] - self.first.local[1])
+            return self.first.body, sp.atan2(d[1], d[0])
+        return None

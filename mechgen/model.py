@@ -1,0 +1,287 @@
+"""The model: bodies, coordinates, parameters, constraints and outputs, in declaration order."""
+from __future__ import annotations
+
+import keyword
+import math
+import numbers
+import re
+
+import sympy as sp
+
+from . import constraints as C
+from .errors import ModelError, _user_frame
+from .geometry import Body, T
+from .quantities import register_coordinates
+
+_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
+# Names the generated module uses for itself; a model name may not take them.
+RESERVED = {"T", "t", "q", "qd", "qdd", "p", "out", "math", "np", "numba", "njit", "I", "E",
+            "pi", "oo", "nan", "S", "N", "sin", "cos", "tan", "sqrt", "atan2", "exp", "log",
+            "status", "n", "i", "j", "k"} | set(keyword.kwlist)
+
+
+class Model:
+    """A planar mechanism. Every ``Model`` defined at module level of a model file is built."""
+
+    def __init__(self, name: str):
+        if not isinstance(name, str) or not _NAME.match(name) or keyword.iskeyword(name):
+            raise ModelError(f"Model name {name!r} must be a Python identifier "
+                             "(it names the generated module)")
+        self.name = name
+        self.doc = ""
+        self.params: dict[str, tuple[sp.Symbol, float]] = {}
+        self.ground_body: Body | None = None
+        self.bodies: dict[str, Body] = {}
+        self.coords: list[sp.Symbol] = []        # q, in declaration order
+        self.guess: dict[sp.Symbol, object] = {}
+        self.constraints: list[C.Constraint] = []
+        self.outputs: dict[str, object] = {}
+        self._names: dict[str, str] = {}          # every user-visible name -> what it is
+        self._equations = None
+        self._where = _where()
+
+    def __repr__(self):
+        return (f"<Model {self.name!r}: {len(self.bodies)} bodies, {len(self.coords)} coordinates, "
+                f"{sum(len(c.exprs) for c in self.constraints)} equations>")
+
+    # -- declarations -------------------------------------------------------------
+    def _claim(self, name: str, what: str):
+        if not isinstance(name, str) or not _NAME.match(name):
+            raise ModelError(f"{what} name {name!r} must be an identifier (letters, digits, _; "
+                             "starting with a letter)")
+        if name in RESERVED:
+            raise ModelError(f"{what} name {name!r} is reserved; choose another")
+        if name in self._names:
+            raise ModelError(f"{what} name {name!r} clashes with the {self._names[name]} "
+                             f"of the same name")
+        self._names[name] = what
+        self._equations = None
+
+    def param(self, name: str, default) -> sp.Symbol:
+        """A parameter: a sympy Symbol with a numeric default, changeable at run time."""
+        self._claim(name, "parameter")
+        value = _number(default, f"parameter '{name}': the default")
+        sym = sp.Symbol(name, real=True)
+        self.params[name] = (sym, value)
+        return sym
+
+    def ground(self, name: str, points=()) -> Body:
+        """The fixed body (number 1); its points are global."""
+        if self.ground_body is not None:
+            raise ModelError(f"model '{self.name}' already has a ground "
+                             f"('{self.ground_body.name}'); one ground per model")
+        self._claim(name, "body")
+        body = Body(self, name, 1, _points(points, name), ground=True)
+        self._check_local(body)
+        self.ground_body = body
+        self.bodies[name] = body
+        return body
+
+    def body(self, name: str, points=(), guess=(0.0, 0.0, 0.0)) -> Body:
+        """A moving body, numbered 2, 3, ... in declaration order, coordinates X<n>, Y<n>, Th<n>."""
+        self._claim(name, "body")
+        number = 2 + sum(1 for b in self.bodies.values() if not b.is_ground)
+        body = Body(self, name, number, _points(points, name), ground=False)
+        for sym in body.coordinates:
+            self._claim(sym.name, f"coordinate of body '{name}'")
+        self._check_local(body)
+        try:
+            gx, gy, gth = guess
+        except (TypeError, ValueError):
+            raise ModelError(f"body '{name}': guess must be (x, y, th), got {guess!r}") from None
+        for sym, value in zip(body.coordinates, (gx, gy, gth)):
+            self.guess[sym] = self._guess_value(value, f"body '{name}': guess of {sym}")
+        self.coords.extend(body.coordinates)
+        register_coordinates(body.coordinates)
+        self.bodies[name] = body
+        return body
+
+    def coordinate(self, name: str, guess=0.0) -> sp.Symbol:
+        """An extra scalar coordinate (a joint angle of a loop-closure model, say)."""
+        self._claim(name, "coordinate")
+        sym = sp.Symbol(name, real=True)
+        self.guess[sym] = self._guess_value(guess, f"coordinate '{name}': guess")
+        self.coords.append(sym)
+        register_coordinates([sym])
+        return sym
+
+    def output(self, name: str, expr):
+        """Declare a quantity to compile into the generated module (``s[name]``)."""
+        self._claim(name, "output")
+        if isinstance(expr, (list, tuple)):
+            expr = sp.Matrix(expr)
+        if isinstance(expr, sp.MatrixBase):
+            raise ModelError(f"output '{name}': give one scalar per output "
+                             f"(e.g. location(p)[0]), not a {expr.shape[0]}-vector")
+        self.outputs[name] = self._expr(expr, f"output '{name}'", allow_coordinates=True,
+                                        allow_derivatives=True)
+        return self.outputs[name]
+
+    def __getitem__(self, name: str) -> Body:
+        if name not in self.bodies:
+            known = ", ".join(self.bodies) or "none yet"
+            raise ModelError(f"model '{self.name}' has no body named {name!r} (declared: {known})")
+        return self.bodies[name]
+
+    # -- constraints --------------------------------------------------------------
+    def _add(self, cls, args, name):
+        if name is not None and (not isinstance(name, str) or not name):
+            raise ModelError(f"{cls.kind}: name= must be a non-empty string, got {name!r}")
+        con = cls(self, len(self.constraints) + 1, name, "", _where())
+        try:
+            con.args_text = con.build(*args)
+        except TypeError as exc:
+            raise ModelError(f"{cls.kind}: wrong arguments ({exc})") from None
+        con.points = _points_of(args)
+        self.constraints.append(con)
+        self._equations = None
+        return con
+
+    def revolute(self, p1, p2, name=None):
+        return self._add(C.Revolute, (p1, p2), name)
+
+    def translate(self, a1, a2, name=None):
+        return self._add(C.Translate, (a1, a2), name)
+
+    def point_on_line(self, p, a, name=None):
+        return self._add(C.PointOnLine, (p, a), name)
+
+    def relative_distance(self, p1, p2, d, name=None):
+        return self._add(C.RelativeDistance, (p1, p2, d), name)
+
+    def rotation_lock(self, b1, b2, angle=None, name=None):
+        return self._add(C.RotationLock, (b1, b2, angle), name)
+
+    def relative_x(self, p1, p2, dx=None, name=None):
+        return self._add(C.RelativeX, (p1, p2, dx), name)
+
+    def relative_y(self, p1, p2, dy=None, name=None):
+        return self._add(C.RelativeY, (p1, p2, dy), name)
+
+    def parallel(self, a1, a2, name=None):
+        return self._add(C.Parallel, (a1, a2), name)
+
+    def orthogonal(self, a1, a2, name=None):
+        return self._add(C.Orthogonal, (a1, a2), name)
+
+    def relative_angle(self, a1, a2, angle, name=None):
+        return self._add(C.RelativeAngle, (a1, a2, angle), name)
+
+    def constraint(self, expr, name=None):
+        return self._add(C.Expression, (expr,), name)
+
+    # -- queries ------------------------------------------------------------------
+    @property
+    def moving_bodies(self):
+        return [b for b in self.bodies.values() if not b.is_ground]
+
+    @property
+    def param_symbols(self):
+        return [sym for sym, _ in self.params.values()]
+
+    @property
+    def param_defaults(self):
+        return {name: value for name, (_, value) in self.params.items()}
+
+    @property
+    def drivers(self):
+        return [c for c in self.constraints if c.is_driver]
+
+    def guess_vector(self):
+        """The initial guess as floats, in coordinate order (parameters at their defaults)."""
+        subs = {sym: value for sym, value in self.params.values()}
+        return [float(sp.sympify(self.guess[c]).subs(subs)) for c in self.coords]
+
+    def equations(self):
+        """The expanded system: q, qd, qdd, phi, phi_q, phi_t, nu, gamma (sympy Matrices)."""
+        from .symbolic import expand
+        if self._equations is None:
+            self._equations = expand(self)
+        return self._equations
+
+    # -- validation helpers ---------------------------------------------------------
+    def _expr(self, value, what, allow_coordinates=False, allow_derivatives=False):
+        try:
+            expr = sp.sympify(value)
+        except (sp.SympifyError, TypeError):
+            raise ModelError(f"{what}: cannot read {value!r} as a number or expression") from None
+        if isinstance(expr, sp.MatrixBase) or not isinstance(expr, sp.Expr):
+            raise ModelError(f"{what}: expected a scalar expression, got {value!r}")
+        allowed = set(self.param_symbols) | {T}
+        if allow_coordinates:
+            allowed |= set(self.coords)
+        if allow_derivatives:
+            from .symbolic import derivative_symbols
+            d1, d2 = derivative_symbols(self.coords)
+            allowed |= set(d1) | set(d2)
+        unknown = sorted((s for s in expr.free_symbols if s not in allowed), key=str)
+        if unknown:
+            names = ", ".join(map(str, unknown))
+            raise ModelError(f"{what}: {names} {'is' if len(unknown) == 1 else 'are'} not a "
+                             f"declared parameter{', coordinate' if allow_coordinates else ''} "
+                             f"or T of model '{self.name}'")
+        if expr.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
+            raise ModelError(f"{what}: {expr} is not finite")
+        return expr
+
+    def _check_local(self, body):
+        allowed = set(self.param_symbols)
+        for k, (x, y) in enumerate(body.points, start=1):
+            for v in (x, y):
+                bad = [s for s in v.free_symbols if s not in allowed]
+                if bad:
+                    raise ModelError(f"point {k} of body '{body.name}': "
+                                     f"{', '.join(sorted(map(str, bad)))} is not a declared "
+                                     "parameter (points may hold parameters only)")
+                if v.has(sp.zoo, sp.oo, sp.nan):
+                    raise ModelError(f"point {k} of body '{body.name}' is not finite")
+
+    def _guess_value(self, value, what):
+        expr = self._expr(value, what)
+        if T in expr.free_symbols:
+            raise ModelError(f"{what} may not depend on T")
+        return expr
+
+
+def _points_of(args):
+    """The points a constraint's arguments name (for drawing and the points routine)."""
+    from .geometry import Line, Point
+    out = []
+    for a in args:
+        if isinstance(a, Point):
+            out.append(a)
+        elif isinstance(a, Line):
+            out.append(a.first)
+            if a.second is not None:
+                out.append(a.second)
+    return out
+
+
+def _points(points, name):
+    if isinstance(points, (str, bytes)) or not hasattr(points, "__iter__"):
+        raise ModelError(f"body '{name}': points must be a list of (x, y) pairs, got {points!r}")
+    return list(points)
+
+
+def _number(value, what) -> float:
+    if isinstance(value, bool):
+        raise ModelError(f"{what} must be a number, got {value!r}")
+    try:
+        if isinstance(value, numbers.Real):
+            x = float(value)
+        else:
+            x = float(sp.sympify(value))
+    except (TypeError, ValueError, sp.SympifyError):
+        raise ModelError(f"{what} must be a number, got {value!r}") from None
+    if not math.isfinite(x):
+        raise ModelError(f"{what} must be finite, got {value!r}")
+    return x
+
+
+def _where():
+    frame = _user_frame()
+    if frame is None or not frame.filename or frame.filename.startswith("<"):
+        return None
+    return f"{frame.filename}:{frame.lineno}"
+
+

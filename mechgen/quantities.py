@@ -1,0 +1,175 @@
+"""Mech's output functions as symbolic quantities (sympy expressions in q, q̇, q̈).
+
+Vectors come back as 2×1 sympy Matrices; scalars as sympy expressions. An "axis" is a
+``Line``; where Mech accepts a vector, a pair (x, y) or a 2-vector Matrix works too.
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from .constraints import cross2, dot2
+from .errors import ModelError
+from .geometry import Body, Line, Point, as_pair
+from .symbolic import total_derivative
+
+# Coordinate symbols of every model built in this process (for dt without a model).
+_COORDINATES: dict[str, sp.Symbol] = {}
+
+
+def register_coordinates(coords):
+    for c in coords:
+        _COORDINATES[c.name] = c
+
+
+def _vec(value, what) -> sp.Matrix:
+    if isinstance(value, Line):
+        return value.u
+    if isinstance(value, Point):
+        return value.r
+    return sp.Matrix(as_pair(value, what))
+
+
+def _pt(value, what) -> sp.Matrix:
+    if isinstance(value, Point):
+        return value.r
+    if isinstance(value, Line):
+        raise ModelError(f"{what}: expected a point, got the axis {value}")
+    return sp.Matrix(as_pair(value, what))
+
+
+def _axis(value, what) -> Line:
+    if not isinstance(value, Line):
+        raise ModelError(f"{what}: expected an axis (body.line(i, j) or Line(...)), got {value!r}")
+    return value
+
+
+def location(p, local=None) -> sp.Matrix:
+    """Global position of a point: ``location(body[2])``, ``location(body, 2)`` or
+    ``location(body, (3, 8))`` (a point at local coordinates)."""
+    if isinstance(p, Body):
+        if local is None:
+            return p[0].r
+        if isinstance(local, int):
+            return p[local].r
+        return p.at(*as_pair(local, "location: local point")).r
+    if local is not None:
+        raise ModelError("location(p) takes a point, or a body and a point index or (x, y)")
+    return _pt(p, "location")
+
+
+def distance(p1, p2):
+    d = _pt(p1, "distance") - _pt(p2, "distance")
+    return sp.sqrt(d[0] ** 2 + d[1] ** 2)
+
+
+def point_to_line_distance(p, a):
+    """Signed distance of p from the axis, (a.first − r(p)) × u / |u| as Mech prints it."""
+    a = _axis(a, "point_to_line_distance")
+    u = a.u
+    return cross2(a.first.r - _pt(p, "point_to_line_distance"), u) / sp.sqrt(dot2(u, u))
+
+
+def angle(a):
+    """Direction angle of an axis or vector against the global X axis (atan2, radians)."""
+    u = _vec(a, "angle")
+    return sp.atan2(u[1], u[0])
+
+
+def rotation(body):
+    if not isinstance(body, Body):
+        raise ModelError(f"rotation: expected a body, got {body!r}")
+    return body.th
+
+
+def intersection(a1, a2) -> sp.Matrix:
+    """The intersection point of two axes."""
+    a1, a2 = _axis(a1, "intersection"), _axis(a2, "intersection")
+    p, u = a1.first.r, a1.u
+    r, v = a2.first.r, a2.u
+    s = cross2(r - p, v) / cross2(u, v)
+    return p + s * u
+
+
+def project_on_line(p, a) -> sp.Matrix:
+    """Orthogonal projection of a point onto an axis."""
+    a = _axis(a, "project_on_line")
+    base, u = a.first.r, a.u
+    s = dot2(_pt(p, "project_on_line") - base, u) / dot2(u, u)
+    return base + s * u
+
+
+def direction(a) -> sp.Matrix:
+    return _vec(a, "direction")
+
+
+def magnitude(a):
+    u = _vec(a, "magnitude")
+    return sp.sqrt(u[0] ** 2 + u[1] ** 2)
+
+
+def unit(a) -> sp.Matrix:
+    u = _vec(a, "unit")
+    return u / sp.sqrt(u[0] ** 2 + u[1] ** 2)
+
+
+def cross(a, b):
+    """Planar cross product of two axes or vectors, a_x b_y − a_y b_x."""
+    return cross2(_vec(a, "cross"), _vec(b, "cross"))
+
+
+def rotation_matrix(body) -> sp.Matrix:
+    if not isinstance(body, Body):
+        raise ModelError(f"rotation_matrix: expected a body, got {body!r}")
+    return body.rotation()
+
+
+def point_to_local(body, xy) -> sp.Matrix:
+    """Local coordinates, in ``body``'s frame, of a global point."""
+    if not isinstance(body, Body):
+        raise ModelError(f"point_to_local: expected a body first, got {body!r}")
+    g = _pt(xy, "point_to_local")
+    d = g - sp.Matrix([body.x, body.y])
+    return body.rotation().T * d
+
+
+def polar_to_xy(r, ang=None) -> sp.Matrix:
+    if ang is None:
+        r, ang = as_pair(r, "polar_to_xy")
+    r, ang = sp.sympify(r), sp.sympify(ang)
+    return sp.Matrix([r * sp.cos(ang), r * sp.sin(ang)])
+
+
+def xy_to_polar(x, y=None) -> sp.Matrix:
+    if y is None:
+        x, y = as_pair(_vec(x, "xy_to_polar"), "xy_to_polar")
+    x, y = sp.sympify(x), sp.sympify(y)
+    return sp.Matrix([sp.sqrt(x ** 2 + y ** 2), sp.atan2(y, x)])
+
+
+def dt(expr, order: int = 1, model=None):
+    """Total time derivative (Mech's Dt[expr, T]) through q, q̇ and T."""
+    if not isinstance(order, int) or order < 0:
+        raise ModelError(f"dt: order must be a non-negative integer, got {order!r}")
+    if isinstance(expr, (list, tuple)):
+        expr = sp.Matrix(expr)
+    expr = sp.sympify(expr)
+    if model is not None:
+        coords = list(model.coords)
+    else:
+        names = {s.name for s in expr.free_symbols}
+        coords = [c for name, c in _COORDINATES.items()
+                  if name in names or name + "d" in names or name + "dd" in names]
+    return total_derivative(expr, coords, order)
+
+
+def velocity(p) -> sp.Matrix:
+    return dt(location(p))
+
+
+def acceleration(p) -> sp.Matrix:
+    return dt(location(p), 2)
+
+
+__all__ = ["location", "distance", "point_to_line_distance", "angle", "rotation", "intersection",
+           "project_on_line", "direction", "magnitude", "unit", "cross", "rotation_matrix",
+           "point_to_local", "polar_to_xy", "xy_to_polar", "velocity", "acceleration", "dt"]

@@ -1,0 +1,187 @@
+"""Solutions and sweeps: arrays indexed by coordinate name (``"X4"``, ``"X4d"``, ``"X4dd"``)
+and by declared output name."""
+from __future__ import annotations
+
+import csv
+
+import numpy as np
+
+
+def _lookup(mech, name):
+    """(kind, index, order) for a name: a coordinate, its derivative or an output."""
+    if not isinstance(name, str):
+        raise TypeError(f"index with a coordinate or output name, got {name!r}")
+    index = mech._index
+    if name in index:
+        return "q", index[name], 0
+    for suffix, order in (("dd", 2), ("d", 1)):
+        if name.endswith(suffix) and name[: -len(suffix)] in index:
+            return "q", index[name[: -len(suffix)]], order
+    outs = mech.outputs
+    if name in outs:
+        return "out", outs.index(name), 0
+    for suffix, order in (("dd", 2), ("d", 1)):
+        if name.endswith(suffix) and name[: -len(suffix)] in outs:
+            return "out", outs.index(name[: -len(suffix)]), order
+    known = ", ".join(mech.coordinates + mech.outputs)
+    raise KeyError(f"{name!r} is neither a coordinate nor an output of '{mech.name}' "
+                   f"(known: {known}; add d or dd for derivatives)")
+
+
+_LEVEL_NAMES = ("position", "velocity", "acceleration")
+
+
+class Solution:
+    """One solved configuration: ``s.t``, ``s.q``, ``s.qd``, ``s.qdd`` and ``s["X4"]``."""
+
+    def __init__(self, mech, t, q, qd=None, qdd=None, iterations=0, residual=0.0,
+                 singular=False, method="sorted"):
+        self.mechanism = mech
+        self.t = float(t)
+        self.q = q
+        self.qd = qd
+        self.qdd = qdd
+        self.iterations = iterations
+        self.residual = residual
+        self.singular = singular
+        self.method = method
+
+    @property
+    def level(self) -> str:
+        return _LEVEL_NAMES[0 if self.qd is None else 1 if self.qdd is None else 2]
+
+    def __getitem__(self, name):
+        kind, k, order = _lookup(self.mechanism, name)
+        if kind == "q":
+            vec = (self.q, self.qd, self.qdd)[order]
+            if vec is None:
+                raise KeyError(f"{name!r} needs a solve at level {_LEVEL_NAMES[order]} "
+                               f"(this solution is at level {self.level})")
+            return float(vec[k])
+        need = self.mechanism.output_orders[k] + order
+        have = 0 if self.qd is None else 1 if self.qdd is None else 2
+        if need > have:
+            raise KeyError(f"output {name!r} needs a solve at level {_LEVEL_NAMES[min(need, 2)]}")
+        return float(self.mechanism.output_values(self.q, self.qd, self.qdd, self.t, order)[k])
+
+    def keys(self):
+        names = list(self.mechanism.coordinates)
+        if self.qd is not None:
+            names += [c + "d" for c in self.mechanism.coordinates]
+        if self.qdd is not None:
+            names += [c + "dd" for c in self.mechanism.coordinates]
+        return names
+
+    def as_dict(self) -> dict:
+        """Mech's rule list: {"T": t, "X2": ..., ...}."""
+        out = {"T": self.t}
+        out.update({k: self[k] for k in self.keys()})
+        return out
+
+    def points(self) -> np.ndarray:
+        """Global positions of the module's points (mech.point_names)."""
+        return self.mechanism.points_at(self.q, self.t)
+
+    def __repr__(self):
+        items = ", ".join(f"{k} -> {v:.6g}" for k, v in self.as_dict().items())
+        flag = ", singular" if self.singular else ""
+        return f"<Solution {{{items}}}{flag}>"
+
+
+class Sweep:
+    """Solutions at many times: ``sw.t`` and ``sw["X4"]`` are numpy arrays."""
+
+    def __init__(self, mech, t, Q, QD=None, QDD=None, info=None):
+        self.mechanism = mech
+        self.t = t
+        self.Q = Q
+        self.QD = QD
+        self.QDD = QDD
+        self.info = info
+
+    @property
+    def level(self) -> str:
+        return _LEVEL_NAMES[0 if self.QD is None else 1 if self.QDD is None else 2]
+
+    def __len__(self):
+        return self.t.shape[0]
+
+    def _have(self):
+        return 0 if self.QD is None else 1 if self.QDD is None else 2
+
+    def __getitem__(self, key):
+        if isinstance(key, (int, np.integer)):
+            k = int(key)
+            if k < 0:
+                k += len(self)
+            if not 0 <= k < len(self):
+                raise IndexError(f"sweep index {key} out of range ({len(self)} points)")
+            return Solution(self.mechanism, self.t[k], self.Q[k].copy(),
+                            None if self.QD is None else self.QD[k].copy(),
+                            None if self.QDD is None else self.QDD[k].copy())
+        kind, k, order = _lookup(self.mechanism, key)
+        if kind == "q":
+            arr = (self.Q, self.QD, self.QDD)[order]
+            if arr is None:
+                raise KeyError(f"{key!r} needs a sweep at level {_LEVEL_NAMES[order]} "
+                               f"(this sweep is at level {self.level})")
+            return arr[:, k].copy()
+        need = self.mechanism.output_orders[k] + order
+        if need > self._have():
+            raise KeyError(f"output {key!r} needs a sweep at level {_LEVEL_NAMES[min(need, 2)]}")
+        return self.outputs(order)[:, k].copy()
+
+    def outputs(self, order=0) -> np.ndarray:
+        """All declared outputs (or their derivatives) at every point, compiled loop."""
+        mech = self.mechanism
+        out = np.empty((len(self), len(mech.outputs)))
+        z = np.zeros_like(self.Q)
+        mech.module.eval_outputs(self.Q, z if self.QD is None else self.QD,
+                                 z if self.QDD is None else self.QDD, self.t, mech.p, order, out)
+        return out
+
+    def points(self) -> np.ndarray:
+        """Point positions at every time: shape (len, n_points, 2)."""
+        mech = self.mechanism
+        out = np.empty((len(self), len(mech.point_names), 2))
+        mech.module.eval_points(self.Q, self.t, mech.p, out)
+        return out
+
+    def columns(self) -> list:
+        names = list(self.mechanism.coordinates)
+        if self.QD is not None:
+            names += [c + "d" for c in self.mechanism.coordinates]
+        if self.QDD is not None:
+            names += [c + "dd" for c in self.mechanism.coordinates]
+        have = self._have()
+        for k, o in enumerate(self.mechanism.outputs):
+            order = self.mechanism.output_orders[k]
+            names += [o + s for s, d in (("", 0), ("d", 1), ("dd", 2)) if order + d <= have]
+        return names
+
+    def table(self) -> tuple[list, np.ndarray]:
+        cols = self.columns()
+        data = np.column_stack([self.t] + [self[c] for c in cols]) if len(self) else \
+            np.zeros((0, len(cols) + 1))
+        return ["T"] + cols, data
+
+    def to_csv(self, path):
+        """Write T and every column to a CSV file."""
+        header, data = self.table()
+        with open(path, "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(header)
+            for row in data:
+                w.writerow([repr(float(x)) for x in row])
+        return path
+
+    def to_dataframe(self):
+        import pandas as pd
+        header, data = self.table()
+        return pd.DataFrame(data, columns=header)
+
+    def __repr__(self):
+        if not len(self):
+            return f"<Sweep of '{self.mechanism.name}': no points>"
+        return (f"<Sweep of '{self.mechanism.name}': {len(self)} points, T from {self.t[0]:.6g} "
+                f"to {self.t[-1]:.6g}, level {self.level}>")

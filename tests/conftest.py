@@ -1,0 +1,46 @@
+import os
+import sys
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+EXAMPLES = os.path.join(ROOT, "examples")
+GENERATED = os.path.join(ROOT, "generated")
+
+
+def example_model(name, model=None):
+    from mechgen.loader import load_models, pick_model
+    return pick_model(load_models(os.path.join(EXAMPLES, name + ".py")), model)
+
+
+@pytest.fixture(scope="session")
+def build_dir(tmp_path_factory):
+    return str(tmp_path_factory.mktemp("generated"))
+
+
+@pytest.fixture(scope="session")
+def qr():
+    """The crank-driven quick-return of seed 001, from the committed generated module."""
+    import mechgen
+    return mechgen.load(os.path.join(GENERATED, "quick_return.py"))
+
+
+@pytest.fixture(scope="session")
+def qr_slider():
+    import mechgen
+    return mechgen.load(os.path.join(GENERATED, "quick_return_slider.py"))
+
+
+@pytest.fixture(scope="session")
+def fourbar():
+    import mechgen
+    return mechgen.load(os.path.join(GENERATED, "fourbar.py"))
+
+
+@pytest.fixture(scope="session")
+def fourbar_loop():
+    import mechgen
+    return mechgen.load(os.path.join(GENERATED, "fourbar_loop.py"))
+
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
