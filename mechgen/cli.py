@@ -68,16 +68,9 @@ def _format_table(header, rows) -> str:
 def cmd_build(args):
     from .build import build
     models = _models(args)
-    outputs = args.outputs.split(",") if args.outputs else None
+    outputs = [o.strip() for o in args.outputs.split(",") if o.strip()] if args.outputs else None
     for model in models:
-        if outputs:
-            missing = [o for o in outputs if o not in model.outputs and o not in map(str, model.coords)]
-            if missing:
-                raise MechgenError(f"--outputs: {', '.join(missing)} not declared in model "
-                                   f"'{model.name}' (outputs: {', '.join(model.outputs) or 'none'})")
-        kwargs = dict(sort=not args.no_sort, level=args.level)
-        if outputs is not None:
-            kwargs["outputs"] = [o for o in outputs if o in model.outputs]
+        kwargs = dict(sort=not args.no_sort, level=args.level, outputs=outputs)
         path = build(model, args.outdir, **kwargs)
         print(f"wrote {path}")
 
@@ -85,7 +78,8 @@ def cmd_build(args):
 def cmd_equations(args):
     from .report import equations_text
     for model in _models(args):
-        sys.stdout.write(equations_text(model, numeric=args.numeric, latex=args.latex))
+        sys.stdout.write(equations_text(model, numeric=args.numeric, latex=args.latex,
+                                        mathematica_style=args.mathematica))
 
 
 def cmd_check(args):
@@ -117,6 +111,22 @@ def cmd_solve(args):
 
 def cmd_sweep(args):
     mech = mechanism(args)
+    from .analysis import parse_param_option
+    params = parse_param_option(args.param)
+    if any(not isinstance(v, float) for v in params.values()):   # a design table
+        progress = sys.stderr.isatty() if args.progress is None else args.progress
+        tab = mech.design_sweep(args.t0, args.t1, args.n, params, level=args.level,
+                                guess=_parse_guess(args.guess), method=args.method,
+                                progress=progress or None)
+        header, data = tab.table()
+        if args.csv:
+            tab.to_csv(args.csv)
+            print(f"wrote {data.shape[0]} rows ({len(tab)} designs) to {args.csv}")
+        else:
+            print(_format_table(header, [list(map(float, r)) for r in data]))
+        return
+    if params:
+        mech = mech.with_params(**params)
     sw = mech.sweep(args.t0, args.t1, args.n, level=args.level, guess=_parse_guess(args.guess),
                     method=args.method)
     header, data = sw.table()
@@ -165,6 +175,8 @@ def parser() -> argparse.ArgumentParser:
     _add_common(p, outdir=False)
     p.add_argument("--latex", action="store_true", help="LaTeX instead of plain text")
     p.add_argument("--numeric", action="store_true", help="substitute parameter defaults")
+    p.add_argument("--mathematica", action="store_true",
+                   help="Mech's notation (Cos[Th3]), to read beside seed 001's printouts")
     p.set_defaults(func=cmd_equations)
 
     p = sub.add_parser("check", help="counts, degrees of freedom, rank, redundant constraints")
@@ -184,6 +196,11 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--t1", type=float, default=1.0)
     p.add_argument("-n", type=int, default=21, help="number of points, both ends included")
     p.add_argument("--csv", help="write the table to this CSV file instead of printing it")
+    p.add_argument("--param", action="append", metavar="NAME=VALUES",
+                   help="a design table: NAME=V1,V2,... or NAME=START:STOP:STEP varies a "
+                        "parameter, NAME=V fixes it (repeatable)")
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                   help="progress line on stderr for design tables (default: on a terminal)")
     _add_solve_opts(p)
     p.set_defaults(func=cmd_sweep)
 

@@ -9,13 +9,16 @@ import hashlib
 import sympy as sp
 
 from . import __version__  # noqa: F401
-from .blocks import linear_in, sort_blocks
+from .blocks import incidence, linear_in, sort_blocks
+from .errors import ModelError
 from .geometry import T, Point
 from .printer import Assign, Guard, Line, Store, TempNames, emit, pycode
-from .symbolic import total_derivative
+from .symbolic import check_square, total_derivative
 
 FORMAT_VERSION = 1
 PIVOT_RTOL = 1e-10     # a pivot below this fraction of its row's size counts as zero
+SING_RTOL = 1e-6       # velocity/acceleration: a pivot below this fraction of its row's
+                       # size marks a singular configuration (status 2, SingularError)
 TINY = 1e-300
 
 
@@ -44,6 +47,7 @@ class ModuleBuilder:
     def __init__(self, model, sort=True, level="acceleration", outputs=None, cse=True):
         self.model = model
         self.eq = model.equations()
+        check_square(model, self.eq)   # fewer equations than coordinates: refuse to build
         self.q = list(self.eq.q)
         self.qd = list(self.eq.qd)
         self.qdd = list(self.eq.qdd)
@@ -53,7 +57,52 @@ class ModuleBuilder:
         at = {s: v for s, v in zip(self.q, model.guess_vector())}
         at.update({sym: val for sym, val in model.params.values()})
         self.blocks = sort_blocks(self.eq.phi, self.eq.q, at) if sort else None
-        self.output_names = list(model.outputs) if outputs is None else list(outputs)
+        self.solved = [True] * len(self.q)
+        if outputs is None:
+            self.output_names = list(model.outputs)
+        else:
+            self.output_names = self._prune(list(outputs))
+
+    def _prune(self, targets):
+        """Demand-driven pruning: keep only the blocks the requested coordinates and outputs
+        depend on (and, through ``level``, only the derivative levels asked for)."""
+        names = {c.name: j for j, c in enumerate(self.q)}
+        for j, c in enumerate(self.qd):
+            names[c.name] = j
+        for j, c in enumerate(self.qdd):
+            names[c.name] = j
+        need, outs = set(), []
+        for name in targets:
+            if name in self.model.outputs:
+                outs.append(name)
+                expr = self.model.outputs[name]
+                syms = expr.free_symbols
+                if (syms & set(self.qdd) and self.level < 2) or (syms & set(self.qd) and self.level < 1):
+                    raise ModelError(f"output '{name}' needs a higher derivative level than "
+                                     f"--level {('position', 'velocity', 'acceleration')[self.level]}")
+                need |= {names[s.name] for s in syms if s.name in names}
+            elif name in names:
+                need.add(names[name])
+            else:
+                known = ", ".join(list(self.model.outputs) + [c.name for c in self.q])
+                raise ModelError(f"--outputs: {name!r} is neither an output nor a coordinate of "
+                                 f"model '{self.model.name}' (known: {known})")
+        if self.blocks is None:
+            return outs
+        inc = incidence(self.eq.phi, self.eq.q)
+        block_of = {v: k for k, b in enumerate(self.blocks) for v in b.vars}
+        keep, stack = set(), [block_of[j] for j in need]
+        while stack:
+            k = stack.pop()
+            if k in keep:
+                continue
+            keep.add(k)
+            for e in self.blocks[k].eqs:
+                stack.extend(block_of[v] for v in inc[e] if block_of[v] not in keep)
+        self.blocks = [b for k, b in enumerate(self.blocks) if k in keep]
+        kept = {v for b in self.blocks for v in b.vars}
+        self.solved = [j in kept for j in range(len(self.q))]
+        return outs
 
     # -- helpers --------------------------------------------------------------------
     def _prologue(self, exprs, with_qd=False, with_qdd=False, with_t=True):
@@ -93,6 +142,9 @@ class ModuleBuilder:
         return self._function(st)
 
     def gamma_body(self):
+        if self.level < 2:
+            return ["# not built: this module was built for a lower level than acceleration",
+                    "for _i in range(out.shape[0]):", "    out[_i] = math.nan"]
         st = [Store(f"out[{i}]", self.eq.gamma[i], self.eq.labels[i])
               for i in range(self.eq.gamma.rows) if self.eq.gamma[i] != 0]
         return self._function(st, with_qd=True)
@@ -165,10 +217,15 @@ class ModuleBuilder:
         if T in used:
             lines.append("T = t")
         lines.append("_iters = 0")
+        self._known = {}
         for b in self.blocks:
             lines.append(self._block_comment(b))
             if b.kind == "explicit":
-                lines += emit(self._explicit(b.explicit, derivs=()), temps, self.cse)
+                st = self._explicit(b.explicit, derivs=())
+                lines += emit(st, temps, self.cse)
+                value = st[-1].expr
+                if value.is_number:    # a constant coordinate: substitute it forward
+                    self._known[q[b.vars[0]]] = value
                 continue
             lines += self._newton_block(b, temps)
         for k, s in enumerate(q):
@@ -177,16 +234,23 @@ class ModuleBuilder:
         lines.append("return 0")
         return lines
 
+    def _rows(self):
+        """Φ with the constant coordinates found so far substituted."""
+        known = getattr(self, "_known", None)
+        if not known:
+            return self.eq.phi
+        return _Subs(self.eq.phi, known)
+
     def _explicit(self, pairs, derivs, tears=()):
         """Statements for z = −rest/coef for each (eq, var), and optionally dz/dy."""
-        phi, q = self.eq.phi, self.q
+        phi, q = self._rows(), self.q
         st = []
         for e, v in pairs:
             z = q[v]
             coef, rest = linear_in(phi[e], z)
             den = _sym(f"_den_{z.name}")
             if coef.is_number:
-                st.append(Assign(z, sp.simplify(-rest / coef), f"row {e}: {self.eq.labels[e]}"))
+                st.append(Assign(z, -rest / coef, f"row {e}: {self.eq.labels[e]}"))
             else:
                 st.append(Assign(den, coef))
                 st.append(Guard(den, sp.Float(1e-12), "4"))
@@ -202,7 +266,7 @@ class ModuleBuilder:
         return st
 
     def _newton_block(self, b, temps):
-        phi, q = self.eq.phi, self.q
+        phi, q = self._rows(), self.q
         tears, res = b.tears, b.residuals
         k = len(tears)
         st = self._explicit(b.explicit, b.tears, tears=tears)
@@ -227,8 +291,9 @@ class ModuleBuilder:
                             * (sp.Abs(J[1][0]) + sp.Abs(J[1][1])), "4"))
             st.append(Assign(S[0], (R[0] * J[1][1] - J[0][1] * R[1]) / det))
             st.append(Assign(S[1], (J[0][0] * R[1] - J[1][0] * R[0]) / det))
-        body = emit(st, temps, self.cse)
-        lines = []
+        variant = {q[v] for v in b.vars}
+        before, body = emit(st, temps, self.cse, variant=variant)
+        lines = list(before)   # loop-invariant subexpressions, computed once per block
         if k > 2:
             lines.append(f"_A = np.empty(({k}, {k}))")
             lines.append(f"_b = np.empty({k})")
@@ -255,74 +320,110 @@ class ModuleBuilder:
             lines += emit(self._explicit(b.explicit, derivs=()), temps, self.cse)
         return lines
 
-    def linear_sorted_body(self, order):
-        """Block forward substitution for Φ_q x = rhs (ν for order 1, γ for order 2)."""
-        eq, q = self.eq, self.q
+    def _linear_blocks(self, order, known):
+        """Statements of the block forward substitution for Φ_q x = rhs, and the unknowns
+        that come out as constants (``X2d = 0``), which are substituted forward so that
+        nothing is multiplied by a known zero. ``known``: symbols with constant values."""
+        eq = self.eq
         J = eq.phi_q
         rhs = eq.nu if order == 1 else eq.gamma
         xs = self.qd if order == 1 else self.qdd
-        st = []
-        jsym = {}
+        jsym, rsym, consts = {}, {}, {}
         for i in range(J.rows):
             for j in range(J.cols):
                 if J[i, j] != 0:
                     jsym[i, j] = J[i, j] if J[i, j].is_number else _sym(f"_j{i}_{j}")
-                    if not J[i, j].is_number:
-                        st.append(Assign(jsym[i, j], J[i, j]))
-        rsym = {}
         for i in range(J.rows):
-            rsym[i] = rhs[i] if rhs[i].is_number else _sym(f"_g{i}")
-            if not rhs[i].is_number:
-                st.append(Assign(rsym[i], rhs[i], eq.labels[i]))
+            r = rhs[i].subs(known) if known else rhs[i]
+            rsym[i] = r if r.is_number else _sym(f"_g{i}")
+        body = []
         for b in self.blocks:
-            st.append(Line(self._block_comment(b)))
+            body.append(Line(self._block_comment(b)))
             inside = set(b.vars)
             bvec = []
             for e in b.eqs:
                 acc = rsym[e]
                 for j in range(J.cols):
                     if (e, j) in jsym and j not in inside:
-                        acc -= jsym[e, j] * xs[j]
+                        acc -= jsym[e, j] * consts.get(xs[j], xs[j])
                 bvec.append(acc)
-            A = [[jsym.get((e, v), 0) for v in b.vars] for e in b.eqs]
+            A = [[jsym.get((e, v), sp.Integer(0)) for v in b.vars] for e in b.eqs]
             scale = [sum(sp.Abs(jsym[e, j]) for j in range(J.cols) if (e, j) in jsym) for e in b.eqs]
             k = b.size
             if k == 1:
-                a = A[0][0]
-                if a.is_number:
-                    st.append(Assign(xs[b.vars[0]], bvec[0] / a))
-                else:
-                    st.append(Guard(a, sp.Float(PIVOT_RTOL) * scale[0], "2"))
-                    st.append(Assign(xs[b.vars[0]], bvec[0] / a))
+                a, x = A[0][0], xs[b.vars[0]]
+                if not a.is_number:
+                    body.append(Guard(a, sp.Float(SING_RTOL) * scale[0], "2"))
+                value = bvec[0] / a
+                if value.is_number:
+                    consts[x] = value
+                body.append(Assign(x, value))
             elif k == 2:
                 det = _sym(f"_det{b.eqs[0]}")
-                st.append(Assign(det, A[0][0] * A[1][1] - A[0][1] * A[1][0]))
-                st.append(Guard(det, sp.Float(PIVOT_RTOL) * scale[0] * scale[1], "2"))
-                st.append(Assign(xs[b.vars[0]], (bvec[0] * A[1][1] - A[0][1] * bvec[1]) / det))
-                st.append(Assign(xs[b.vars[1]], (A[0][0] * bvec[1] - A[1][0] * bvec[0]) / det))
+                body.append(Assign(det, A[0][0] * A[1][1] - A[0][1] * A[1][0]))
+                body.append(Guard(det, sp.Float(SING_RTOL) * scale[0] * scale[1], "2"))
+                body.append(Assign(xs[b.vars[0]], (bvec[0] * A[1][1] - A[0][1] * bvec[1]) / det))
+                body.append(Assign(xs[b.vars[1]], (A[0][0] * bvec[1] - A[1][0] * bvec[0]) / det))
             else:
                 bs = [_sym(f"_bb{i}") for i in range(k)]
                 for i in range(k):
-                    st.append(Assign(bs[i], bvec[i]))
-                st.append(Line(f"_A = np.empty(({k}, {k}))"))
-                st.append(Line(f"_b = np.empty({k})"))
-                fill = []
+                    body.append(Assign(bs[i], bvec[i]))
+                body.append(Line(f"_A = np.empty(({k}, {k}))"))
+                body.append(Line(f"_b = np.empty({k})"))
                 for i in range(k):
                     for j in range(k):
-                        fill.append(Store(f"_A[{i}, {j}]", A[i][j]))
-                    fill.append(Store(f"_b[{i}]", bs[i]))
-                st += fill
-                st.append(Line(f"if _gauss(_A, _b) < {k}:"))
-                st.append(Line("    return 2"))
+                        body.append(Store(f"_A[{i}, {j}]", A[i][j]))
+                    body.append(Store(f"_b[{i}]", bs[i]))
+                body.append(Line(f"if _gauss(_A, _b) < {k}:"))
+                body.append(Line("    return 2"))
                 for i, v in enumerate(b.vars):
-                    st.append(Line(f"{xs[v].name} = _b[{i}]"))
+                    body.append(Line(f"{xs[v].name} = _b[{i}]"))
+        # the Jacobian entries and right sides the blocks use, computed up front
+        used = _free([x.expr for x in body if isinstance(x, (Assign, Store))] +
+                     [x.bound for x in body if isinstance(x, Guard)] +
+                     [x.value for x in body if isinstance(x, Guard)])
+        head = [Assign(sym, J[i, j]) for (i, j), sym in jsym.items()
+                if isinstance(sym, sp.Symbol) and sym in used]
+        head += [Assign(sym, rhs[i].subs(known) if known else rhs[i], eq.labels[i])
+                 for i, sym in rsym.items() if isinstance(sym, sp.Symbol) and sym in used]
+        return head + body, consts
+
+    def linear_sorted_body(self, order):
+        """Block forward substitution for Φ_q x = rhs (ν for order 1, γ for order 2)."""
+        # Only constants found inside this function are propagated: the function stays
+        # exact for any (q, q̇) it is given, not just for consistent ones.
+        st, _ = self._linear_blocks(order, {})
+        xs = self.qd if order == 1 else self.qdd
         exprs = [s.expr for s in st if isinstance(s, (Assign, Store))]
         lines = self._prologue(exprs, with_qd=(order == 2))
         lines += emit(st, TempNames(), self.cse)
         for k, s in enumerate(xs):
-            lines.append(f"out[{k}] = {s.name}")
+            lines.append(f"out[{k}] = {s.name}" if self.solved[k] else
+                         f"out[{k}] = math.nan  # {s.name}: not solved in this pruned build")
         lines.append("return 0")
         return lines
+
+    def jacobian_det_body(self):
+        """det Φ_q as the product of the determinants of its diagonal blocks in the solving
+        order (equal to det Φ_q up to the constant sign of the permutation): its sign
+        changes exactly where Φ_q loses rank along a branch, which the sweep watches for."""
+        J = self.eq.phi_q
+        st, factors = [], []
+        for b in self.blocks:
+            A = [[J[e, v] for v in b.vars] for e in b.eqs]
+            if b.size == 1:
+                factors.append(A[0][0])
+            elif b.size == 2:
+                factors.append(A[0][0] * A[1][1] - A[0][1] * A[1][0])
+            else:
+                d = _sym(f"_det{b.eqs[0]}")
+                st.append(Line(f"_A = np.empty(({b.size}, {b.size}))"))
+                st += [Store(f"_A[{i}, {j}]", A[i][j]) for i in range(b.size) for j in range(b.size)]
+                st.append(Line(f"{d.name} = _det(_A)"))
+                factors.append(d)
+        st.append(Store("_d", sp.Mul(*factors)))
+        exprs = [x.expr for x in st if isinstance(x, Store)]
+        return self._prologue(exprs) + emit(st, TempNames(), self.cse) + ["return _d"]
 
     # -- everything -----------------------------------------------------------------
     def context(self):
@@ -349,17 +450,38 @@ class ModuleBuilder:
             outputs_code=outputs,
             sorted=self.blocks is not None,
             blocks=[], position_sorted=[], velocity_sorted=[], acceleration_sorted=[],
+            jacobian_det=[],
             pivot_rtol=repr(PIVOT_RTOL),
+            sing_rtol=repr(SING_RTOL),
         )
+        ctx.update(drawing_context(model, points))
         if self.blocks is not None:
             ctx["blocks"] = [dict(kind=b.kind, vars=[self.q[v].name for v in b.vars],
                                   rows=list(b.eqs), tears=[self.q[v].name for v in b.tears])
                              for b in self.blocks]
             ctx["position_sorted"] = self.position_sorted_body()
-            ctx["velocity_sorted"] = self.linear_sorted_body(1)
-            ctx["acceleration_sorted"] = self.linear_sorted_body(2)
+            ctx["jacobian_det"] = self.jacobian_det_body()
+            if self.level >= 1:
+                ctx["velocity_sorted"] = self.linear_sorted_body(1)
+            if self.level >= 2:
+                ctx["acceleration_sorted"] = self.linear_sorted_body(2)
+        ctx["level"] = self.level
+        ctx["solved"] = self.solved
+        ctx["pruned"] = not all(self.solved) or self.level < 2
         ctx["hash"] = model_hash(model, ctx)
         return ctx
+
+
+class _Subs:
+    """Rows of a matrix with a substitution applied on access (cached)."""
+
+    def __init__(self, matrix, subs):
+        self.matrix, self.subs, self.cache = matrix, dict(subs), {}
+
+    def __getitem__(self, i):
+        if i not in self.cache:
+            self.cache[i] = self.matrix[i].subs(self.subs)
+        return self.cache[i]
 
 
 def model_hash(model, ctx) -> str:
@@ -368,9 +490,27 @@ def model_hash(model, ctx) -> str:
     h = hashlib.sha256()
     for key in ("name", "coordinates", "guess", "parameters", "labels", "points", "outputs",
                 "phi", "phi_q", "nu", "gamma", "points_code", "outputs_code", "position_sorted",
-                "velocity_sorted", "acceleration_sorted", "mechgen_version", "format_version"):
+                "velocity_sorted", "acceleration_sorted", "mechgen_version", "format_version",
+                "level", "solved"):
         h.update(repr(ctx[key]).encode())
     return h.hexdigest()[:16]
+
+
+def drawing_context(model, points):
+    """What pictures need (mechgen.plot), as indices into POINTS: the points each constraint
+    names, in argument order (an axis gives its first and second point), and for every body
+    its origin (-1 for the ground, whose origin is the global one) and its points P1, P2, ..."""
+    index = {(body, pt.local): k for k, (_, body, pt) in enumerate(points)}
+
+    def at(pt):
+        return index[(pt.body.name, pt.local)]
+
+    joints = [(c.number, c.kind, [at(pt) for pt in getattr(c, "points", ())])
+              for c in model.constraints]
+    body_points = [(b.name, -1 if b.is_ground else at(b[0]),
+                    [at(b[k]) for k in range(1, len(b.points) + 1)])
+                   for b in model.bodies.values()]
+    return dict(joints=joints, body_points=body_points)
 
 
 __all__ = ["ModuleBuilder", "pycode"]

@@ -56,7 +56,7 @@ class Constraint:
 def _point(model, value, kind, pos):
     if not isinstance(value, Point):
         raise ModelError(f"{kind}: argument {pos} must be a point such as body[1], got {_show(value)}")
-    _same_model(model, value.body, kind)
+    _same_model(model, value.body, kind, pos, value)
     return value
 
 
@@ -64,23 +64,29 @@ def _line(model, value, kind, pos):
     if not isinstance(value, Line):
         raise ModelError(f"{kind}: argument {pos} must be an axis such as body.line(1, 2) "
                          f"or Line(p1, p2), got {_show(value)}")
-    _same_model(model, value.first.body, kind)
+    _same_model(model, value.first.body, kind, pos, value)
     if value.second is not None:
-        _same_model(model, value.second.body, kind)
+        _same_model(model, value.second.body, kind, pos, value)
     return value
 
 
 def _body(model, value, kind, pos):
     if not isinstance(value, Body):
         raise ModelError(f"{kind}: argument {pos} must be a body, got {_show(value)}")
-    _same_model(model, value, kind)
+    _same_model(model, value, kind, pos, value)
     return value
 
 
-def _same_model(model, body, kind):
+def _same_model(model, body, kind, pos, value):
     if body.model is not model:
-        raise ModelError(f"{kind}: body '{body.name}' belongs to model '{body.model.name}', "
-                         f"not to model '{model.name}'")
+        other = body.model
+        place = getattr(other, "_where", None)
+        if other.name == model.name and place:
+            owner = f"another model also named '{other.name}' (declared at {place})"
+        else:
+            owner = f"model '{other.name}'"
+        raise ModelError(f"{kind}: argument {pos} ({_show(value)}) belongs to {owner}, "
+                         f"not to model '{model.name}'; use the bodies of this model")
 
 
 def _show(value):
@@ -226,8 +232,9 @@ class Expression(Constraint):
         if isinstance(expr, (sp.Equality,)):
             expr = expr.lhs - expr.rhs
         expr = self.model._expr(expr, "constraint(expr)", allow_coordinates=True)
-        if expr.is_number:
-            raise ModelError(f"constraint({expr}): the expression holds no coordinate")
+        if not expr.free_symbols & set(self.model.coords):
+            raise ModelError(f"constraint({expr}): the expression holds no coordinate of "
+                             f"model '{self.model.name}'")
         self.exprs = [expr]
         return f"{expr}"
 

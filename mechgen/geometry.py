@@ -24,6 +24,15 @@ def as_pair(value, what: str):
         raise ModelError(f"{what} must hold numbers or expressions, got {value!r}") from None
 
 
+def _describe(value) -> str:
+    if isinstance(value, Body):
+        return f"body {value.name}"
+    if isinstance(value, Line):
+        return f"the axis {value!r}"
+    text = repr(value)
+    return text if len(text) < 60 else text[:57] + "..."
+
+
 class Body:
     """A rigid body: ground (number 1, fixed) or moving (numbered 2, 3, ...).
 
@@ -122,16 +131,21 @@ class Line:
 
     def __init__(self, p1, p2=None, *, direction=None):
         if not isinstance(p1, Point):
-            raise ModelError(f"Line: the first argument must be a point such as body[1], got {p1!r}")
+            raise ModelError("Line: the first argument must be a point such as body[1], "
+                             f"got {_describe(p1)}")
         if (p2 is None) == (direction is None):
             raise ModelError("Line takes a second point or direction=(dx, dy), exactly one of them")
         if p2 is not None and not isinstance(p2, Point):
-            raise ModelError(f"Line: the second argument must be a point, got {p2!r}")
+            raise ModelError(f"Line: the second argument must be a point, got {_describe(p2)}")
         self.first = p1
         self.second = p2
         self.local_direction = None if direction is None else as_pair(direction, "Line direction")
         if p2 is not None and p2.body.model is not p1.body.model:
             raise ModelError(f"Line({p1}, {p2}): the points belong to different models")
+        d = self.local_difference()
+        if d is not None and all(sp.sympify(v).is_zero for v in d):
+            raise ModelError(f"axis {self!r} has no direction: its two points coincide "
+                             "(or its direction is (0, 0))")
 
     @property
     def model(self):
@@ -159,6 +173,26 @@ class Line:
                  self.second.local[1] - self.first.local[1])
             return b1.rotate(d)
         return self.second.r - self.first.r
+
+    def local_difference(self):
+        """The direction in the frame of the one body it is fixed in, or None when the
+        axis joins points of two bodies."""
+        if self.second is None:
+            return self.local_direction
+        if self.first.body is self.second.body:
+            return (self.second.local[0] - self.first.local[0],
+                    self.second.local[1] - self.first.local[1])
+        return None
+
+    @property
+    def length(self):
+        """|u|. For an axis fixed in one body this is the constant local length (9, not
+        sqrt(81 sin² + 81 cos²)), as Mech prints it."""
+        d = self.local_difference()
+        if d is None:
+            u = self.u
+            return sp.sqrt(u[0] ** 2 + u[1] ** 2)
+        return sp.sqrt(d[0] ** 2 + d[1] ** 2)
 
     def body_fixed_angle(self):
         """(body, local angle) when the direction is fixed in one body, else None."""

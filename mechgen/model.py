@@ -46,21 +46,26 @@ class Model:
 
     # -- declarations -------------------------------------------------------------
     def _claim(self, name: str, what: str):
+        self._check_name(name, what)
+        self._names[name] = what
+        self._equations = None
+
+    def _check_name(self, name: str, what: str):
         if not isinstance(name, str) or not _NAME.match(name):
             raise ModelError(f"{what} name {name!r} must be an identifier (letters, digits, _; "
                              "starting with a letter)")
         if name in RESERVED:
-            raise ModelError(f"{what} name {name!r} is reserved; choose another")
+            raise ModelError(f"{what} name {name!r} is reserved (the generated module or "
+                             "sympy uses it); choose another")
         if name in self._names:
             raise ModelError(f"{what} name {name!r} clashes with the {self._names[name]} "
                              f"of the same name")
-        self._names[name] = what
-        self._equations = None
 
     def param(self, name: str, default) -> sp.Symbol:
         """A parameter: a sympy Symbol with a numeric default, changeable at run time."""
-        self._claim(name, "parameter")
+        self._check_name(name, "parameter")
         value = _number(default, f"parameter '{name}': the default")
+        self._claim(name, "parameter")
         sym = sp.Symbol(name, real=True)
         self.params[name] = (sym, value)
         return sym
@@ -70,27 +75,35 @@ class Model:
         if self.ground_body is not None:
             raise ModelError(f"model '{self.name}' already has a ground "
                              f"('{self.ground_body.name}'); one ground per model")
-        self._claim(name, "body")
+        self._check_name(name, "body")
         body = Body(self, name, 1, _points(points, name), ground=True)
         self._check_local(body)
+        self._claim(name, "body")
         self.ground_body = body
         self.bodies[name] = body
         return body
 
     def body(self, name: str, points=(), guess=(0.0, 0.0, 0.0)) -> Body:
         """A moving body, numbered 2, 3, ... in declaration order, coordinates X<n>, Y<n>, Th<n>."""
-        self._claim(name, "body")
+        # validate everything first: a rejected body leaves the model as it was
+        self._check_name(name, "body")
         number = 2 + sum(1 for b in self.bodies.values() if not b.is_ground)
         body = Body(self, name, number, _points(points, name), ground=False)
         for sym in body.coordinates:
-            self._claim(sym.name, f"coordinate of body '{name}'")
+            self._check_name(sym.name, f"coordinate of body '{name}'")
         self._check_local(body)
+        if isinstance(guess, (str, bytes)) or isinstance(guess, sp.MatrixBase):
+            guess = list(guess) if isinstance(guess, sp.MatrixBase) else guess
         try:
             gx, gy, gth = guess
         except (TypeError, ValueError):
             raise ModelError(f"body '{name}': guess must be (x, y, th), got {guess!r}") from None
-        for sym, value in zip(body.coordinates, (gx, gy, gth)):
-            self.guess[sym] = self._guess_value(value, f"body '{name}': guess of {sym}")
+        values = [self._guess_value(value, f"body '{name}': guess of {sym}")
+                  for sym, value in zip(body.coordinates, (gx, gy, gth))]
+        self._claim(name, "body")
+        for sym, value in zip(body.coordinates, values):
+            self._claim(sym.name, f"coordinate of body '{name}'")
+            self.guess[sym] = value
         self.coords.extend(body.coordinates)
         register_coordinates(body.coordinates)
         self.bodies[name] = body
@@ -98,24 +111,28 @@ class Model:
 
     def coordinate(self, name: str, guess=0.0) -> sp.Symbol:
         """An extra scalar coordinate (a joint angle of a loop-closure model, say)."""
+        self._check_name(name, "coordinate")
+        value = self._guess_value(guess, f"coordinate '{name}': guess")
         self._claim(name, "coordinate")
         sym = sp.Symbol(name, real=True)
-        self.guess[sym] = self._guess_value(guess, f"coordinate '{name}': guess")
+        self.guess[sym] = value
         self.coords.append(sym)
         register_coordinates([sym])
         return sym
 
     def output(self, name: str, expr):
         """Declare a quantity to compile into the generated module (``s[name]``)."""
-        self._claim(name, "output")
+        self._check_name(name, "output")
         if isinstance(expr, (list, tuple)):
             expr = sp.Matrix(expr)
         if isinstance(expr, sp.MatrixBase):
             raise ModelError(f"output '{name}': give one scalar per output "
                              f"(e.g. location(p)[0]), not a {expr.shape[0]}-vector")
-        self.outputs[name] = self._expr(expr, f"output '{name}'", allow_coordinates=True,
-                                        allow_derivatives=True)
-        return self.outputs[name]
+        value = self._expr(expr, f"output '{name}'", allow_coordinates=True,
+                           allow_derivatives=True)
+        self._claim(name, "output")
+        self.outputs[name] = value
+        return value
 
     def __getitem__(self, name: str) -> Body:
         if name not in self.bodies:
@@ -125,6 +142,9 @@ class Model:
 
     # -- constraints --------------------------------------------------------------
     def _add(self, cls, args, name):
+        from .geometry import Line, Point
+        if isinstance(name, (Body, Point, Line)):
+            raise ModelError(f"{cls.kind}: too many arguments ({name!r} is one too many)")
         if name is not None and (not isinstance(name, str) or not name):
             raise ModelError(f"{cls.kind}: name= must be a non-empty string, got {name!r}")
         con = cls(self, len(self.constraints) + 1, name, "", _where())
@@ -132,6 +152,13 @@ class Model:
             con.args_text = con.build(*args)
         except TypeError as exc:
             raise ModelError(f"{cls.kind}: wrong arguments ({exc})") from None
+        coords = set(self.coords)
+        for expr, comp in zip(con.exprs, con.components):
+            if not sp.sympify(expr).free_symbols & coords:
+                row = f"its {comp} equation" if comp else "its equation"
+                raise ModelError(f"constraint {con.number} {con.label}: {row} reads "
+                                 f"{expr} = 0 and involves no coordinate: it constrains "
+                                 "nothing or cannot hold")
         con.points = _points_of(args)
         self.constraints.append(con)
         self._equations = None
@@ -198,6 +225,19 @@ class Model:
         if self._equations is None:
             self._equations = expand(self)
         return self._equations
+
+    def _repr_latex_(self):
+        """The labelled equations for Jupyter: report.equations_text(latex=True), whose
+        comment lines become headings, each a display of its own beside the align* blocks."""
+        from .report import equations_text
+        out = []
+        for line in equations_text(self, latex=True).splitlines():
+            if line.startswith("% "):
+                text = "".join("\\" + c if c in "_&#%{}$" else "\\^{}" if c == "^" else c
+                               for c in line[2:])
+                line = f"$$\\textbf{{{text}}}$$"
+            out.append(line)
+        return "\n".join(out) + "\n"
 
     # -- validation helpers ---------------------------------------------------------
     def _expr(self, value, what, allow_coordinates=False, allow_derivatives=False):

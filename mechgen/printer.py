@@ -92,9 +92,12 @@ class TempNames:
         return sym
 
 
-def emit(statements, temps: TempNames | None = None, cse: bool = True) -> list[str]:
+def emit(statements, temps: TempNames | None = None, cse: bool = True, variant=None):
     """Lines of code for statements, with one CSE pass over all their expressions and each
-    temporary emitted just before its first use."""
+    temporary emitted just before its first use.
+
+    With ``variant`` (the symbols a loop around the statements changes), returns
+    ``(before, inside)``: temporaries that depend on none of them are hoisted before the loop."""
     temps = temps or TempNames()
     exprs = []
     slots = []
@@ -114,6 +117,12 @@ def emit(statements, temps: TempNames | None = None, cse: bool = True) -> list[s
     rep_index = {sym: k for k, (sym, _) in enumerate(reps)}
     emitted = set()
     lines = []
+    hoisted = []
+    moving = set(variant or ())
+    moving |= {st.target for st in statements if isinstance(st, Assign)}
+    for sym, expr in reps:
+        if expr.free_symbols & moving:
+            moving.add(sym)
 
     def need(expr):
         todo = set()
@@ -125,7 +134,8 @@ def emit(statements, temps: TempNames | None = None, cse: bool = True) -> list[s
             todo.add(s)
             stack.extend(x for x in reps[rep_index[s]][1].free_symbols if x in rep_index)
         for s in sorted(todo, key=lambda x: rep_index[x]):
-            lines.append(f"{s.name} = {pycode(reps[rep_index[s]][1])}")
+            target = lines if variant is None or s in moving else hoisted
+            target.append(f"{s.name} = {pycode(reps[rep_index[s]][1])}")
             emitted.add(s)
 
     for st, k in slots:
@@ -143,4 +153,4 @@ def emit(statements, temps: TempNames | None = None, cse: bool = True) -> list[s
         else:
             lines.append(f"if not abs({st.value.name}) > {pycode(expr)}:")
             lines.append(f"    return {st.status}")
-    return lines
+    return lines if variant is None else (hoisted, lines)

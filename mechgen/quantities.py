@@ -5,6 +5,8 @@ Vectors come back as 2×1 sympy Matrices; scalars as sympy expressions. An "axis
 """
 from __future__ import annotations
 
+import numbers
+
 import sympy as sp
 
 from .constraints import cross2, dot2
@@ -46,27 +48,46 @@ def _axis(value, what) -> Line:
 def location(p, local=None) -> sp.Matrix:
     """Global position of a point: ``location(body[2])``, ``location(body, 2)`` or
     ``location(body, (3, 8))`` (a point at local coordinates)."""
+    return _point_of(p, local, "location").r
+
+
+def _point_of(p, local, what) -> Point:
+    """A Point from ``p`` or ``(body, k)`` or ``(body, (x, y))``; a bare (x, y) stays a pair."""
     if isinstance(p, Body):
         if local is None:
-            return p[0].r
-        if isinstance(local, int):
-            return p[local].r
-        return p.at(*as_pair(local, "location: local point")).r
+            return p[0]
+        if isinstance(local, (numbers.Integral, sp.Integer)) and not isinstance(local, bool):
+            return p[int(local)]
+        return p.at(*as_pair(local, f"{what}: local point"))
     if local is not None:
-        raise ModelError("location(p) takes a point, or a body and a point index or (x, y)")
-    return _pt(p, "location")
+        raise ModelError(f"{what}(p) takes a point, or a body and a point index or (x, y)")
+    if isinstance(p, Point):
+        return p
+    return _GlobalPoint(_pt(p, what))
+
+
+class _GlobalPoint:
+    """A fixed global point given as a pair (no body)."""
+
+    def __init__(self, r):
+        self.r = r
 
 
 def distance(p1, p2):
+    """Distance between two points; between two points of one body, the constant
+    local distance (Mech prints 3 for the crank's two points, not a square root of sines)."""
+    if isinstance(p1, Point) and isinstance(p2, Point) and p1.body is p2.body:
+        dx, dy = p2.local[0] - p1.local[0], p2.local[1] - p1.local[1]
+        return sp.sqrt(dx ** 2 + dy ** 2)
     d = _pt(p1, "distance") - _pt(p2, "distance")
     return sp.sqrt(d[0] ** 2 + d[1] ** 2)
 
 
 def point_to_line_distance(p, a):
-    """Signed distance of p from the axis, (a.first − r(p)) × u / |u| as Mech prints it."""
+    """Signed distance of p from the axis, (a.first − r(p)) × u / |u| as Mech prints it:
+    positive when p lies to the left of the axis (seen looking along u)."""
     a = _axis(a, "point_to_line_distance")
-    u = a.u
-    return cross2(a.first.r - _pt(p, "point_to_line_distance"), u) / sp.sqrt(dot2(u, u))
+    return cross2(a.first.r - _pt(p, "point_to_line_distance"), a.u) / a.length
 
 
 def angle(a):
@@ -94,7 +115,7 @@ def project_on_line(p, a) -> sp.Matrix:
     """Orthogonal projection of a point onto an axis."""
     a = _axis(a, "project_on_line")
     base, u = a.first.r, a.u
-    s = dot2(_pt(p, "project_on_line") - base, u) / dot2(u, u)
+    s = dot2(_pt(p, "project_on_line") - base, u) / a.length ** 2
     return base + s * u
 
 
@@ -103,13 +124,16 @@ def direction(a) -> sp.Matrix:
 
 
 def magnitude(a):
+    """Length of an axis's direction vector or of a vector."""
+    if isinstance(a, Line):
+        return a.length
     u = _vec(a, "magnitude")
     return sp.sqrt(u[0] ** 2 + u[1] ** 2)
 
 
 def unit(a) -> sp.Matrix:
-    u = _vec(a, "unit")
-    return u / sp.sqrt(u[0] ** 2 + u[1] ** 2)
+    """The unit vector along an axis or a vector."""
+    return _vec(a, "unit") / magnitude(a)
 
 
 def cross(a, b):
@@ -162,12 +186,16 @@ def dt(expr, order: int = 1, model=None):
     return total_derivative(expr, coords, order)
 
 
-def velocity(p) -> sp.Matrix:
-    return dt(location(p))
+def velocity(p, local=None) -> sp.Matrix:
+    """Global velocity of a point: ``velocity(body[2])`` or ``velocity(body, 2)``."""
+    point = _point_of(p, local, "velocity")
+    return dt(point.r, 1, model=getattr(getattr(point, "body", None), "model", None))
 
 
-def acceleration(p) -> sp.Matrix:
-    return dt(location(p), 2)
+def acceleration(p, local=None) -> sp.Matrix:
+    """Global acceleration of a point: ``acceleration(body[2])`` or ``acceleration(body, 2)``."""
+    point = _point_of(p, local, "acceleration")
+    return dt(point.r, 2, model=getattr(getattr(point, "body", None), "model", None))
 
 
 __all__ = ["location", "distance", "point_to_line_distance", "angle", "rotation", "intersection",

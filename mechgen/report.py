@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 import sympy as sp
+from sympy.printing.mathematica import MCodePrinter
 
 from .geometry import T
 
@@ -15,92 +16,254 @@ def _numeric(expr, model, numeric):
     return expr.subs(subs)
 
 
-def equations_text(model, numeric=False, latex=False) -> str:
-    """Φ, Φ_q, ν = −Φ_t and γ, each row labelled with its constraint."""
+class _MechPrinter(MCodePrinter):
+    """Mathematica syntax as Mech prints it: Cos[Th3], Sqrt[...], a space for a product."""
+
+    def _print_Pow(self, expr):
+        if expr.exp == sp.Rational(1, 2):
+            return f"Sqrt[{self._print(expr.base)}]"
+        if expr.exp == -sp.Rational(1, 2):
+            return f"1/Sqrt[{self._print(expr.base)}]"
+        return super()._print_Pow(expr)
+
+
+def mathematica(expr) -> str:
+    """``expr`` in Mech's notation: ``9 (-X2 + X3 - 3 Cos[Th2]) Cos[Th3]``."""
+    return _MechPrinter().doprint(expr).replace("*", " ")
+
+
+_LATEX_SPECIAL = {"\\": r"\textbackslash{}", "_": r"\_", "#": r"\#", "%": r"\%",
+                  "&": r"\&", "{": r"\{", "}": r"\}", "$": r"\$", "^": r"\^{}", "~": r"\~{}"}
+
+
+def _latex_text(text: str) -> str:
+    """Plain text (a constraint label) made safe inside \\text{...}."""
+    return "".join(_LATEX_SPECIAL.get(ch, ch) for ch in text)
+
+
+COMMENT_COLUMN = 64      # labels start here unless the expression is longer
+
+
+def _rows(pairs, indent="  "):
+    """Lines ``[i]  text    # label``, the labels aligned in one column; a row too long for
+    the column gets its label on a line of its own above it."""
+    width = max((len(t) + len(x) + 2 for (t, x), _ in pairs
+                 if len(t) + len(x) + 2 <= COMMENT_COLUMN), default=0)
+    out = []
+    for (tag, text), label in pairs:
+        row = f"{tag}  {text}"
+        if not label:
+            out.append(f"{indent}{row}")
+        elif len(row) <= COMMENT_COLUMN:
+            out.append(f"{indent}{row.ljust(width)}    # {label}")
+        else:
+            out.append(f"{indent}{tag}  # {label}")
+            out.append(f"{indent}{' ' * len(tag)}  {text}")
+    return out
+
+
+def equations_text(model, numeric=False, latex=False, mathematica_style=False) -> str:
+    """Φ, Φ_q, ν = −Φ_t and γ, each row labelled with its constraint, laid out to be read
+    beside Mech's printouts (Constraints, Jacobian, VelocityTerms = Φ_t = −ν,
+    AccelerationTerms = −γ). ``mathematica_style`` prints Mech's own notation
+    (``Cos[Th3]``); ``numeric`` substitutes the parameter defaults (6 digits, as Mech)."""
     eq = model.equations()
-    fmt = sp.latex if latex else sp.sstr
-    lines = []
-    head = (lambda s: f"% {s}") if latex else (lambda s: s)
+    if latex:
+        return _equations_latex(model, eq, numeric)
+    fmt = mathematica if mathematica_style else sp.sstr
 
     def show(e):
-        return fmt(_numeric(e, model, numeric))
+        return fmt(_numeric(sp.sympify(e), model, numeric))
 
-    lines.append(head(f"Model {model.name}: {eq.phi.rows} equations, {len(eq.q)} coordinates"))
-    lines.append(head("q = [" + ", ".join(map(str, eq.q)) + "]"))
+    m, n = eq.phi_q.shape
+    w = len(str(m))
+
+    def tag(i):
+        return f"[{i + 1:>{w}}]"
+
+    lines = [f"Model {model.name}: {m} equations in {n} coordinates"
+             + (f"  [{model.source}]" if getattr(model, "source", None) else ""),
+             "  q   = (" + ", ".join(map(str, eq.q)) + ")",
+             "  qd  = (" + ", ".join(map(str, eq.qd)) + ")",
+             "  qdd = (" + ", ".join(map(str, eq.qdd)) + ")"]
     if model.params:
-        lines.append(head("parameters: " + ", ".join(f"{n} = {v:g}" for n, v in model.param_defaults.items())))
-    lines.append("")
-    sections = [("Phi (constraints, = 0)", eq.phi), ("nu = -Phi_t (velocity right side)", eq.nu),
-                ("gamma (acceleration right side, Phi_q qdd = gamma)", eq.gamma)]
-    width = len(str(eq.phi.rows))
-    for title, vec in sections[:1]:
-        lines.append(head(title))
-        for i in range(vec.rows):
-            lines.append(_row(i, width, eq.labels[i], show(vec[i]) + (" = 0" if not latex else " = 0"), latex))
-        lines.append("")
-    lines.append(head("Phi_q (Jacobian, nonzero entries)"))
-    for i in range(eq.phi_q.rows):
-        for j in range(eq.phi_q.cols):
-            if eq.phi_q[i, j] != 0:
-                lines.append(_row(i, width, f"d/d{eq.q[j]}", show(eq.phi_q[i, j]), latex))
-    lines.append("")
-    for title, vec in sections[1:]:
-        lines.append(head(title))
-        for i in range(vec.rows):
-            lines.append(_row(i, width, eq.labels[i], show(vec[i]), latex))
-        lines.append("")
+        values = ", ".join(f"{k} = {v:g}" for k, v in model.param_defaults.items())
+        lines.append(f"  parameters: {values}" + ("  (substituted)" if numeric
+                                                  else "  (kept as symbols)"))
+    lines += ["", "Phi(q, t) = 0, one row per equation        [Mech: Constraints[All]]"]
+    lines += _rows([((tag(i), f"{show(eq.phi[i])} = 0"), eq.labels[i]) for i in range(m)])
+
+    # Φ_q: the sparsity pattern as a table, then every entry that is not a plain number
+    lines += ["", f"Phi_q, {m} x {n}; '#' marks an entry listed below   "
+                  "[Mech: Jacobian[All, All]]"]
+    names = [str(c) for c in eq.q]
+    cells = [[("." if eq.phi_q[i, j] == 0 else show(eq.phi_q[i, j])
+               if eq.phi_q[i, j].is_number else "#") for j in range(n)] for i in range(m)]
+    cells = [[c if len(c) <= max(len(names[j]), 3) else "#" for j, c in enumerate(row)]
+             for row in cells]
+    widths = [max(len(names[j]), *(len(cells[i][j]) for i in range(m))) for j in range(n)]
+    lines.append(" " * (6 + w) + "  ".join(nm.rjust(wd) for nm, wd in zip(names, widths)))
+    for i in range(m):
+        lines.append(f"  {tag(i)}  " + "  ".join(c.rjust(wd) for c, wd in zip(cells[i], widths)))
+    keys = [(i, j) for i in range(m) for j in range(n) if cells[i][j] == "#"]
+    if keys:
+        kw = max(len(f"{i + 1}, {names[j]}") for i, j in keys) + 2
+        lines += [f"  {f'[{i + 1}, {names[j]}]'.ljust(kw)}  {show(eq.phi_q[i, j])}"
+                  for i, j in keys]
+
+    lines += ["", "nu = -Phi_t: Phi_q qd = nu          [Mech: VelocityTerms[All] = Phi_t = -nu]"]
+    lines += _rows([((tag(i), show(eq.nu[i])), eq.labels[i]) for i in range(m)])
+    lines += ["", "gamma: Phi_q qdd = gamma            [Mech: AccelerationTerms[All] = -gamma]"]
+    lines += _rows([((tag(i), show(eq.gamma[i])), eq.labels[i]) for i in range(m)])
     return "\n".join(lines).rstrip() + "\n"
 
 
-def _row(i, width, label, text, latex):
-    if latex:
-        return f"{text} \\qquad \\text{{({i + 1}) {label}}} \\\\"
-    return f"  [{i + 1:>{width}}] {text}    # {label}"
+def _latex_names(eq):
+    """Th3 -> \\theta_{3}, X2d -> \\dot{X}_{2}, longitud -> \\mathit{longitud}."""
+    import re
+    names = {}
+    for base, syms in (("", eq.q), ("dot", eq.qd), ("ddot", eq.qdd)):
+        for c, s in zip(eq.q, syms):
+            found = re.fullmatch(r"(X|Y|Th)(\d+)", c.name)
+            if found:
+                head = r"\theta" if found.group(1) == "Th" else found.group(1)
+                sub = found.group(2)
+            else:
+                head, sub = (c.name if len(c.name) == 1 else rf"\mathit{{{c.name}}}"), ""
+            if base:
+                head = rf"\{base}{{{head}}}"
+            names[s] = head + (f"_{{{sub}}}" if sub else "")
+    for p in eq.params:
+        if len(p.name) > 1:
+            names[p] = rf"\mathit{{{_latex_text(p.name)}}}"
+    return names
+
+
+def _equations_latex(model, eq, numeric) -> str:
+    names = _latex_names(eq)
+
+    def show(e):
+        return sp.latex(_numeric(sp.sympify(e), model, numeric), symbol_names=names)
+
+    m, n = eq.phi_q.shape
+    out = [f"% Model {model.name}: {m} equations in {n} coordinates",
+           "% q = (" + ", ".join(map(str, eq.q)) + ")"]
+    if model.params:
+        out.append("% parameters: " + ", ".join(f"{k} = {v:g}" for k, v in
+                                                 model.param_defaults.items()))
+
+    def block(title, rows):
+        out.extend(["", f"% {title}", r"\begin{align*}"])
+        out.extend(rows)
+        if rows:
+            out[-1] = out[-1].rstrip(" \\")
+        out.append(r"\end{align*}")
+
+    def label(i):
+        return rf"&& \text{{{_latex_text(eq.labels[i])}}} \\"
+
+    block("Phi(q, t) = 0", [rf"\Phi_{{{i + 1}}} &= {show(eq.phi[i])} = 0 {label(i)}"
+                            for i in range(m)])
+    block("Phi_q (nonzero entries)",
+          [rf"\frac{{\partial \Phi_{{{i + 1}}}}}{{\partial {names[eq.q[j]]}}} &= "
+           rf"{show(eq.phi_q[i, j])} \\" for i in range(m) for j in range(n)
+           if eq.phi_q[i, j] != 0])
+    block("nu = -Phi_t", [rf"\nu_{{{i + 1}}} &= {show(eq.nu[i])} {label(i)}" for i in range(m)])
+    block("gamma (Phi_q qdd = gamma)", [rf"\gamma_{{{i + 1}}} &= {show(eq.gamma[i])} {label(i)}"
+                                        for i in range(m)])
+    return "\n".join(out) + "\n"
+
+
+def _assemble(eq, q0, params, t, maxit=50, tol=1e-12):
+    """Gauss-Newton from the guess (least squares: works for non-square systems too).
+
+    Returns (q, residual, iterations, converged)."""
+    f = sp.lambdify((list(eq.q), list(eq.params), T), eq.phi, modules="numpy")
+    J = sp.lambdify((list(eq.q), list(eq.params), T), eq.phi_q, modules="numpy")
+    q = np.array(q0, dtype=float)
+    m, n = eq.phi_q.shape
+
+    def res(x):
+        return np.array(f(list(x), params, t), dtype=float).reshape(m)
+
+    r = res(q)
+    for it in range(1, maxit + 1):
+        if not np.all(np.isfinite(r)):
+            return q, float("inf"), it, False
+        A = np.array(J(list(q), params, t), dtype=float).reshape(m, n)
+        dq = np.linalg.lstsq(A, -r, rcond=None)[0]
+        q = q + dq
+        r = res(q)
+        if np.max(np.abs(dq), initial=0.0) < tol * (1 + np.max(np.abs(q))) or \
+                np.max(np.abs(r), initial=0.0) < tol:
+            break
+    norm = float(np.max(np.abs(r), initial=0.0))
+    return q, norm, it, norm < 1e-8
 
 
 def check_report(model, t=0.0) -> tuple[str, bool]:
-    """Mech's CheckSystem and more. Returns (text, ok)."""
+    """Mech's CheckSystem and more. Returns (text, ok).
+
+    ok is False when equations are missing or the Jacobian is rank-deficient (a
+    coordinate left free); redundant but consistent equations are reported, not failed.
+    """
+    from .symbolic import numeric_jacobian, rank_analysis
     eq = model.equations()
+    q_names = [str(c) for c in eq.q]
     n, m = len(eq.q), eq.phi.rows
     drivers = model.drivers
-    lines = [f"Model {model.name}", f"  bodies: {len(model.bodies)} "
-             f"({', '.join(model.bodies)})",
-             f"  coordinates: {n} ({', '.join(map(str, eq.q))})",
-             f"  equations: {m} from {len(model.constraints)} constraints",
-             f"  drivers: {len(drivers)}" + (f" ({', '.join(c.label for c in drivers)})" if drivers else "")]
+    driver_rows = sum(len(c.exprs) for c in drivers)
+    params = list(model.param_defaults.values())
+    bodies = [f"{b.name} = {b.number}" + (" (ground)" if b.is_ground else "")
+              for b in model.bodies.values()]
+    lines = [f"Model {model.name}" + (f"  [{model.source}]" if getattr(model, "source", None)
+                                       else ""),
+             f"  bodies:       {len(model.bodies)}: {', '.join(bodies)}",
+             f"  coordinates:  {n}: {', '.join(q_names)}",
+             f"  equations:    {m} from {len(model.constraints)} constraints",
+             f"  drivers:      {len(drivers)}" +
+             "".join(f"\n    {c.number} {c.label}" for c in drivers)]
+    dof = n - (m - driver_rows)
+    lines.append(f"  degrees of freedom: {dof} ({n} coordinates - {m - driver_rows} kinematic "
+                 f"equations), {driver_rows} driven")
     ok = True
-    dof_free = n - (m - len(drivers))
-    lines.append(f"  degrees of freedom (coordinates minus non-driving equations): {dof_free}")
     if m < n:
         ok = False
-        lines.append(f"  NOT SQUARE: {n - m} equation(s) missing: add constraints or drivers")
+        lines.append(f"  MISSING: {n - m} equation(s) fewer than coordinates: add "
+                     f"{'a driver' if dof > driver_rows else 'constraints or drivers'}")
     elif m > n:
-        lines.append(f"  over-determined: {m - n} more equation(s) than coordinates "
+        lines.append(f"  over-determined: {m - n} equation(s) more than coordinates "
                      "(redundant constraints must be consistent)")
-    # numeric rank at the guess
-    values = {s: v for s, v in zip(eq.q, model.guess_vector())}
-    values.update({sym: val for sym, val in model.params.values()})
-    values[T] = t
-    J = np.array(eq.phi_q.subs(values).evalf(), dtype=float)
-    u, s, vt = np.linalg.svd(J)
-    tol = 1e-9 * (s[0] if s.size else 1.0)
-    rank = int(np.sum(s > tol))
-    lines.append(f"  Jacobian rank at the guess (t = {t:g}): {rank} of {n}")
-    if rank < min(m, n) or m > rank:
-        left = u[:, rank:]
-        if left.shape[1]:
-            w = np.max(np.abs(left), axis=1)
-            rows = [i for i in range(m) if w[i] > 0.1 * w.max()]
-            lines.append("  dependent (redundant) equations among: ")
-            lines += [f"    [{i + 1}] {eq.labels[i]}" for i in rows]
-        right = vt[rank:, :]
-        if right.shape[0]:
-            w = np.max(np.abs(right), axis=0)
-            cols = [str(eq.q[j]) for j in range(n) if w[j] > 0.1 * w.max()]
-            lines.append(f"  coordinates left free (not fixed by the equations): {', '.join(cols)}")
-        if rank < n:
-            ok = False
+    unused = [q_names[j] for j in range(n) if all(eq.phi_q[i, j] == 0 for i in range(m))]
+    if unused:
+        ok = False
+        lines.append(f"  coordinates in no equation: {', '.join(unused)}")
+
+    guess = model.guess_vector()
+    J0 = numeric_jacobian(eq, guess, params, t)
+    rank0, rows, cols = rank_analysis(J0)
+    lines.append(f"  Jacobian rank at the guess (t = {t:g}): {rank0} of {n}")
+    q, residual, its, converged = _assemble(eq, guess, params, t)
+    if converged:
+        J = numeric_jacobian(eq, q, params, t)
+        rank, rows, cols = rank_analysis(J)
+        lines.append(f"  Jacobian rank assembled at t = {t:g} ({its} Gauss-Newton steps "
+                     f"from the guess, residual {residual:.1e}): {rank} of {n}")
+    else:
+        rank = rank0
+        lines.append(f"  could not assemble at t = {t:g} from the guess (residual "
+                     f"{residual:.2g} after {its} steps): rank analysis at the guess")
+    if rows and m > rank:
+        lines.append(f"  redundant: {m - rank} dependent equation(s); the dependency involves:")
+        lines += [f"    [{i + 1}] {eq.labels[i]}" for i in rows]
+    if cols and rank < n:
+        ok = False
+        lines.append(f"  free: {n - rank} coordinate direction(s) not fixed by the equations; "
+                     f"coordinates left free: {', '.join(q_names[j] for j in cols)}")
+
     from .blocks import sort_blocks
+    values = dict(zip(eq.q, guess))
+    values.update({sym: val for sym, val in model.params.values()})
     blocks = sort_blocks(eq.phi, eq.q, values)
     if blocks is None:
         lines.append("  structure: no block sorting (not square or structurally singular); "

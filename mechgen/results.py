@@ -9,6 +9,18 @@ import numpy as np
 
 def _lookup(mech, name):
     """(kind, index, order) for a name: a coordinate, its derivative or an output."""
+    kind, k, order = _find(mech, name)
+    if kind == "q" and not mech.solved[k]:
+        raise KeyError(f"{mech.coordinates[k]!r} is not solved by this build of '{mech.name}' "
+                       "(pruned with --outputs): rebuild without --outputs to get it")
+    return kind, k, order
+
+
+def _solved_names(mech):
+    return [c for c, ok in zip(mech.coordinates, mech.solved) if ok]
+
+
+def _find(mech, name):
     if not isinstance(name, str):
         raise TypeError(f"index with a coordinate or output name, got {name!r}")
     index = mech._index
@@ -65,11 +77,12 @@ class Solution:
         return float(self.mechanism.output_values(self.q, self.qd, self.qdd, self.t, order)[k])
 
     def keys(self):
-        names = list(self.mechanism.coordinates)
+        coords = _solved_names(self.mechanism)
+        names = list(coords)
         if self.qd is not None:
-            names += [c + "d" for c in self.mechanism.coordinates]
+            names += [c + "d" for c in coords]
         if self.qdd is not None:
-            names += [c + "dd" for c in self.mechanism.coordinates]
+            names += [c + "dd" for c in coords]
         return names
 
     def as_dict(self) -> dict:
@@ -86,6 +99,12 @@ class Solution:
         items = ", ".join(f"{k} -> {v:.6g}" for k, v in self.as_dict().items())
         flag = ", singular" if self.singular else ""
         return f"<Solution {{{items}}}{flag}>"
+
+    def _repr_html_(self):
+        cells = "".join(f"<tr><td>{k}</td><td>{v:.10g}</td></tr>" for k, v in self.as_dict().items())
+        flag = " (singular)" if self.singular else ""
+        return (f"<p>Solution of <b>{self.mechanism.name}</b>{flag}</p>"
+                f"<table><tbody>{cells}</tbody></table>")
 
 
 class Sweep:
@@ -148,11 +167,12 @@ class Sweep:
         return out
 
     def columns(self) -> list:
-        names = list(self.mechanism.coordinates)
+        coords = _solved_names(self.mechanism)
+        names = list(coords)
         if self.QD is not None:
-            names += [c + "d" for c in self.mechanism.coordinates]
+            names += [c + "d" for c in coords]
         if self.QDD is not None:
-            names += [c + "dd" for c in self.mechanism.coordinates]
+            names += [c + "dd" for c in coords]
         have = self._have()
         for k, o in enumerate(self.mechanism.outputs):
             order = self.mechanism.output_orders[k]
@@ -176,12 +196,49 @@ class Sweep:
         return path
 
     def to_dataframe(self):
-        import pandas as pd
+        """A pandas DataFrame of T and every column (needs pandas)."""
+        from .analysis import _pandas
+        pd = _pandas()
         header, data = self.table()
         return pd.DataFrame(data, columns=header)
+
+    # -- analysis (mechgen.analysis) ------------------------------------------------------
+    def interpolate(self, name, method="auto", degree=3, extrapolate=False):
+        """A callable of t (Mech's TimeInterpolate) using the derivatives the sweep holds:
+        quintic Hermite with accelerations, cubic Hermite with velocities, a cubic spline
+        on positions; method="lagrange" is Mathematica's default InterpolatingFunction."""
+        from .analysis import interpolate
+        return interpolate(self, name, method=method, degree=degree, extrapolate=extrapolate)
+
+    def extrema(self, name, method="auto", xtol=1e-12):
+        """Interior maxima and minima of a quantity, bracketed by the sweep and refined on
+        exact solves of its time derivative; each also says what the interpolant gives."""
+        from .analysis import extrema
+        return extrema(self, name, method=method, xtol=xtol)
+
+    def roots(self, name, method="auto", xtol=1e-12):
+        """Times where a quantity crosses zero, refined on exact solves."""
+        from .analysis import roots
+        return roots(self, name, method=method, xtol=xtol)
+
+    def _repr_html_(self):
+        header, data = self.table()
+        rows = range(len(self)) if len(self) <= 20 else [*range(8), None, *range(len(self) - 8, len(self))]
+        head = "".join(f"<th>{h}</th>" for h in header)
+        body = []
+        for k in rows:
+            if k is None:
+                body.append(f"<tr><td colspan='{len(header)}'>... {len(self) - 16} rows ...</td></tr>")
+            else:
+                body.append("<tr>" + "".join(f"<td>{v:.6g}</td>" for v in data[k]) + "</tr>")
+        return (f"<p>Sweep of <b>{self.mechanism.name}</b>: {len(self)} points, level "
+                f"{self.level}</p><table><thead><tr>{head}</tr></thead><tbody>"
+                f"{''.join(body)}</tbody></table>")
 
     def __repr__(self):
         if not len(self):
             return f"<Sweep of '{self.mechanism.name}': no points>"
+        cols = self.columns()
+        shown = ", ".join(cols[:12]) + (f", ... ({len(cols)} columns)" if len(cols) > 12 else "")
         return (f"<Sweep of '{self.mechanism.name}': {len(self)} points, T from {self.t[0]:.6g} "
-                f"to {self.t[-1]:.6g}, level {self.level}>")
+                f"to {self.t[-1]:.6g}, level {self.level}; columns {shown}>")

@@ -48,10 +48,12 @@ class Equations:
 
 
 def expand(model) -> Equations:
+    where = getattr(model, "_where", None)
     if not model.coords:
-        raise ModelError(f"model '{model.name}' has no coordinates: declare a body or a coordinate")
+        raise ModelError(f"model '{model.name}' has no coordinates: declare a body or a "
+                         "coordinate", where=where)
     if not model.constraints:
-        raise ModelError(f"model '{model.name}' has no constraints")
+        raise ModelError(f"model '{model.name}' has no constraints", where=where)
     exprs, labels, rows = [], [], []
     for con in model.constraints:
         for k, (expr, label) in enumerate(con.rows()):
@@ -62,19 +64,28 @@ def expand(model) -> Equations:
     qd_syms, qdd_syms = derivative_symbols(model.coords)
     qd, qdd = sp.Matrix(qd_syms), sp.Matrix(qdd_syms)
     phi = sp.Matrix(exprs)
-    phi_q = phi.jacobian(q)
-    phi_t = phi.diff(T)
-    # γ = −(Φ_q q̇)_q q̇ − 2 Φ_qt q̇ − Φ_tt, built row by row to keep it short
-    gamma = []
-    for i in range(phi.rows):
-        row = phi_q.row(i)
-        v = (row * qd)[0]
-        g = -(sp.Matrix([v]).jacobian(q) * qd)[0]
-        g -= 2 * (sp.Matrix([phi_t[i]]).jacobian(q) * qd)[0]
-        g -= sp.diff(phi_t[i], T)
-        gamma.append(g)
+    n = len(model.coords)
+    index = {c: j for j, c in enumerate(model.coords)}
+    # Differentiate each row only by the coordinates it holds: the work grows with the
+    # number of nonzeros, not with rows × columns.
+    phi_q = sp.zeros(len(exprs), n)
+    phi_t = sp.zeros(len(exprs), 1)
+    gamma = sp.zeros(len(exprs), 1)
+    for i, e in enumerate(exprs):
+        cols = sorted(index[s] for s in e.free_symbols if s in index)
+        for j in cols:
+            phi_q[i, j] = sp.diff(e, q[j])
+        et = sp.diff(e, T)
+        phi_t[i] = et
+        # γ = −(Φ_q q̇)_q q̇ − 2 Φ_qt q̇ − Φ_tt
+        v = sum((phi_q[i, j] * qd[j] for j in cols), sp.Integer(0))
+        g = -sum((sp.diff(v, q[k]) * qd[k] for k in cols), sp.Integer(0))
+        if et != 0:
+            g -= 2 * sum((sp.diff(et, q[k]) * qd[k] for k in cols), sp.Integer(0))
+            g -= sp.diff(et, T)
+        gamma[i] = g
     return Equations(q=q, qd=qd, qdd=qdd, phi=phi, phi_q=phi_q, phi_t=phi_t, nu=-phi_t,
-                     gamma=sp.Matrix(gamma), labels=tuple(labels), rows=tuple(rows),
+                     gamma=gamma, labels=tuple(labels), rows=tuple(rows),
                      params=tuple(model.param_symbols))
 
 
@@ -103,3 +114,66 @@ def total_derivative(expr, coords, order: int = 1):
     for _ in range(order):
         result = once(result)
     return result
+
+
+# -- numeric structure checks (compile side: numpy is fine here, the runtime never calls them)
+def numeric_jacobian(eq, q_values, param_values, t=0.0):
+    """Φ_q as a float array at the coordinates ``q_values`` (coordinate order), the
+    parameter values ``param_values`` (parameter order) and time ``t``."""
+    import numpy as np
+    f = sp.lambdify((list(eq.q), list(eq.params), T), eq.phi_q, modules="numpy")
+    return np.array(f(list(q_values), list(param_values), t), dtype=float).reshape(eq.phi_q.shape)
+
+
+def rank_analysis(J, rtol=1e-9, share=1e-6):
+    """(rank, dependent rows, free columns) of a Jacobian.
+
+    Dependent rows are the equations that take part in a dependency (a left null vector
+    of J); free columns the coordinates that move in a null vector of J, i.e. that the
+    equations leave undetermined. ``share`` is the smallest participation (relative to the
+    largest) that counts.
+    """
+    import numpy as np
+    J = np.asarray(J, dtype=float)
+    m, n = J.shape
+    if not np.all(np.isfinite(J)):
+        raise ModelError("the Jacobian is not finite at this configuration")
+    u, s, vt = np.linalg.svd(J)
+    tol = rtol * (s[0] if s.size and s[0] > 0 else 1.0)
+    rank = int(np.sum(s > tol))
+    rows, cols = [], []
+    if rank < m:
+        w = np.linalg.norm(u[:, rank:], axis=1)
+        rows = [i for i in range(m) if w[i] > share * w.max()]
+    if rank < n:
+        w = np.linalg.norm(vt[rank:, :], axis=0)
+        cols = [j for j in range(n) if w[j] > share * w.max()]
+    return rank, rows, cols
+
+
+def check_square(model, eq=None):
+    """Raise ModelError when the model has fewer equations than coordinates.
+
+    ``mechgen check`` reports such a model; a build refuses it, naming the coordinates
+    the equations leave free at the guess. More equations than coordinates are allowed
+    (redundant but consistent constraints, handled by the solver).
+    """
+    eq = model.equations() if eq is None else eq
+    m, n = eq.phi.rows, len(eq.q)
+    if m >= n:
+        return
+    free = []
+    try:
+        J = numeric_jacobian(eq, model.guess_vector(), list(model.param_defaults.values()))
+        free = [str(eq.q[j]) for j in rank_analysis(J)[2]]
+    except (ModelError, TypeError, ValueError, ZeroDivisionError):
+        pass
+    missing = n - m
+    hint = "" if model.drivers else " The model has no driver (a constraint in T)."
+    text = (f"model '{model.name}' is not square: {m} equations for {n} coordinates "
+            f"({', '.join(map(str, eq.q))}); {missing} equation{'s' if missing > 1 else ''} "
+            f"missing: add {'a driver or a constraint' if missing == 1 else 'drivers or constraints'}."
+            + hint)
+    if free:
+        text += f" Left free at the guess: {', '.join(free)}."
+    raise ModelError(text, where=getattr(model, "_where", None))

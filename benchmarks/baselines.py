@@ -1,0 +1,115 @@
+"""Independent baselines for the quick-return of seed 001 (longitud 3, velocidad 2π).
+
+- ``hand_sorted_sweep``: the sorted algorithm written by hand in numba (Th2 explicit,
+  1-unknown Newtons for Th3 and X4, Y4 and Th4 known), as in PERFORMANCE.md.
+- ``reference(t)``: closed form evaluated with mpmath at 50 digits — positions, velocities
+  and accelerations (derivatives of the closed form by mpmath.diff).
+- ``lambdify_fsolve``: what most users write: sympy.lambdify + scipy.optimize.fsolve.
+"""
+from __future__ import annotations
+
+import math
+
+import mpmath
+import numpy as np
+from numba import njit
+
+L = 3.0
+W = 2 * math.pi
+
+
+@njit(cache=True)
+def hand_sorted_sweep(ts, level, tol, Q):
+    """Q[k] = (Th3, X4, Th3d, X4d, Th3dd, X4dd) at ts[k]; Newton per unknown, warm start with
+    a Taylor predictor from the previous point's velocity and acceleration."""
+    th3, x4 = -0.5, 6.0
+    th3d = x4d = th3dd = x4dd = 0.0
+    for k in range(ts.shape[0]):
+        t = ts[k]
+        if k > 0:
+            h = t - ts[k - 1]
+            th3 += h * (th3d + 0.5 * h * th3dd)
+            x4 += h * (x4d + 0.5 * h * x4dd)
+        th2 = W * t
+        c2, s2 = math.cos(th2), math.sin(th2)
+        px, py = L * c2, 5.0 + L * s2            # crank pin relative to the colisa pivot
+        for _ in range(50):                      # point_on_line: -9 px cos th3 - 9 py sin th3
+            c3, s3 = math.cos(th3), math.sin(th3)
+            r = -9.0 * px * c3 - 9.0 * py * s3
+            d = 9.0 * px * s3 - 9.0 * py * c3
+            s = r / d
+            th3 -= s
+            if abs(r) <= tol and abs(s) <= tol * (1.0 + abs(th3)):
+                break
+        c3, s3 = math.cos(th3), math.sin(th3)
+        cx, cy = -9.0 * s3, 9.0 * c3             # colisa P2
+        for _ in range(50):                      # distance: (cx - x4)^2 + (cy - 10)^2 - 25
+            r = (cx - x4) ** 2 + (cy - 10.0) ** 2 - 25.0
+            d = -2.0 * (cx - x4)
+            s = r / d
+            x4 -= s
+            if abs(r) <= tol and abs(s) <= tol * (1.0 + abs(x4)):
+                break
+        Q[k, 0] = th3
+        Q[k, 1] = x4
+        if level >= 1:
+            # velocities: differentiate both equations once
+            pxd, pyd = -L * s2 * W, L * c2 * W
+            a = 9.0 * px * s3 - 9.0 * py * c3
+            th3d = -(-9.0 * pxd * c3 - 9.0 * pyd * s3) / a
+            cxd, cyd = -9.0 * c3 * th3d, -9.0 * s3 * th3d
+            x4d = cxd + (cy - 10.0) * cyd / (cx - x4)
+            Q[k, 2] = th3d
+            Q[k, 3] = x4d
+        if level >= 2:
+            pxdd, pydd = -L * c2 * W * W, -L * s2 * W * W
+            # d/dt of (a th3d + b) = 0 with b = -9 pxd c3 - 9 pyd s3
+            ad = 9.0 * pxd * s3 + 9.0 * px * c3 * th3d - 9.0 * pyd * c3 + 9.0 * py * s3 * th3d
+            bd = (-9.0 * pxdd * c3 + 9.0 * pxd * s3 * th3d - 9.0 * pydd * s3
+                  - 9.0 * pyd * c3 * th3d)
+            th3dd = -(ad * th3d + bd) / a
+            cxdd = 9.0 * s3 * th3d * th3d - 9.0 * c3 * th3dd
+            cydd = -9.0 * c3 * th3d * th3d - 9.0 * s3 * th3dd
+            # (cx - x4)(cxd - x4d) + (cy - 10) cyd = 0, differentiated
+            e = cx - x4
+            x4dd = cxdd + ((cxd - x4d) ** 2 + cyd * cyd + (cy - 10.0) * cydd) / e
+            Q[k, 4] = th3dd
+            Q[k, 5] = x4dd
+    return Q
+
+
+def _closed(t):
+    th2 = 2 * mpmath.pi * t
+    px, py = 3 * mpmath.cos(th2), 5 + 3 * mpmath.sin(th2)
+    th3 = mpmath.atan2(-px, py)
+    cx, cy = -9 * mpmath.sin(th3), 9 * mpmath.cos(th3)
+    x4 = cx + mpmath.sqrt(25 - (10 - cy) ** 2)
+    return th3, x4
+
+
+def reference(t, digits=50):
+    """(Th3, X4, Th3d, X4d, Th3dd, X4dd) at t from the closed form, at ``digits`` digits."""
+    with mpmath.workdps(digits):
+        t = mpmath.mpf(t)
+        th3, x4 = _closed(t)
+        d1 = [mpmath.diff(lambda s, i=i: _closed(s)[i], t) for i in range(2)]
+        d2 = [mpmath.diff(lambda s, i=i: _closed(s)[i], t, 2) for i in range(2)]
+        return [float(v) for v in (th3, x4, d1[0], d1[1], d2[0], d2[1])]
+
+
+def lambdify_fsolve(model):
+    """A per-point solver built the way most users write one."""
+    import scipy.optimize
+    import sympy as sp
+    from mechgen.geometry import T
+
+    eq = model.equations()
+    subs = {sym: val for sym, val in model.params.values()}
+    q = list(eq.q)
+    f = sp.lambdify((q, T), list(eq.phi.subs(subs)), "numpy")
+    J = sp.lambdify((q, T), eq.phi_q.subs(subs), "numpy")
+
+    def solve(t, q0):
+        return scipy.optimize.fsolve(lambda x: f(x, t), q0, fprime=lambda x: J(x, t),
+                                     xtol=1e-13, full_output=False)
+    return solve

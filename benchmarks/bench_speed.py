@@ -1,0 +1,170 @@
+"""Speed against error for the quick-return of seed 001, all methods side by side in one
+process (interleaved rounds, medians), each checked against a 50-digit mpmath reference.
+
+    python benchmarks/bench_speed.py            # the table
+    python benchmarks/bench_speed.py --quick    # fewer points and rounds
+
+Methods: the generated solver (sorted blocks; the compiled sweep, and one mech.solve per
+point with its Python overhead), the generated full-Newton path (method="full"), the
+hand-written sorted numba baseline and sympy.lambdify + scipy.optimize.fsolve.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+
+import baselines  # noqa: E402
+
+import mechgen  # noqa: E402
+from mechgen.build import build  # noqa: E402
+from mechgen.loader import load_models  # noqa: E402
+
+NAMES = ("Th3", "X4")
+
+
+def per_point(fn, n_points, rounds):
+    times = []
+    for _ in range(rounds):
+        t0 = time.perf_counter()
+        fn()
+        times.append((time.perf_counter() - t0) / n_points * 1e9)
+    return statistics.median(times)
+
+
+def errors(values, ts, ref):
+    """Largest error over the sample times, per derivative level."""
+    worst = [0.0, 0.0, 0.0]
+    for k, t in enumerate(ts):
+        r = ref[t]
+        for lev in range(3):
+            for i in range(2):
+                v = values[lev][i][k]
+                if v is not None and np.isfinite(v):
+                    worst[lev] = max(worst[lev], abs(v - r[2 * lev + i]))
+    return worst
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--quick", action="store_true")
+    args = ap.parse_args()
+    N = 20_000 if args.quick else 100_000
+    rounds = 3 if args.quick else 7
+    model = load_models(os.path.join(ROOT, "examples", "quick_return.py"))[0]
+    outdir = tempfile.mkdtemp(prefix="mechgen-bench-")
+    mech = mechgen.load(build(model, outdir))
+    full = mechgen.load(build(model, os.path.join(outdir, "full"), sort=False))
+
+    ts = np.linspace(0.0, 1.0, N, endpoint=False)
+    sample_idx = np.linspace(0, N - 1, 25).astype(int)
+    ref = {float(ts[k]): baselines.reference(float(ts[k])) for k in sample_idx}
+
+    # warm up every compiled path once
+    mech.sweep(0, 1, 5, level="acceleration")
+    mech.sweep(0, 1, 5)
+    full.sweep(0, 1, 5, level="acceleration", method="full")
+    full.sweep(0, 1, 5, method="full")
+    Qh = np.zeros((N, 6))
+    baselines.hand_sorted_sweep(ts[:5], 2, 1e-10, Qh[:5])
+
+    results = {}
+    sweeps = {}
+
+    def gen(level, m=mech, method=None):
+        def run():
+            sweeps[(id(m), level)] = m.sweep(0, 1, N, level=level, method=method,
+                                             times=ts)
+        return run
+
+    def hand(level):
+        def run():
+            baselines.hand_sorted_sweep(ts, level, 1e-10, Qh)
+        return run
+
+    cases = [
+        ("generated, sorted (compiled sweep)", gen("position"), gen("acceleration")),
+        ("generated, full Newton (--no-sort)", gen("position", full, "full"),
+         gen("acceleration", full, "full")),
+        ("hand-written numba, sorted", hand(0), hand(2)),
+    ]
+    timing = {name: ([], []) for name, _, _ in cases}
+    for _ in range(rounds):
+        for name, pos, acc in cases:
+            timing[name][0].append(per_point(pos, N, 1))
+            timing[name][1].append(per_point(acc, N, 1))
+    for name, (tp, ta) in timing.items():
+        results[name] = [statistics.median(tp), statistics.median(ta)]
+
+    # errors of each compiled method at the sample times
+    errs = {}
+    sw = sweeps[(id(mech), "acceleration")]
+    errs["generated, sorted (compiled sweep)"] = errors(
+        [[sw["Th3"][sample_idx], sw["X4"][sample_idx]], [sw["Th3d"][sample_idx], sw["X4d"][sample_idx]],
+         [sw["Th3dd"][sample_idx], sw["X4dd"][sample_idx]]], ts[sample_idx], ref)
+    sw = sweeps[(id(full), "acceleration")]
+    errs["generated, full Newton (--no-sort)"] = errors(
+        [[sw["Th3"][sample_idx], sw["X4"][sample_idx]], [sw["Th3d"][sample_idx], sw["X4d"][sample_idx]],
+         [sw["Th3dd"][sample_idx], sw["X4dd"][sample_idx]]], ts[sample_idx], ref)
+    baselines.hand_sorted_sweep(ts, 2, 1e-10, Qh)
+    errs["hand-written numba, sorted"] = errors(
+        [[Qh[sample_idx, 0], Qh[sample_idx, 1]], [Qh[sample_idx, 2], Qh[sample_idx, 3]],
+         [Qh[sample_idx, 4], Qh[sample_idx, 5]]], ts[sample_idx], ref)
+
+    # one mech.solve per point: Python overhead included
+    few = ts[:: max(1, N // 2000)]
+    mech.solve(0.1, level="acceleration")
+
+    def single(level):
+        def run():
+            for t in few:
+                mech.solve(t, level=level)
+        return run
+    results["mech.solve(t) per call (Python API)"] = [per_point(single("position"), len(few), rounds),
+                                                    per_point(single("acceleration"), len(few), rounds)]
+    errs["mech.solve(t) per call (Python API)"] = errs["generated, sorted (compiled sweep)"]
+
+    # lambdify + fsolve, per point, warm started
+    solve = baselines.lambdify_fsolve(model)
+    few2 = ts[:: max(1, N // 2000)]
+    qs = {}
+
+    def lf():
+        q = np.array(model.guess_vector())
+        for t in few2:
+            q = solve(t, q)
+            qs[float(t)] = q
+    results["sympy.lambdify + scipy fsolve"] = [per_point(lf, len(few2), max(1, rounds // 2)), float("nan")]
+    idx = model.coords.index
+    worst = 0.0
+    for t, r in ref.items():
+        if t in qs:
+            q = qs[t]
+            worst = max(worst, abs(q[5] - r[0]), abs(q[6] - r[1]))
+    errs["sympy.lambdify + scipy fsolve"] = [worst, float("nan"), float("nan")]
+    del idx
+
+    base = results["hand-written numba, sorted"]
+    slow = results["sympy.lambdify + scipy fsolve"][0]
+    print(f"quick-return sweep over T in [0, 1), {N} points, medians of {rounds} interleaved rounds")
+    print(f"{'method':40s} {'pos ns':>9s} {'+vel+acc':>9s} {'vs hand':>8s} {'vs fsolve':>10s} "
+          f"{'err pos':>9s} {'err vel':>9s} {'err acc':>9s}")
+    for name, (tp, ta) in results.items():
+        e = errs[name]
+        print(f"{name:40s} {tp:9.0f} {ta:9.0f} {ta / base[1] if ta == ta else tp / base[0]:8.2f} "
+              f"{slow / tp:10.0f} {e[0]:9.1e} {e[1]:9.1e} {e[2]:9.1e}")
+    print("vs hand: ratio of the +vel+acc time (position time for fsolve) to the hand-written "
+          "sorted numba; vs fsolve: how many times faster than lambdify + fsolve per position.")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,169 @@
+"""The picture commands: ``mechgen draw | animate | plot`` (matplotlib, headless)."""
+from __future__ import annotations
+
+import os
+
+from .errors import MechgenError
+
+LEVELS = ("position", "velocity", "acceleration")
+
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")  # files only: no window, no display needed
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _guess(items):
+    from .cli import _parse_guess
+    return _parse_guess(items)
+
+
+def _bodies(value):
+    """--labels / --axes: a bare flag means every body, else comma-separated names."""
+    if value is None:
+        return False
+    if value == "all":
+        return True
+    return [v.strip() for v in value.split(",") if v.strip()]
+
+
+def _needed_level(mech, names) -> str:
+    """The lowest sweep level that yields every named quantity."""
+    from .results import _lookup
+    need = 0
+    for name in names:
+        try:
+            kind, k, order = _lookup(mech, name)
+        except KeyError as exc:
+            raise MechgenError(exc.args[0]) from None
+        if kind == "out":
+            order += mech.output_orders[k]
+        need = max(need, order)
+    return LEVELS[min(need, 2)]
+
+
+def _output(args, mech, default):
+    path = args.output or default.format(name=mech.name)
+    folder = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(folder):
+        raise MechgenError(f"cannot write {path}: folder {folder} does not exist")
+    return path
+
+
+def _sweep(mech, args, level="position", guess=None):
+    if args.n < 1:
+        raise MechgenError(f"-n must be at least 1, got {args.n}")
+    try:
+        return mech.sweep(args.t0, args.t1, args.n, level=level, guess=guess)
+    except MechgenError as exc:
+        partial = getattr(exc, "sweep", None)
+        if partial is None or len(partial) < 2:
+            raise
+        print(f"mechgen: warning: the sweep stopped at T = {exc.t:.6g} "
+              f"({len(partial)} of {args.n} points): {exc}")
+        return partial
+
+
+def cmd_draw(args):
+    from . import plot
+    plt = _pyplot()
+    mech = args.load_mechanism(args)
+    s = mech.solve(args.t, guess=_guess(args.guess))
+    d = plot.draw(mech, s, labels=_bodies(args.labels), axes=_bodies(args.axes),
+                  legend=args.legend, width=args.width)
+    path = _output(args, mech, "{name}.png")
+    d.figure.savefig(path, dpi=args.dpi)
+    plt.close(d.figure)
+    print(f"wrote {path} ({mech.name} at T = {s.t:g})")
+
+
+def cmd_animate(args):
+    from . import plot
+    plt = _pyplot()
+    mech = args.load_mechanism(args)
+    path = _output(args, mech, "{name}.gif")
+    plot.check_movie_path(path)
+    sw = _sweep(mech, args, guess=_guess(args.guess))
+    a = plot.animate(mech, sw, None, trace=tuple(args.trace or ()), fps=args.fps,
+                     labels=_bodies(args.labels), axes=_bodies(args.axes), legend=args.legend,
+                     width=args.width)
+    a.save(path, dpi=args.dpi)
+    plt.close(a.figure)
+    print(f"wrote {path} ({len(sw)} frames, T from {sw.t[0]:g} to {sw.t[-1]:g})")
+
+
+def cmd_plot(args):
+    from . import plot
+    plt = _pyplot()
+    mech = args.load_mechanism(args)
+    names = list(args.names) + ([args.x] if args.x else [])
+    level = _needed_level(mech, names)
+    sw = _sweep(mech, args, level=level, guess=_guess(args.guess))
+    lines = plot.plot(sw, *args.names, x=args.x)
+    fig = lines[0].figure
+    path = _output(args, mech, "{name}_" + "_".join(args.names) + ".png")
+    fig.savefig(path, dpi=args.dpi)
+    plt.close(fig)
+    print(f"wrote {path} ({', '.join(args.names)} over {len(sw)} points)")
+
+
+def add_commands(sub, add_common, mechanism):
+    """Add draw, animate and plot to the ``mechgen`` parser. ``-o/--output`` names the
+    picture; ``--outdir`` the folder of generated modules (as ``build -o``)."""
+
+    def common(p, image):
+        add_common(p, outdir=False)
+        p.add_argument("-o", "--output", metavar="FILE",
+                       help=f"the picture to write (default: MODEL_NAME{image} here)")
+        p.add_argument("--outdir", default="generated",
+                       help="folder of generated modules, rebuilt when out of date "
+                            "(default: generated/)")
+        p.add_argument("--guess", action="append", metavar="NAME=VALUE",
+                       help="start value of a coordinate (repeatable; picks an assembly mode)")
+        p.add_argument("--dpi", type=float, default=100 if image == ".png" else 80,
+                       help="resolution, dots per inch")
+        p.set_defaults(load_mechanism=mechanism)
+
+    def span(p, n):
+        p.add_argument("--t0", type=float, default=0.0, help="first time (default 0)")
+        p.add_argument("--t1", type=float, default=1.0, help="last time (default 1)")
+        p.add_argument("-n", type=int, default=n, help=f"number of times, both ends "
+                                                       f"included (default {n})")
+
+    def looks(p):
+        p.add_argument("--labels", nargs="?", const="all", metavar="BODIES",
+                       help="write P1, P2, ... (every body, or comma-separated names)")
+        p.add_argument("--axes", nargs="?", const="all", metavar="BODIES",
+                       help="draw local axes (every body, or comma-separated names)")
+        p.add_argument("--legend", action="store_true", help="name the bodies in a legend")
+        p.add_argument("--width", type=float, default=8.0, help="figure width in inches")
+
+    p = sub.add_parser("draw", help="draw the mechanism at one time (PNG, SVG, PDF)",
+                       description="Draw the mechanism at time T: bodies, joints, slots, "
+                                   "sliders; framed by its motion over one time unit.")
+    common(p, ".png")
+    p.add_argument("-t", type=float, default=0.0, help="the time (default 0)")
+    looks(p)
+    p.set_defaults(func=cmd_draw)
+
+    p = sub.add_parser("animate", help="animate the mechanism over a time range (GIF, MP4)",
+                       description="Animate the mechanism from --t0 to --t1 in -n frames "
+                                   "(GIF with pillow; MP4 when ffmpeg is installed).")
+    common(p, ".gif")
+    span(p, 100)
+    p.add_argument("--fps", type=float, default=25.0, help="frames per second (default 25)")
+    p.add_argument("--trace", action="append", metavar="POINT",
+                   help="draw the path of a point, e.g. colisa[2] (repeatable)")
+    looks(p)
+    p.set_defaults(func=cmd_animate)
+
+    p = sub.add_parser("plot", help="plot quantities against time (PNG, SVG, PDF)",
+                       description="Plot coordinates (X4), their derivatives (X4d, X4dd) or "
+                                   "declared outputs against T, or against --x NAME.")
+    common(p, ".png")
+    p.add_argument("names", nargs="+", metavar="NAME", help="quantities to plot")
+    p.add_argument("--x", metavar="NAME", help="plot against this quantity instead of T")
+    span(p, 101)
+    p.set_defaults(func=cmd_plot)
