@@ -20,6 +20,8 @@ PIVOT_RTOL = 1e-10     # a pivot below this fraction of its row's size counts as
 SING_RTOL = 1e-6       # velocity/acceleration: a pivot below this fraction of its row's
                        # size marks a singular configuration (status 2, SingularError)
 TINY = 1e-300
+CHUNK_STORES = 48      # straight-line functions longer than this are split into parts
+CHUNK_LINES = 160      # lines of the position solver per part, for large models
 
 
 def _sym(name):
@@ -58,6 +60,7 @@ class ModuleBuilder:
         at.update({sym: val for sym, val in model.params.values()})
         self.blocks = sort_blocks(self.eq.phi, self.eq.q, at) if sort else None
         self.solved = [True] * len(self.q)
+        self.helpers = []      # parts of large functions, emitted before them
         if outputs is None:
             self.output_names = list(model.outputs)
         else:
@@ -117,15 +120,28 @@ class ModuleBuilder:
             lines.append("T = t")
         return lines
 
-    def _function(self, statements, **kw):
-        exprs = [s.expr for s in statements if isinstance(s, (Assign, Store))]
-        body = emit(statements, cse=self.cse)
-        return self._prologue(exprs, **kw) + body
+    def _function(self, statements, name=None, args="q, t, p, out", **kw):
+        """Prologue and body of a straight-line function. Past CHUNK_STORES statements the
+        work goes to helper functions ``_<name>_part<i>`` (each with its own CSE) that
+        the function calls in turn: numba compiles small functions much faster."""
+        if name is None or len(statements) <= CHUNK_STORES:
+            exprs = [s.expr for s in statements if isinstance(s, (Assign, Store))]
+            return self._prologue(exprs, **kw) + emit(statements, cse=self.cse)
+        calls = []
+        parts = [statements[i:i + CHUNK_STORES] for i in range(0, len(statements), CHUNK_STORES)]
+        for i, part in enumerate(parts):
+            helper = f"_{name}_part{i}"
+            exprs = [s.expr for s in part if isinstance(s, (Assign, Store))]
+            self.helpers.append(dict(name=helper, args=args,
+                                     doc=f"{name}, part {i + 1} of {len(parts)}.",
+                                     lines=self._prologue(exprs, **kw) + emit(part, cse=self.cse)))
+            calls.append(f"{helper}({args})")
+        return calls
 
     # -- the quantities -------------------------------------------------------------
     def phi_body(self):
         st = [Store(f"out[{i}]", self.eq.phi[i], self.eq.labels[i]) for i in range(self.eq.phi.rows)]
-        return self._function(st)
+        return self._function(st, "phi")
 
     def phi_q_body(self):
         J = self.eq.phi_q
@@ -134,12 +150,12 @@ class ModuleBuilder:
             for j in range(J.cols):
                 if J[i, j] != 0:
                     st.append(Store(f"out[{i}, {j}]", J[i, j], f"{self.eq.labels[i]} / d{self.q[j]}"))
-        return self._function(st)
+        return self._function(st, "phi_q")
 
     def nu_body(self):
         st = [Store(f"out[{i}]", self.eq.nu[i], self.eq.labels[i])
               for i in range(self.eq.nu.rows) if self.eq.nu[i] != 0]
-        return self._function(st)
+        return self._function(st, "nu")
 
     def gamma_body(self):
         if self.level < 2:
@@ -147,7 +163,7 @@ class ModuleBuilder:
                     "for _i in range(out.shape[0]):", "    out[_i] = math.nan"]
         st = [Store(f"out[{i}]", self.eq.gamma[i], self.eq.labels[i])
               for i in range(self.eq.gamma.rows) if self.eq.gamma[i] != 0]
-        return self._function(st, with_qd=True)
+        return self._function(st, "gamma", "q, qd, t, p, out", with_qd=True)
 
     def point_list(self):
         """Every point of every body (its list, its origin) and every point the
@@ -176,7 +192,7 @@ class ModuleBuilder:
             r = pt.r
             st.append(Store(f"out[{k}, 0]", r[0], label))
             st.append(Store(f"out[{k}, 1]", r[1]))
-        return self._function(st)
+        return self._function(st, "points")
 
     def outputs_bodies(self):
         """Three bodies: the outputs, their first and second time derivatives."""
@@ -196,7 +212,9 @@ class ModuleBuilder:
                     continue
                 expr = total_derivative(self.model.outputs[name], self.q, d) if d else self.model.outputs[name]
                 st.append(Store(f"out[{k}]", expr, name + ("'" * d)))
-            bodies.append(self._function(st, with_qd=True, with_qdd=True) if st else ["pass"])
+            name = ("outputs", "outputs_d", "outputs_dd")[d]
+            bodies.append(self._function(st, name, "q, qd, qdd, t, p, out", with_qd=True,
+                                         with_qdd=True) if st else ["pass"])
             levels.append(d)
         return bodies, orders
 
@@ -207,32 +225,66 @@ class ModuleBuilder:
         return f"# block: {names} from {rows}"
 
     def position_sorted_body(self):
-        """The block-by-block Newton: explicit assignments, 1-unknown and torn Newtons."""
+        """The block-by-block Newton: explicit assignments, 1-unknown and torn Newtons.
+
+        A large model's solver is split into parts of about CHUNK_LINES lines, each a
+        function of its own (numba compiles many small functions much faster than one
+        large one); the main function then runs them in order on a work copy of q."""
         phi, q = self.eq.phi, self.q
         temps = TempNames()
-        lines = []
-        used = _free(list(phi))
-        lines += _unpack(set(q), q, "q")
-        lines += _unpack(used, self.params, "p")
-        if T in used:
-            lines.append("T = t")
-        lines.append("_iters = 0")
         self._known = {}
+        pieces = []      # (block lines, symbols they use, coordinates they solve)
         for b in self.blocks:
-            lines.append(self._block_comment(b))
+            lines = [self._block_comment(b)]
             if b.kind == "explicit":
                 st = self._explicit(b.explicit, derivs=())
                 lines += emit(st, temps, self.cse)
                 value = st[-1].expr
                 if value.is_number:    # a constant coordinate: substitute it forward
                     self._known[q[b.vars[0]]] = value
-                continue
-            lines += self._newton_block(b, temps)
-        for k, s in enumerate(q):
-            lines.append(f"q[{k}] = {s.name}")
-        lines.append("info[0] = _iters")
-        lines.append("return 0")
-        return lines
+            else:
+                lines += self._newton_block(b, temps)
+            used = _free([phi[e] for e in b.eqs]) | {q[v] for v in b.vars}
+            pieces.append((lines, used, [q[v] for v in b.vars]))
+        total = sum(len(x[0]) for x in pieces)
+        if total <= 2 * CHUNK_LINES:
+            used = _free(list(phi))
+            lines = _unpack(set(q), q, "q") + _unpack(used, self.params, "p")
+            if T in used:
+                lines.append("T = t")
+            lines.append("_iters = 0")
+            for piece in pieces:
+                lines += piece[0]
+            lines += [f"q[{k}] = {s.name}" for k, s in enumerate(q)]
+            return lines + ["info[0] = _iters", "return 0"]
+        groups, current = [], []
+        for piece in pieces:
+            if current and sum(len(x[0]) for x in current) + len(piece[0]) > CHUNK_LINES:
+                groups.append(current)
+                current = []
+            current.append(piece)
+        groups.append(current)
+        top = ["_w = q.copy()", "info[0] = 0"]
+        for i, group in enumerate(groups):
+            used = set().union(*(x[1] for x in group))
+            solved = [s for x in group for s in x[2]]
+            body = _unpack(used, q, "q") + _unpack(used, self.params, "p")
+            if T in used:
+                body.append("T = t")
+            body.append("_iters = 0")
+            for piece in group:
+                body += piece[0]
+            body += [f"q[{q.index(s)}] = {s.name}" for s in solved]
+            body += ["info[0] = max(info[0], _iters)", "return 0"]
+            name = f"_position_part{i}"
+            names = ", ".join(s.name for s in solved)
+            self.helpers.append(dict(name=name, args="q, t, p, tol, xtol, maxit, info",
+                                     doc=f"Position solver, part {i + 1} of {len(groups)}: {names}.",
+                                     lines=body))
+            top += [f"_status = {name}(_w, t, p, tol, xtol, maxit, info)",
+                    "if _status != 0:", "    return _status"]
+        top += ["for _k in range(N_COORDS):", "    q[_k] = _w[_k]", "return 0"]
+        return top
 
     def _rows(self):
         """Φ with the constant coordinates found so far substituted."""
@@ -320,25 +372,22 @@ class ModuleBuilder:
             lines += emit(self._explicit(b.explicit, derivs=()), temps, self.cse)
         return lines
 
-    def _linear_blocks(self, order, known):
-        """Statements of the block forward substitution for Φ_q x = rhs, and the unknowns
-        that come out as constants (``X2d = 0``), which are substituted forward so that
-        nothing is multiplied by a known zero. ``known``: symbols with constant values."""
-        eq = self.eq
-        J = eq.phi_q
-        rhs = eq.nu if order == 1 else eq.gamma
+    def _linear_blocks(self, order):
+        """The block forward substitution for Φ_q x = rhs, block by block: for each block
+        (statements, unknowns). Unknowns that come out as constants (``X2d = 0``) are
+        substituted forward so that nothing is multiplied by a known zero; only constants
+        found inside the function are used, so it stays exact for any (q, q̇) it is given.
+        Jacobian entries and right sides appear as symbols ``_j<i>_<j>``, ``_g<i>``."""
+        J = self.eq.phi_q
         xs = self.qd if order == 1 else self.qdd
-        jsym, rsym, consts = {}, {}, {}
+        jsym, consts, out = {}, {}, []
         for i in range(J.rows):
             for j in range(J.cols):
                 if J[i, j] != 0:
                     jsym[i, j] = J[i, j] if J[i, j].is_number else _sym(f"_j{i}_{j}")
-        for i in range(J.rows):
-            r = rhs[i].subs(known) if known else rhs[i]
-            rsym[i] = r if r.is_number else _sym(f"_g{i}")
-        body = []
+        rsym = self._rhs_symbols(order)
         for b in self.blocks:
-            body.append(Line(self._block_comment(b)))
+            body = [Line(self._block_comment(b))]
             inside = set(b.vars)
             bvec = []
             for e in b.eqs:
@@ -378,30 +427,69 @@ class ModuleBuilder:
                 body.append(Line("    return 2"))
                 for i, v in enumerate(b.vars):
                     body.append(Line(f"{xs[v].name} = _b[{i}]"))
-        # the Jacobian entries and right sides the blocks use, computed up front
+            out.append((body, [xs[v] for v in b.vars]))
+        return out, jsym, rsym
+
+    def _rhs_symbols(self, order):
+        rhs = self.eq.nu if order == 1 else self.eq.gamma
+        return {i: rhs[i] if rhs[i].is_number else _sym(f"_g{i}") for i in range(rhs.rows)}
+
+    def _linear_head(self, order, body, jsym, rsym):
+        """Assignments of the Jacobian entries and right sides that ``body`` uses."""
+        J = self.eq.phi_q
+        rhs = self.eq.nu if order == 1 else self.eq.gamma
         used = _free([x.expr for x in body if isinstance(x, (Assign, Store))] +
                      [x.bound for x in body if isinstance(x, Guard)] +
                      [x.value for x in body if isinstance(x, Guard)])
         head = [Assign(sym, J[i, j]) for (i, j), sym in jsym.items()
                 if isinstance(sym, sp.Symbol) and sym in used]
-        head += [Assign(sym, rhs[i].subs(known) if known else rhs[i], eq.labels[i])
+        head += [Assign(sym, rhs[i], self.eq.labels[i])
                  for i, sym in rsym.items() if isinstance(sym, sp.Symbol) and sym in used]
-        return head + body, consts
+        return head
 
     def linear_sorted_body(self, order):
-        """Block forward substitution for Φ_q x = rhs (ν for order 1, γ for order 2)."""
-        # Only constants found inside this function are propagated: the function stays
-        # exact for any (q, q̇) it is given, not just for consistent ones.
-        st, _ = self._linear_blocks(order, {})
+        """Block forward substitution for Φ_q x = rhs (ν for order 1, γ for order 2); split
+        into parts of about CHUNK_LINES lines for large models."""
+        blocks, jsym, rsym = self._linear_blocks(order)
         xs = self.qd if order == 1 else self.qdd
-        exprs = [s.expr for s in st if isinstance(s, (Assign, Store))]
-        lines = self._prologue(exprs, with_qd=(order == 2))
-        lines += emit(st, TempNames(), self.cse)
-        for k, s in enumerate(xs):
-            lines.append(f"out[{k}] = {s.name}" if self.solved[k] else
-                         f"out[{k}] = math.nan  # {s.name}: not solved in this pruned build")
-        lines.append("return 0")
-        return lines
+        name = "velocity" if order == 1 else "acceleration"
+        args = "q, t, p, out" if order == 1 else "q, qd, t, p, out"
+        groups, current, size = [], [], 0
+        for piece in blocks:
+            if current and size + len(piece[0]) > CHUNK_STORES:
+                groups.append(current)
+                current, size = [], 0
+            current.append(piece)
+            size += len(piece[0])
+        groups.append(current)
+        if len(groups) <= 2:
+            groups = [blocks]
+        done = set()
+        top = []
+        for i, group in enumerate(groups):
+            body = [x for piece in group for x in piece[0]]
+            st = self._linear_head(order, body, jsym, rsym) + body
+            exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
+            lines = self._prologue(exprs, with_qd=(order == 2))
+            used = _free(exprs + [x.bound for x in st if isinstance(x, Guard)])
+            lines += [f"{x.name} = out[{xs.index(x)}]" for x in xs if x in done and x in used]
+            lines += emit(st, TempNames(), self.cse)
+            solved = [x for piece in group for x in piece[1]]
+            done |= set(solved)
+            if len(groups) == 1:
+                lines += [f"out[{k}] = {s.name}" if self.solved[k] else
+                          f"out[{k}] = math.nan  # {s.name}: not solved in this pruned build"
+                          for k, s in enumerate(xs)]
+                return lines + ["return 0"]
+            lines += [f"out[{xs.index(x)}] = {x.name}" for x in solved] + ["return 0"]
+            helper = f"_{name}_part{i}"
+            self.helpers.append(dict(name=helper, args=args, lines=lines,
+                                     doc=f"{name.capitalize()} solver, part {i + 1} of {len(groups)}: "
+                                         + ", ".join(x.name for x in solved) + "."))
+            top += [f"_status = {helper}({args})", "if _status != 0:", "    return _status"]
+        top += [f"out[{k}] = math.nan  # {s.name}: not solved in this pruned build"
+                for k, s in enumerate(xs) if not self.solved[k]]
+        return top + ["return 0"]
 
     def jacobian_det_body(self):
         """det Φ_q as the product of the determinants of its diagonal blocks in the solving
@@ -465,6 +553,7 @@ class ModuleBuilder:
                 ctx["velocity_sorted"] = self.linear_sorted_body(1)
             if self.level >= 2:
                 ctx["acceleration_sorted"] = self.linear_sorted_body(2)
+        ctx["helpers"] = self.helpers
         ctx["level"] = self.level
         ctx["solved"] = self.solved
         ctx["pruned"] = not all(self.solved) or self.level < 2
@@ -491,7 +580,7 @@ def model_hash(model, ctx) -> str:
     for key in ("name", "coordinates", "guess", "parameters", "labels", "points", "outputs",
                 "phi", "phi_q", "nu", "gamma", "points_code", "outputs_code", "position_sorted",
                 "velocity_sorted", "acceleration_sorted", "mechgen_version", "format_version",
-                "level", "solved"):
+                "level", "solved", "helpers"):
         h.update(repr(ctx[key]).encode())
     return h.hexdigest()[:16]
 

@@ -64,11 +64,14 @@ def _import(path: str):
     sys.modules[name] = module
     try:
         spec.loader.exec_module(module)
-    except BaseException:
+    except BaseException as exc:
         if previous is not None:
             sys.modules[name] = previous
         else:
             sys.modules.pop(name, None)
+        if isinstance(exc, Exception):
+            raise MechgenError(f"importing the generated module {path} raised "
+                               f"{type(exc).__name__}: {exc}; rebuild it with `mechgen build`") from exc
         raise
     module.__mechgen_digest__ = digest
     return module

@@ -542,51 +542,59 @@ def explain_failure(mech, t, q, t_good=None, q_good=None):
     """Why no configuration was found at t, from the point Newton stopped at (q) and,
     after a sweep, the last configuration reached (q_good at t_good). Returns
     (text, constraints involved, lock positions found)."""
+    drivers = _drivers(mech)
+    ask = f" ({'; '.join(drivers)})" if drivers else ""
+    lock = None
+    if t_good is not None and q_good is not None:
+        lock = _lock_from(mech, q_good, t_good, t)
     q_ls, res, root = least_squares(mech, q, t)
+    if lock is not None:
+        # a sweep ran into a lock: its assembly mode ends there
+        text = [f"The assembly mode the sweep follows ends at a lock (toggle) position at "
+                f"t≈{lock.t:.10g}, where {lock.null.describe()}: the mechanism cannot move on"]
+        locks = [lock]
+        if root:
+            text.append(f"A configuration does exist at t={t:.10g}, but not one the mechanism "
+                        "reaches by moving from the start (a new sweep from there follows it)")
+        else:
+            gap = ""
+            far = [s for s in find_locks_near(mech, q_ls, t)
+                   if abs(s.t - lock.t) > 1e-9 * max(1.0, abs(s.t))]
+            if far:
+                other = min(far, key=lambda s: abs(s.t - t))
+                locks.append(other)
+                a, b = sorted((lock.t, other.t))
+                gap = f": the mechanism has no assembly between t≈{a:.10g} and t≈{b:.10g}"
+            text.append(f"The drivers{ask} ask for a configuration that cannot assemble{gap}")
+        return ". ".join(text), tuple(lock.lock or lock.grouped), sorted(locks, key=float)
     if root:
         return ("A configuration does exist near the guess (least squares reaches it): "
                 "start from a closer guess", (), [])
+    if not np.isfinite(res):
+        return ("The constraint equations are not finite there (NaN or infinite values: "
+                "check parameters and drivers)", (), [])
     null = null_space(mech, q_ls, t, force=True)
     r = residual_vector(mech, q_ls, t)
     worst = [mech.constraint_labels[i] for i in np.argsort(-np.abs(r), kind="stable")[:3]
              if np.isfinite(r[i]) and abs(r[i]) > mech.tol]
-    text = []
-    if not np.isfinite(res):
-        return ("The constraint equations are not finite there (NaN or infinite values: "
-                "check parameters and drivers)", (), [])
     singular = null.ratio < 1e-4
     if mech.m > mech.n and not singular:
-        text.append(f"The constraints disagree: the {mech.m} equations for {mech.n} coordinates "
-                    f"hold no configuration near the guess (the closest leaves a residual of "
-                    f"{res:.3g} in {'; '.join(worst)}): the redundant constraints are inconsistent "
-                    "here")
-        return " ".join(text), tuple(worst), []
-    locks = []
-    if t_good is not None and q_good is not None:
-        lock = _lock_from(mech, q_good, t_good, t)
-        if lock is not None:
-            locks.append(lock)
-    if singular:
-        drivers = _drivers(mech)
-        ask = f" ({'; '.join(drivers)})" if drivers else ""
-        text.append(f"The drivers{ask} ask for a configuration that cannot assemble: near the "
-                    f"guess the constraints come no closer than a residual of {res:.3g}, where "
-                    f"the Jacobian loses rank ({null.describe()})")
-        if not locks:
-            locks = find_locks_near(mech, q_ls, t)
-    else:
-        text.append(f"The closest configuration near the guess leaves a residual of {res:.3g} in "
-                    f"{'; '.join(worst)}; try another guess")
-        if not locks:
-            locks = []
+        return (f"The constraints disagree: the {mech.m} equations for {mech.n} coordinates "
+                f"hold no configuration near the guess (the closest leaves a residual of "
+                f"{res:.3g} in {'; '.join(worst)}): the redundant constraints are inconsistent "
+                "here", tuple(worst), [])
+    if not singular:
+        return (f"The closest configuration near the guess leaves a residual of {res:.3g} in "
+                f"{'; '.join(worst)}; try another guess", tuple(worst), [])
+    text = [f"The drivers{ask} ask for a configuration that cannot assemble: near the guess "
+            f"the constraints come no closer than a residual of {res:.3g}, where the Jacobian "
+            f"loses rank ({null.describe()})"]
+    locks = find_locks_near(mech, q_ls, t)
     before = [s for s in locks if s.t <= t]
     after = [s for s in locks if s.t > t]
     if before and after:
         text.append(f"The mechanism reaches lock (toggle) positions at t≈{before[-1].t:.10g} and "
                     f"t≈{after[0].t:.10g} and has no assembly between them")
     elif locks:
-        s = locks[0]
-        text.append(f"It is beyond a lock (toggle) position at t≈{s.t:.10g}"
-                    + ("" if singular else f", where {s.null.describe()}"))
-    names = (null.lock or null.grouped) if singular else tuple(worst)
-    return ". ".join(text), tuple(names), locks
+        text.append(f"It is beyond a lock (toggle) position at t≈{locks[0].t:.10g}")
+    return ". ".join(text), tuple(null.lock or null.grouped), locks

@@ -1,0 +1,274 @@
+"""Malformed input: runtime calls, generated modules edited or from another version, and
+model files through the command line. Each gets one clear message naming the culprit;
+a failed build leaves no module (and no temporary file) behind."""
+import math
+import os
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import mechgen
+from mechgen.runtime import _CHECK, content_digest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+GENERATED = os.path.join(ROOT, "generated")
+EXAMPLES = os.path.join(ROOT, "examples")
+NAN, INF = float("nan"), float("inf")
+
+
+# -- runtime calls ------------------------------------------------------------------------
+RUNTIME_CASES = [
+    # (what, call, exception, words the message must hold)
+    ("unknown coordinate", lambda m: m.solve(0.1)["X9"], KeyError, ["'X9'", "X4"]),
+    ("unknown derivative", lambda m: m.solve(0.1)["X9dd"], KeyError, ["'X9dd'"]),
+    ("derivative not solved", lambda m: m.solve(0.1)["X4d"], KeyError, ["velocity"]),
+    ("unknown sweep column", lambda m: m.sweep(0, 1, 3)["Th7"], KeyError, ["'Th7'"]),
+    ("unknown parameter", lambda m: m.with_params(longitude=2.0), ValueError,
+     ["'longitude'", "longitud"]),
+    ("NaN parameter", lambda m: m.with_params(longitud=NAN), ValueError, ["'longitud'", "finite"]),
+    ("infinite parameter", lambda m: m.with_params(velocidad=INF), ValueError, ["'velocidad'"]),
+    ("text parameter", lambda m: m.with_params(longitud="3 m"), ValueError, ["'longitud'", "number"]),
+    ("None parameter", lambda m: m.with_params(anguloI=None), ValueError, ["'anguloI'"]),
+    ("NaN time", lambda m: m.solve(NAN), ValueError, ["t", "finite"]),
+    ("infinite time", lambda m: m.solve(-INF), ValueError, ["t", "finite"]),
+    ("text time", lambda m: m.solve("0.1"[::-1] + "x"), ValueError, ["t must be a number"]),
+    ("None time", lambda m: m.solve(None), ValueError, ["t must be a number"]),
+    ("unknown guess name", lambda m: m.solve(0.1, guess={"X9": 1.0}), ValueError, ["'X9'", "Th4"]),
+    ("NaN guess", lambda m: m.solve(0.1, guess={"X4": NAN}), ValueError, ["X4", "finite"]),
+    ("text guess", lambda m: m.solve(0.1, guess={"X4": "far"}), ValueError, ["X4", "number"]),
+    ("short guess", lambda m: m.solve(0.1, guess=np.zeros(3)), ValueError, ["(9,)", "(3,)"]),
+    ("2-D guess", lambda m: m.solve(0.1, guess=np.zeros((9, 1))), ValueError, ["(9,)", "(9, 1)"]),
+    ("inf in guess", lambda m: m.solve(0.1, guess=np.full(9, INF)), ValueError, ["NaN or infinite"]),
+    ("unknown level", lambda m: m.solve(0.1, level="speed"), ValueError, ["'speed'", "velocity"]),
+    ("unknown method", lambda m: m.solve(0.1, method="fast"), ValueError, ["'fast'", "sorted"]),
+    ("negative tol", lambda m: m.solve(0.1, tol=-1e-9), ValueError, ["tol", "positive"]),
+    ("NaN tol", lambda m: m.solve(0.1, tol=NAN), ValueError, ["tol"]),
+    ("zero maxit", lambda m: m.solve(0.1, maxit=0), ValueError, ["maxit"]),
+    ("float maxit", lambda m: m.solve(0.1, maxit=2.5), ValueError, ["maxit"]),
+    ("zero points", lambda m: m.sweep(0, 1, 0), ValueError, ["n must be a positive integer"]),
+    ("float points", lambda m: m.sweep(0, 1, 2.5), ValueError, ["n must be"]),
+    ("bool points", lambda m: m.sweep(0, 1, True), ValueError, ["n must be"]),
+    ("NaN sweep end", lambda m: m.sweep(0, NAN, 5), ValueError, ["t1", "finite"]),
+    ("NaN in times", lambda m: m.sweep(0, 1, 5, times=[0, NAN, 1]), ValueError, ["times"]),
+    ("2-D times", lambda m: m.sweep(0, 1, 5, times=[[0, 1]]), ValueError, ["times"]),
+    ("sweep guess", lambda m: m.sweep(0, 1, 5, guess={"Y9": 0}), ValueError, ["'Y9'"]),
+    ("singularities n", lambda m: m.singularities(0, 1, n=1), ValueError, ["n must be"]),
+    ("singularities NaN", lambda m: m.singularities(NAN, 1), ValueError, ["t0", "finite"]),
+    ("not a name", lambda m: m.solve(0.1)[3], TypeError, ["name"]),
+]
+
+
+@pytest.mark.parametrize("what,call,exc,words", RUNTIME_CASES, ids=[c[0] for c in RUNTIME_CASES])
+def test_runtime_refuses_bad_input(qr, what, call, exc, words):
+    before = (qr.p.copy(), qr.last, qr.guess.copy())
+    with pytest.raises(exc) as info:
+        call(qr)
+    text = str(info.value)
+    for word in words:
+        assert word in text, (what, text)
+    assert "\n" not in text.strip("'\"")                          # one message, one line
+    assert np.array_equal(qr.p, before[0]) and np.array_equal(qr.guess, before[2])
+
+
+def test_a_failed_solve_leaves_last_alone(qr_slider):
+    good = qr_slider.solve(0.1)
+    with pytest.raises(mechgen.ConvergenceError):
+        qr_slider.solve(0.25)
+    assert qr_slider.last is good
+
+
+def test_failed_sweep_carries_only_converged_points(qr_slider):
+    with pytest.raises(mechgen.ConvergenceError) as info:
+        qr_slider.sweep(0.0, 0.5, 51, level="acceleration")
+    sw = info.value.sweep
+    assert 0 < len(sw) < 51 and np.all(np.isfinite(sw.Q)) and np.all(np.isfinite(sw.QDD))
+    assert max(qr_slider.residual(q, t) for q, t in zip(sw.Q, sw.t)) <= 1e-10
+
+
+# -- generated modules ------------------------------------------------------------------------
+def _copy(tmp_path, edit=None, restamp=False, name="quick_return_slider"):
+    text = open(os.path.join(GENERATED, name + ".py"), encoding="utf-8").read()
+    if edit:
+        text = edit(text)
+    if restamp:
+        body = _CHECK.sub("", text, count=1)
+        text = f"# content-sha256: {content_digest(body)}\n" + body
+    sub = tmp_path / f"copy{len(list(tmp_path.iterdir()))}"
+    sub.mkdir()
+    path = sub / (name + ".py")
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+def test_module_edited_by_hand_is_refused(tmp_path):
+    path = _copy(tmp_path, lambda s: s.replace("out[8] = X4 - amplitud", "out[8] = X4 + amplitud"))
+    with pytest.raises(mechgen.MechgenError, match="edited after mechgen generated it"):
+        mechgen.load(path)
+    path = _copy(tmp_path, lambda s: s + "\n# a harmless comment\n")
+    with pytest.raises(mechgen.MechgenError, match="rebuild it"):
+        mechgen.load(path)
+
+
+def test_module_without_a_stamp_is_refused(tmp_path):
+    path = tmp_path / "not_generated.py"
+    path.write_text("N_COORDS = 1\n")
+    with pytest.raises(mechgen.MechgenError, match="not a module generated by mechgen"):
+        mechgen.load(str(path))
+
+
+def test_module_of_another_format_is_refused(tmp_path):
+    path = _copy(tmp_path, lambda s: s.replace("FORMAT_VERSION = 1", "FORMAT_VERSION = 99"),
+                 restamp=True)
+    with pytest.raises(mechgen.MechgenError, match=r"format 99.*rebuild it"):
+        mechgen.load(path)
+
+
+def test_module_of_another_mechgen_version_is_refused(tmp_path):
+    path = _copy(tmp_path, lambda s: s.replace(f'MECHGEN_VERSION = "{mechgen.__version__}"',
+                                               'MECHGEN_VERSION = "0.0.1"'), restamp=True)
+    with pytest.raises(mechgen.MechgenError, match=r"generated by mechgen 0\.0\.1.*rebuild"):
+        mechgen.load(path)
+
+
+def test_module_that_raises_on_import_is_refused(tmp_path):
+    path = _copy(tmp_path, lambda s: s.replace("import math\n", "import math\nraise ImportError('no numba here')\n", 1),
+                 restamp=True, name="fourbar_loop")
+    with pytest.raises(mechgen.MechgenError, match=r"raised ImportError: no numba here"):
+        mechgen.load(path)
+
+
+def test_load_of_nothing(tmp_path):
+    with pytest.raises(mechgen.MechgenError, match="no generated module"):
+        mechgen.load(str(tmp_path / "missing.py"))
+    with pytest.raises(TypeError, match="a path or a module"):
+        mechgen.load(42)
+
+
+# -- model files through the command line --------------------------------------------------------
+HEAD = '''from mechgen import Model, T, pi, sin, Symbol
+m = Model("bad")
+L = m.param("L", 3.0)
+base = m.ground("base", points=[(0, 0), (0, 5)])
+crank = m.body("crank", points=[(0, 0), (L, 0)], guess=(0, 5, 0))
+m.revolute(base[2], crank[1])
+'''
+BAD_MODELS = [
+    # (name, source, words the one-line message must hold)
+    ("typo", HEAD + "m.rotation_lokc(crank, 2*pi*T)\n", ["bad_typo.py:7", "rotation_lokc"]),
+    ("arity", HEAD + "m.revolute(base[2])\nm.rotation_lock(crank, 2*pi*T)\n",
+     ["bad_arity.py:7", "revolute", "p2"]),
+    ("unknown_point", HEAD + "m.point_on_line(crank[5], base.line(1, 2))\n",
+     ["bad_unknown_point.py:7", "crank", "point 5"]),
+    ("unknown_body", HEAD + "m.rotation_lock(m['nope'], 2*pi*T)\n",
+     ["bad_unknown_body.py:7", "'nope'", "base, crank"]),
+    ("undeclared", HEAD + "zz = Symbol('zz')\nm.rotation_lock(crank, zz*T)\n",
+     ["bad_undeclared.py:8", "zz"]),
+    ("non_numeric", HEAD + "w = m.param('w', 'fast')\nm.rotation_lock(crank, w*T)\n",
+     ["bad_non_numeric.py:7", "'w'"]),
+    ("raises", HEAD + "raise RuntimeError('boom in the model')\n",
+     ["bad_raises.py:7", "RuntimeError", "boom in the model"]),
+    ("missing_driver", HEAD, ["bad_missing_driver.py", "not square", "driver"]),
+    ("empty", 'from mechgen import Model\nm = Model("empty")\n', ["bad_empty.py:2", "no coordinates"]),
+    ("no_model", "x = 1\n", ["bad_no_model.py", "no mechgen.Model"]),
+    ("syntax", 'from mechgen import Model\nm = Model("s"\n', ["bad_syntax.py", "syntax error"]),
+]
+
+
+@pytest.mark.parametrize("name,source,words", BAD_MODELS, ids=[b[0] for b in BAD_MODELS])
+def test_bad_model_files_fail_cleanly(tmp_path, capsys, name, source, words):
+    from mechgen.cli import main
+    src = tmp_path / f"bad_{name}.py"
+    src.write_text(source)
+    out = tmp_path / "out"
+    out.mkdir()
+    commands = [["build", str(src), "-o", str(out)]]
+    if name != "missing_driver":                  # the others fail as the file is read
+        commands += [["check", str(src)], ["equations", str(src)]]
+    for command in commands:
+        code = main(command)
+        err = capsys.readouterr().err
+        assert code == 1, (command, err)
+        assert err.startswith("mechgen: ") and err.count("\n") == 1, err
+        for word in words:
+            assert word in err, (command, word, err)
+    assert os.listdir(out) == []                  # nothing written, no temporary file
+
+
+def test_cli_exit_status_and_message(tmp_path):
+    """The real command: a non-zero exit and one line on stderr, no traceback."""
+    src = tmp_path / "bad_typo.py"
+    src.write_text(BAD_MODELS[0][1])
+    proc = subprocess.run([sys.executable, "-m", "mechgen.cli", "build", str(src), "-o",
+                           str(tmp_path / "out")], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 1 and "Traceback" not in proc.stderr
+    assert proc.stderr.strip().count("\n") == 0 and "rotation_lokc" in proc.stderr
+    assert not (tmp_path / "out").exists() or os.listdir(tmp_path / "out") == []
+
+
+def test_failed_write_leaves_no_half_module(tmp_path, monkeypatch):
+    from mechgen import build as build_mod
+    from mechgen.loader import load_models
+    model = load_models(os.path.join(EXAMPLES, "fourbar_loop.py"))[0]
+    out = tmp_path / "out"
+    path = build_mod.build(model, str(out))
+    good = open(path, encoding="utf-8").read()
+
+    def broken_replace(src, dst):
+        raise OSError("disk full")
+    monkeypatch.setattr(build_mod.os, "replace", broken_replace)
+    with pytest.raises(OSError, match="disk full"):
+        build_mod.build(model, str(out))
+    assert os.listdir(out) == ["fourbar_loop.py"]                 # no temporary file left
+    assert open(path, encoding="utf-8").read() == good           # the old module intact
+
+    real_fdopen = os.fdopen
+
+    class HalfFile:                               # writes half the module, then fails
+        def __init__(self, fh):
+            self.fh = fh
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            self.fh.close()
+
+        def write(self, text):
+            self.fh.write(text[: len(text) // 2])
+            raise OSError("disk full half way")
+
+    monkeypatch.undo()
+    monkeypatch.setattr(build_mod.os, "fdopen", lambda fd, *a, **k: HalfFile(real_fdopen(fd, *a, **k)))
+    with pytest.raises(OSError, match="half way"):
+        build_mod.build(model, str(out))
+    with pytest.raises(OSError, match="half way"):
+        build_mod.write_module(good, str(out / "other.py"))
+    monkeypatch.undo()
+    assert os.listdir(out) == ["fourbar_loop.py"]
+    assert open(path, encoding="utf-8").read() == good
+
+
+def test_cli_runtime_errors(tmp_path, capsys):
+    """Solving through the command line: a time without assembly, a NaN time, an unknown
+    guess name: exit 1 and one line saying why."""
+    from mechgen.cli import main
+    src = os.path.join(EXAMPLES, "quick_return_slider.py")
+    out = str(tmp_path / "gen")
+    cases = [
+        (["solve", src, "-o", out, "-t", "0.249"], ["ConvergenceError", "t=0.249", "cannot assemble",
+                                                   "0.2464863829"]),
+        (["solve", src, "-o", out, "-t", "nan"], ["t must be finite"]),
+        (["solve", src, "-o", out, "-t", "0.1", "--guess", "X9=1"], ["'X9'"]),
+        (["solve", src, "-o", out, "-t", "0.1", "--guess", "X4=far"], ["X4=far"]),
+        (["sweep", src, "-o", out, "--t0", "0", "--t1", "1", "-n", "101"],
+         ["ConvergenceError", "lock (toggle) position at t≈0.2464863829"]),
+    ]
+    for argv, words in cases:
+        assert main(argv) == 1, argv
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1, err
+        for word in words:
+            assert word in err, (argv, word, err)
