@@ -428,11 +428,37 @@ class ModuleBuilder:
                 for i, v in enumerate(b.vars):
                     body.append(Line(f"{xs[v].name} = _b[{i}]"))
             out.append((body, [xs[v] for v in b.vars]))
+        self._constants = consts
         return out, jsym, rsym
 
     def _rhs_symbols(self, order):
         rhs = self.eq.nu if order == 1 else self.eq.gamma
-        return {i: rhs[i] if rhs[i].is_number else _sym(f"_g{i}") for i in range(rhs.rows)}
+        prefix = "_n" if order == 1 else "_g"
+        return {i: rhs[i] if rhs[i].is_number else _sym(f"{prefix}{i}") for i in range(rhs.rows)}
+
+    def derivatives_sorted_body(self):
+        """Velocities and accelerations in one pass: the Jacobian entries are computed once
+        and serve both forward substitutions (the sweep's inner loop). None for a model
+        whose solvers are split into parts: it then calls the two of them."""
+        vel, jsym, nsym = self._linear_blocks(1)
+        vconst = self._constants        # X2d = 0, ...: exact here, computed just above
+        acc, _, gsym = self._linear_blocks(2)
+        vbody = [x for piece in vel for x in piece[0]]
+        abody = [x for piece in acc for x in piece[0]]
+        if len(vbody) + len(abody) > 3 * CHUNK_STORES:
+            return None
+        head = self._linear_head(1, vbody + abody, jsym, nsym)
+        gamma = [Assign(x.target, x.expr.subs(vconst), x.comment)
+                 for x in self._linear_head(2, abody, {}, gsym)]
+        st = head + vbody + gamma + abody
+        exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
+        lines = self._prologue(exprs) + emit(st, TempNames(), self.cse)
+        for k, (v, a) in enumerate(zip(self.qd, self.qdd)):
+            if self.solved[k]:
+                lines += [f"qd[{k}] = {v.name}", f"qdd[{k}] = {a.name}"]
+            else:
+                lines += [f"qd[{k}] = math.nan", f"qdd[{k}] = math.nan"]
+        return lines + ["return 0"]
 
     def _linear_head(self, order, body, jsym, rsym):
         """Assignments of the Jacobian entries and right sides that ``body`` uses."""
@@ -538,6 +564,7 @@ class ModuleBuilder:
             outputs_code=outputs,
             sorted=self.blocks is not None,
             blocks=[], position_sorted=[], velocity_sorted=[], acceleration_sorted=[],
+            derivatives_sorted=None,
             jacobian_det=[],
             pivot_rtol=repr(PIVOT_RTOL),
             sing_rtol=repr(SING_RTOL),
@@ -553,6 +580,7 @@ class ModuleBuilder:
                 ctx["velocity_sorted"] = self.linear_sorted_body(1)
             if self.level >= 2:
                 ctx["acceleration_sorted"] = self.linear_sorted_body(2)
+                ctx["derivatives_sorted"] = self.derivatives_sorted_body()
         ctx["helpers"] = self.helpers
         ctx["level"] = self.level
         ctx["solved"] = self.solved
@@ -580,7 +608,7 @@ def model_hash(model, ctx) -> str:
     for key in ("name", "coordinates", "guess", "parameters", "labels", "points", "outputs",
                 "phi", "phi_q", "nu", "gamma", "points_code", "outputs_code", "position_sorted",
                 "velocity_sorted", "acceleration_sorted", "mechgen_version", "format_version",
-                "level", "solved", "helpers"):
+                "level", "solved", "helpers", "derivatives_sorted"):
         h.update(repr(ctx[key]).encode())
     return h.hexdigest()[:16]
 

@@ -1,0 +1,128 @@
+"""The compiler's structure work (issue 6): block sorting and tearing, demand-driven pruning,
+split functions for large models, the combined velocity/acceleration pass — each checked
+against the full-Newton reference path of the same module."""
+import os
+import sys
+
+import numpy as np
+import pytest
+
+import mechgen
+from mechgen.blocks import sort_blocks
+from mechgen.build import build, render
+
+from conftest import ROOT, example_model
+
+sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
+from chain_model import chain  # noqa: E402
+
+
+def _at(model):
+    at = {s: v for s, v in zip(model.coords, model.guess_vector())}
+    at.update({sym: val for sym, val in model.params.values()})
+    return at
+
+
+def test_quick_return_sorts_like_the_hand_written_solver():
+    """Th2 explicit, 1-unknown Newtons for Th3 and Th4, X4 torn with Y4 explicit."""
+    m = example_model("quick_return")
+    eq = m.equations()
+    blocks = sort_blocks(eq.phi, eq.q, _at(m))
+    kinds = [(b.kind, [str(eq.q[v]) for v in b.vars], [str(eq.q[v]) for v in b.tears])
+             for b in blocks]
+    assert ("explicit", ["Th2"], []) in kinds
+    assert ("newton", ["Th3"], ["Th3"]) in kinds
+    assert ("newton", ["Th4"], ["Th4"]) in kinds
+    assert ("torn", ["X4", "Y4"], ["X4"]) in kinds
+    assert len(blocks) == 8 and sum(b.size for b in blocks) == 9
+    # every block only uses unknowns solved by itself or earlier blocks
+    from mechgen.blocks import incidence
+    inc = incidence(eq.phi, eq.q)
+    known = set()
+    for b in blocks:
+        for e in b.eqs:
+            assert set(inc[e]) <= known | set(b.vars)
+        known |= set(b.vars)
+
+
+def test_derivatives_pass_equals_separate_solves(qr):
+    mod = qr.module
+    for t in (0.05, 0.3, 0.62, 0.85):
+        s = qr.solve(t)
+        qd, qdd = np.empty(qr.n), np.empty(qr.n)
+        assert mod.derivatives_sorted(s.q, t, qr.p, qd, qdd) == 0
+        qd2, qdd2 = np.empty(qr.n), np.empty(qr.n)
+        assert mod.velocity_full(s.q, t, qr.p, qd2) == 0
+        assert mod.acceleration_full(s.q, qd2, t, qr.p, qdd2) == 0
+        assert np.allclose(qd, qd2, rtol=1e-12, atol=1e-12)
+        assert np.allclose(qdd, qdd2, rtol=1e-11, atol=1e-11)
+
+
+@pytest.fixture(scope="module")
+def pruned(build_dir):
+    out = os.path.join(build_dir, "pruned")
+    m = example_model("quick_return_slider")
+    path = build(m, out, level="velocity", outputs=["X4"])
+    return mechgen.load(path)
+
+
+def test_pruned_build_solves_fewer_blocks(pruned, qr_slider):
+    mod = pruned.module
+    assert len(mod.BLOCKS) == 1 and len(qr_slider.module.BLOCKS) == 9
+    assert mod.LEVEL == 1 and sum(mod.SOLVED) == 1
+    s = pruned.solve(0.1, level="velocity")
+    full = qr_slider.solve(0.1, level="velocity")
+    assert abs(s["X4"] - full["X4"]) < 1e-12 and abs(s["X4d"] - full["X4d"]) < 1e-12
+    with pytest.raises(KeyError, match="not solved by this build"):
+        s["Th3"]
+    with pytest.raises(ValueError, match="built for level velocity"):
+        pruned.solve(0.1, level="acceleration")
+    assert pruned.sweep(0.0, 0.2, 5, level="velocity").columns() == ["X4", "X4d"]
+
+
+def test_pruned_text_is_smaller_and_names_what_it_left_out():
+    m = example_model("quick_return")
+    full = render(m)
+    small = render(m, level="position", outputs=["Th3"])
+    assert len(small) < 0.8 * len(full)
+    assert "def velocity_sorted" not in small and "def acceleration_sorted" not in small
+    assert "SOLVED = (True, True, True, True, True, True, False, False, False, )" in small
+
+
+def test_pruning_rejects_unknown_names():
+    m = example_model("quick_return")
+    with pytest.raises(mechgen.ModelError, match="'Z9' is neither an output nor a coordinate"):
+        render(m, outputs=["Z9"])
+
+
+@pytest.fixture(scope="module")
+def chain6(build_dir):
+    """A chain of 4 four-bar loops, built with small parts so that every solver is split
+    (as a 10-loop chain is with the default sizes)."""
+    import mechgen.codegen as cg
+    sizes = cg.CHUNK_LINES, cg.CHUNK_STORES
+    cg.CHUNK_LINES, cg.CHUNK_STORES = 60, 16
+    try:
+        path = build(chain(4, "chain4_split"), os.path.join(build_dir, "chain"))
+    finally:
+        cg.CHUNK_LINES, cg.CHUNK_STORES = sizes
+    return mechgen.load(path)
+
+
+def test_large_model_is_split_into_parts(chain6):
+    names = [n for n in dir(chain6.module) if "_part" in n]
+    assert any(n.startswith("_position_part") for n in names)
+    assert any(n.startswith("_phi_q_part") for n in names)
+    assert any(n.startswith("_velocity_part") for n in names)
+    assert any(n.startswith("_acceleration_part") for n in names)
+
+
+def test_split_solvers_agree_with_full_newton(chain6):
+    for t in (0.0, 0.13, 0.4):
+        s = chain6.solve(t, level="acceleration", method="sorted")
+        f = chain6.solve(t, level="acceleration", method="full", guess=s)
+        assert s.method == "sorted"
+        assert np.abs(s.q - f.q).max() < 1e-10
+        assert np.abs(s.qd - f.qd).max() < 1e-9
+        assert np.abs(s.qdd - f.qdd).max() < 1e-8
+        assert s.residual < 1e-10
