@@ -221,6 +221,14 @@ class Sweep:
         from .analysis import roots
         return roots(self, name, method=method, xtol=xtol)
 
+    def singularities(self):
+        """Where Φ_q loses rank between the first and last time of this sweep, along its
+        assembly mode (mech.singularities on the same times and start)."""
+        if len(self) < 2:
+            return []
+        return self.mechanism.singularities(self.t[0], self.t[-1], n=max(len(self), 201),
+                                            guess=self.Q[0])
+
     def _repr_html_(self):
         header, data = self.table()
         rows = range(len(self)) if len(self) <= 20 else [*range(8), None, *range(len(self) - 8, len(self))]

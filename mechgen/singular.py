@@ -11,7 +11,13 @@ determined by the constraints. Along a sweep two kinds of singular point occur:
   from the last configuration a step-controlled sweep reaches;
 - a *crossing* (dead centre passed, branch point): det Φ_q changes sign along the
   branch while the sweep goes on; located by a bracketing root search on det Φ_q
-  evaluated on solved configurations of the branch.
+  evaluated on solved configurations of the branch. Over-constrained models can touch
+  rank loss without a sign change: a minimum of the smallest singular value that
+  reaches zero is located by golden section.
+
+``explain_failure`` says why a position solve found nothing (used by the runtime's
+ConvergenceError): no assembly near the guess and the lock positions that bound the
+stretch without assembly, or inconsistent redundant constraints, or a bad guess.
 """
 from __future__ import annotations
 
@@ -173,12 +179,13 @@ def det_indicator(mech, q, t, rows=None) -> float:
 
 
 # -- solving helpers (no exceptions) ------------------------------------------------------
-def solve_q(mech, q, t, maxit=None, method=0):
+def solve_q(mech, q, t, maxit=None, method=0, tol=None):
     """Position solve from q at t: (q, ok)."""
     q = np.array(q, dtype=np.float64)
     info = np.zeros(4)
-    status = mech.module.solve_position(q, float(t), mech.p, mech.tol, mech.xtol,
-                                        mech.maxit if maxit is None else maxit, method, info)
+    status = mech.module.solve_position(q, float(t), mech.p, mech.tol if tol is None else tol,
+                                        mech.xtol, mech.maxit if maxit is None else maxit,
+                                        method, info)
     return q, status == 0
 
 
@@ -300,7 +307,9 @@ def refine_crossing(mech, qa, ta, qb, tb, rows=None, maxit=100):
         if not (min(ta, tb) < t < max(ta, tb)):
             t = 0.5 * (ta + tb)
         w = (t - ta) / (tb - ta)
-        q, ok = solve_q(mech, (1 - w) * qa + w * qb, t, maxit=200)
+        q, ok = solve_q(mech, (1 - w) * qa + w * qb, t, maxit=200, tol=1e-3 * mech.tol)
+        if not ok:
+            q, ok = solve_q(mech, (1 - w) * qa + w * qb, t, maxit=200)
         if not ok:
             return q, t, False
         g = det_indicator(mech, q, t, rows)

@@ -1,9 +1,7 @@
 """Malformed input: runtime calls, generated modules edited or from another version, and
 model files through the command line. Each gets one clear message naming the culprit;
 a failed build leaves no module (and no temporary file) behind."""
-import math
 import os
-import re
 import subprocess
 import sys
 
