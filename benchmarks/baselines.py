@@ -1,7 +1,9 @@
 """Independent baselines for the quick-return of seed 001 (longitud 3, velocidad 2π).
 
-- ``hand_sorted_sweep``: the sorted algorithm written by hand in numba (Th2 explicit,
-  1-unknown Newtons for Th3 and X4, Y4 and Th4 known), as in PERFORMANCE.md.
+- ``hand_sorted_sweep``: the sorted algorithm written by hand in numba, as PERFORMANCE.md
+  describes it: Th2 explicit, 1-unknown Newtons for Th3, Th4 and X4, Y4 explicit. The
+  velocity and acceleration formulas use Th4 = 0 (its derivatives vanish), as a hand
+  derivation would.
 - ``reference(t)``: closed form evaluated with mpmath at 50 digits — positions, velocities
   and accelerations (derivatives of the closed form by mpmath.diff).
 - ``lambdify_fsolve``: what most users write: sympy.lambdify + scipy.optimize.fsolve.
@@ -22,7 +24,7 @@ W = 2 * math.pi
 def hand_sorted_sweep(ts, level, tol, Q):
     """Q[k] = (Th3, X4, Th3d, X4d, Th3dd, X4dd) at ts[k]; Newton per unknown, warm start with
     a Taylor predictor from the previous point's velocity and acceleration."""
-    th3, x4 = -0.5, 6.0
+    th3, x4, th4 = -0.5, 6.0, 0.0
     th3d = x4d = th3dd = x4dd = 0.0
     for k in range(ts.shape[0]):
         t = ts[k]
@@ -43,15 +45,24 @@ def hand_sorted_sweep(ts, level, tol, Q):
                 break
         c3, s3 = math.cos(th3), math.sin(th3)
         cx, cy = -9.0 * s3, 9.0 * c3             # colisa P2
-        for _ in range(50):                      # distance: (cx - x4)^2 + (cy - 10)^2 - 25
-            r = (cx - x4) ** 2 + (cy - 10.0) ** 2 - 25.0
-            d = -2.0 * (cx - x4)
+        for _ in range(50):                      # translate, parallel: 34 sin th4 = 0
+            r = 34.0 * math.sin(th4)
+            s = r / (34.0 * math.cos(th4))
+            th4 -= s
+            if abs(r) <= tol and abs(s) <= tol * (1.0 + abs(th4)):
+                break
+        c4, s4 = math.cos(th4), math.sin(th4)
+        for _ in range(50):                      # distance, with y4 explicit from the offset
+            y4 = 10.0 + (5.0 + x4) * s4 / c4
+            r = (cx - x4) ** 2 + (cy - y4) ** 2 - 25.0
+            d = -2.0 * (cx - x4) - 2.0 * (cy - y4) * s4 / c4
             s = r / d
             x4 -= s
             if abs(r) <= tol and abs(s) <= tol * (1.0 + abs(x4)):
                 break
+        y4 = 10.0 + (5.0 + x4) * s4 / c4
         Q[k, 0] = th3
-        Q[k, 1] = x4
+        Q[k, 1] = x4 + 0.0 * y4
         if level >= 1:
             # velocities: differentiate both equations once
             pxd, pyd = -L * s2 * W, L * c2 * W

@@ -35,9 +35,11 @@ def environment() -> jinja2.Environment:
     )
 
 
-def render(model, *, sort=True, level="acceleration", outputs=None, cse=True, command=None) -> str:
+def render(model, *, sort=True, level="acceleration", outputs=None, cse=True, closed_forms=True,
+           command=None) -> str:
     """The text of the generated module for ``model``."""
-    ctx = ModuleBuilder(model, sort=sort, level=level, outputs=outputs, cse=cse).context()
+    ctx = ModuleBuilder(model, sort=sort, level=level, outputs=outputs, cse=cse,
+                        closed_forms=closed_forms).context()
     body = environment().get_template("module.py.j2").render(**ctx)
     source = os.path.basename(getattr(model, "source", "") or "<interactive>")
     if command is None:

@@ -5,6 +5,7 @@ Each function body is a list of code lines; the template only lays them out.
 from __future__ import annotations
 
 import hashlib
+import math
 
 import sympy as sp
 
@@ -22,6 +23,7 @@ SING_RTOL = 1e-6       # velocity/acceleration: a pivot below this fraction of i
 TINY = 1e-300
 CHUNK_STORES = 48      # straight-line functions longer than this are split into parts
 CHUNK_LINES = 160      # lines of the position solver per part, for large models
+SHARE_MAX = 40         # models up to this many coordinates share function calls across blocks
 
 
 def _sym(name):
@@ -46,8 +48,10 @@ def _free(exprs):
 class ModuleBuilder:
     """Collects everything the template needs for one model."""
 
-    def __init__(self, model, sort=True, level="acceleration", outputs=None, cse=True):
+    def __init__(self, model, sort=True, level="acceleration", outputs=None, cse=True,
+                 closed_forms=True):
         self.model = model
+        self.closed_forms = closed_forms
         self.eq = model.equations()
         check_square(model, self.eq)   # fewer equations than coordinates: refuse to build
         self.q = list(self.eq.q)
@@ -233,12 +237,16 @@ class ModuleBuilder:
         phi, q = self.eq.phi, self.q
         temps = TempNames()
         self._known = {}
+        # function calls of solved coordinates are shared across blocks, in models whose
+        # solver stays one function (a split solver keeps its CSE per part)
+        self._shared = {} if len(q) <= SHARE_MAX else None
+        self._avail = set(self.params) | {T}
         pieces = []      # (block lines, symbols they use, coordinates they solve)
         for b in self.blocks:
             lines = [self._block_comment(b)]
             if b.kind == "explicit":
                 st = self._explicit(b.explicit, derivs=())
-                lines += emit(st, temps, self.cse)
+                lines += self._emit_shared(st, temps)
                 value = st[-1].expr
                 if value.is_number:    # a constant coordinate: substitute it forward
                     self._known[q[b.vars[0]]] = value
@@ -246,6 +254,7 @@ class ModuleBuilder:
                 lines += self._newton_block(b, temps)
             used = _free([phi[e] for e in b.eqs]) | {q[v] for v in b.vars}
             pieces.append((lines, used, [q[v] for v in b.vars]))
+            self._avail |= {q[v] for v in b.vars}
         total = sum(len(x[0]) for x in pieces)
         if total <= 2 * CHUNK_LINES:
             used = _free(list(phi))
@@ -286,6 +295,46 @@ class ModuleBuilder:
         top += ["for _k in range(N_COORDS):", "    q[_k] = _w[_k]", "return 0"]
         return top
 
+    def _emit_shared(self, st, temps, variant=None):
+        """emit() for the position solver, with function calls (sin, cos, atan2, ...) of
+        coordinates solved by earlier blocks computed once for the whole function: each
+        gets a name (``_f3``) defined before the first block that needs it."""
+        shared = getattr(self, "_shared", None)
+        if shared is None:
+            return emit(st, temps, self.cse, variant=variant)
+        avail = self._avail
+        defs = []
+
+        def swap(expr):
+            expr = sp.sympify(expr)
+            atoms = [a for a in expr.atoms(sp.Function)
+                     if a.free_symbols and a.free_symbols <= avail]
+            if not atoms:
+                return expr
+            subs = {}
+            for a in sorted(atoms, key=sp.default_sort_key):
+                if a not in shared:
+                    shared[a] = _sym(f"_f{len(shared)}")
+                    defs.append(Assign(shared[a], a))
+                subs[a] = shared[a]
+            return expr.xreplace(subs)
+
+        out = []
+        for x in st:
+            if isinstance(x, Assign):
+                out.append(Assign(x.target, swap(x.expr), x.comment))
+            elif isinstance(x, Store):
+                out.append(Store(x.lhs, swap(x.expr), x.comment))
+            elif isinstance(x, Guard):
+                out.append(Guard(x.value, swap(x.bound), x.status))
+            else:
+                out.append(x)
+        lines = emit(defs, temps, self.cse) if defs else []
+        body = emit(out, temps, self.cse, variant=variant)
+        if variant is None:
+            return lines + body
+        return lines + body[0], body[1]
+
     def _rows(self):
         """Φ with the constant coordinates found so far substituted."""
         known = getattr(self, "_known", None)
@@ -317,10 +366,93 @@ class ModuleBuilder:
                 st.append(Assign(dz, -total / (coef if coef.is_number else den)))
         return st
 
+    def _closed_form(self, b, temps):
+        """A block with one tear whose residual, once the explicit unknowns are substituted,
+        has a standard form solved without iterating — a sin y + b cos y + c (a crank or
+        lever angle) or A y² + B y + C (a two-circle intersection). Of the two roots, the
+        one nearest the current value of y is kept, so the assembly mode is kept.
+        Returns the code lines, or None when the residual has neither form."""
+        phi, q = self._rows(), self.q
+        y = q[b.tears[0]]
+        subs = {}
+        for e, v in b.explicit:
+            coef, rest = linear_in(phi[e], q[v])
+            subs[q[v]] = (-rest / coef).subs(subs)
+        r = phi[b.residuals[0]].subs(subs)
+        try:
+            # clear denominators free of y: the same roots, fewer divisions at run time
+            num, den = sp.fraction(sp.together(r))
+            if not den.free_symbols & {y}:
+                r = num
+            ex = sp.expand(r)
+        except Exception:  # noqa: BLE001 - an expression sympy cannot expand: keep Newton
+            return None
+        name = y.name
+        st = []
+        trig = _collect_form(ex, [sp.sin(y), sp.cos(y)])
+        quad = None if trig else _collect_form(ex, [y ** 2, y])
+        if trig and (sp.sin(y) in trig or sp.cos(y) in trig):
+            ka, kb, kc = (sp.sympify(trig.get(sp.sin(y), 0)), sp.sympify(trig.get(sp.cos(y), 0)),
+                          sp.sympify(trig.get(1, 0)))
+            st.append(Line(f"# closed form: a sin({name}) + b cos({name}) + c = 0, "
+                           f"the root nearest {name}"))
+
+            def value(label, expr):     # constants stay in the expressions (folded)
+                if expr.is_number:
+                    return expr
+                sym = _sym(label)
+                st.append(Assign(sym, expr))
+                return sym
+            a, bb = value("_ka", ka), value("_kb", kb)
+            rad = value("_rad", sp.sqrt(a ** 2 + bb ** 2))
+            if rad.is_number:
+                if rad == 0:
+                    return None
+            else:
+                st.append(Guard(rad, sp.Float(TINY), "4"))
+            if kc == 0:
+                asin = sp.Integer(0)
+            else:
+                u = _sym("_u")
+                st.append(Assign(u, -kc / rad))
+                st.append(Line("if not abs(_u) <= 1.0 + 1e-12:  # no assembly here"))
+                st.append(Line("    return 4"))
+                st.append(Line("_u = min(1.0, max(-1.0, _u))"))
+                asin = sp.asin(u)
+            x1, x2 = _sym("_y1"), _sym("_y2")
+            st.append(Assign(x1, asin - sp.atan2(bb, a)))
+            st.append(Assign(x2, sp.pi - asin - sp.atan2(bb, a)))
+            # the 2π-shift of each root nearest the current value (1/2π = 0.159...)
+            st.append(Line(f"_y1 += 2.0 * math.pi * math.floor(({name} - _y1) * {1 / (2 * math.pi)!r} + 0.5)"))
+            st.append(Line(f"_y2 += 2.0 * math.pi * math.floor(({name} - _y2) * {1 / (2 * math.pi)!r} + 0.5)"))
+        elif quad and y ** 2 in quad:
+            qa, qb, qc = _sym("_qa"), _sym("_qb"), _sym("_qc")
+            st += [Line(f"# closed form: A {name}^2 + B {name} + C = 0, the root nearest {name}"),
+                   Assign(qa, quad[y ** 2]), Assign(qb, quad.get(y, 0)), Assign(qc, quad.get(1, 0))]
+            st += [Line("_disc = _qb * _qb - 4.0 * _qa * _qc"),
+                   Line("if _disc < 0.0:"),
+                   Line("    if _disc < -1e-12 * _qb * _qb:  # no assembly here"),
+                   Line("        return 4"),
+                   Line("    _disc = 0.0"),
+                   Line("_qq = -0.5 * (_qb + math.copysign(math.sqrt(_disc), _qb))"),
+                   Line("if not abs(_qa) > 1e-300 or not abs(_qq) > 1e-300:"),
+                   Line("    return 4"),
+                   Line("_y1 = _qq / _qa"),
+                   Line("_y2 = _qc / _qq")]
+        else:
+            return None
+        st.append(Line(f"{name} = _y1 if abs(_y1 - {name}) <= abs(_y2 - {name}) else _y2"))
+        st += self._explicit(b.explicit, derivs=())
+        return self._emit_shared(st, temps)
+
     def _newton_block(self, b, temps):
         phi, q = self._rows(), self.q
         tears, res = b.tears, b.residuals
         k = len(tears)
+        if k == 1 and self.closed_forms:
+            lines = self._closed_form(b, temps)
+            if lines is not None:
+                return lines
         st = self._explicit(b.explicit, b.tears, tears=tears)
         explicit_vars = [v for _, v in b.explicit]
         R = [_sym(f"_r{i}") for i in range(k)]
@@ -344,7 +476,7 @@ class ModuleBuilder:
             st.append(Assign(S[0], (R[0] * J[1][1] - J[0][1] * R[1]) / det))
             st.append(Assign(S[1], (J[0][0] * R[1] - J[1][0] * R[0]) / det))
         variant = {q[v] for v in b.vars}
-        before, body = emit(st, temps, self.cse, variant=variant)
+        before, body = self._emit_shared(st, temps, variant=variant)
         lines = list(before)   # loop-invariant subexpressions, computed once per block
         if k > 2:
             lines.append(f"_A = np.empty(({k}, {k}))")
@@ -369,7 +501,7 @@ class ModuleBuilder:
         lines.append("    return 1")
         lines.append("_iters = max(_iters, _it + 1)")
         if b.explicit:  # the explicit unknowns from the final tear values
-            lines += emit(self._explicit(b.explicit, derivs=()), temps, self.cse)
+            lines += self._emit_shared(self._explicit(b.explicit, derivs=()), temps)
         return lines
 
     def _linear_blocks(self, order):
@@ -450,7 +582,12 @@ class ModuleBuilder:
         head = self._linear_head(1, vbody + abody, jsym, nsym)
         gamma = [Assign(x.target, x.expr.subs(vconst), x.comment)
                  for x in self._linear_head(2, abody, {}, gsym)]
-        st = head + vbody + gamma + abody
+        # det Φ_q up to a constant sign: the product of the block pivots (the fast sweep
+        # watches its sign; NaN when a block of three or more unknowns hides its pivot)
+        pivots = [x.value for x in vbody if isinstance(x, Guard)]
+        big = any(b.size > 2 for b in self.blocks)
+        det = [Store("piv[0]", sp.nan if big else sp.Mul(*pivots), "det Φ_q (up to sign)")]
+        st = head + vbody + det + gamma + abody
         exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
         lines = self._prologue(exprs) + emit(st, TempNames(), self.cse)
         for k, (v, a) in enumerate(zip(self.qd, self.qdd)):
@@ -582,6 +719,9 @@ class ModuleBuilder:
                 ctx["acceleration_sorted"] = self.linear_sorted_body(2)
                 ctx["derivatives_sorted"] = self.derivatives_sorted_body()
         ctx["helpers"] = self.helpers
+        # a small model's hot solvers are inlined into their callers (numba IR inlining):
+        # a call between jitted functions passing arrays costs about as much as their work
+        ctx["inline"] = self.blocks is not None and not self.helpers and len(self.q) <= SHARE_MAX
         ctx["level"] = self.level
         ctx["solved"] = self.solved
         ctx["pruned"] = not all(self.solved) or self.level < 2
@@ -601,6 +741,18 @@ class _Subs:
         return self.cache[i]
 
 
+def _collect_form(expr, terms):
+    """{term: coefficient} (and {1: the rest}) when expr is linear in the given terms with
+    coefficients free of their variable, else None."""
+    variable = set().union(*(t.free_symbols for t in terms))
+    parts = sp.collect(expr, terms, evaluate=False)
+    if not set(parts) <= set(terms) | {sp.Integer(1)}:
+        return None
+    if any(c.free_symbols & variable for c in parts.values()):
+        return None
+    return parts
+
+
 def model_hash(model, ctx) -> str:
     """A stable digest of what the module computes (no timestamps: the same model, the
     same bytes)."""
@@ -608,7 +760,7 @@ def model_hash(model, ctx) -> str:
     for key in ("name", "coordinates", "guess", "parameters", "labels", "points", "outputs",
                 "phi", "phi_q", "nu", "gamma", "points_code", "outputs_code", "position_sorted",
                 "velocity_sorted", "acceleration_sorted", "mechgen_version", "format_version",
-                "level", "solved", "helpers", "derivatives_sorted"):
+                "level", "solved", "helpers", "derivatives_sorted", "inline"):
         h.update(repr(ctx[key]).encode())
     return h.hexdigest()[:16]
 

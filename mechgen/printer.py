@@ -29,8 +29,10 @@ class NumbaPrinter(PythonCodePrinter):
         if exp == -1:
             return f"1.0/{self.parenthesize(base, 100)}"
         if exp.is_Integer and 2 <= exp <= 4:
+            # parenthesised: a power binds tighter than the product it becomes, and sympy's
+            # Mul printer puts it after "/" without parentheses of its own
             b = self.parenthesize(base, 100)
-            return "*".join([b] * int(exp))
+            return "(" + "*".join([b] * int(exp)) + ")"
         if exp.is_Integer and -4 <= exp <= -2:
             b = self.parenthesize(base, 100)
             return "1.0/(" + "*".join([b] * int(-exp)) + ")"

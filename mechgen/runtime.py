@@ -382,7 +382,7 @@ class Mechanism:
         N = ts.shape[0]
         Q, QD, QDD = np.zeros((N, self.n)), np.zeros((N, self.n)), np.zeros((N, self.n))
         INFO = np.zeros((N, 7))   # see the generated sweep(): status 5 marks a branch jump
-        done = self.module.sweep(ts, q0, self.p, lev, tol, self.xtol, maxit, meth, Q, QD, QDD, INFO)
+        done = self._compiled_sweep(ts, q0, lev, tol, maxit, meth, Q, QD, QDD, INFO)
         sw = Sweep(self, ts[:done], Q[:done], QD[:done] if lev >= 1 else None,
                    QDD[:done] if lev >= 2 else None, INFO[:done])
         jumped, crossed = INFO[:done, 4] == 5, INFO[:done, 4] == 6
@@ -429,6 +429,22 @@ class Mechanism:
             self._report_redundancy(Q[0], ts[0])
             self.last = sw[done - 1]
         return sw
+
+    def _compiled_sweep(self, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, INFO) -> int:
+        """The module's quick path (sweep_fast) while nothing is hard, then its careful
+        continuation (sweep) from the last point the quick path accepted."""
+        mod = self.module
+        start = 0
+        if meth != 2 and hasattr(mod, "sweep_fast"):
+            start = mod.sweep_fast(ts, q0, self.p, tol, self.xtol, maxit, Q, QD, QDD, INFO)
+            if start == ts.shape[0]:
+                return start
+            start = max(start - 1, 0)         # resume from the last accepted point
+            if start:
+                q0 = Q[start].copy()
+        done = mod.sweep(ts[start:], q0, self.p, lev, tol, self.xtol, maxit, meth,
+                         Q[start:], QD[start:], QDD[start:], INFO[start:])
+        return start + done
 
     # -- symbolic side ------------------------------------------------------------------
     def evaluate(self, expr, solution_or_sweep):

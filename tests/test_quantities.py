@@ -159,7 +159,10 @@ def test_point_to_line_distance_seed_form_sign_and_numbers(m, bodies, qr):
     # pivot lies on the lever's axis
     assert close(ev(d, solved(m, qr, 0.2)), 0.58617)
     assert abs(ev(d, solved(m, qr, 0.25))) < 1e-9
-    assert ev(d, solved(m, qr, 0.75)) < 0          # the other side of the axis
+    # between the two crossings (T = .25 and .75, where it is 0 up to roundoff) the pivot
+    # lies on the other side of the axis
+    assert ev(d, solved(m, qr, 0.5)) < -0.1
+    assert abs(ev(d, solved(m, qr, 0.75))) < 1e-9
 
 
 def test_point_to_line_distance_by_hand():

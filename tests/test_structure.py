@@ -50,7 +50,9 @@ def test_derivatives_pass_equals_separate_solves(qr):
     for t in (0.05, 0.3, 0.62, 0.85):
         s = qr.solve(t)
         qd, qdd = np.empty(qr.n), np.empty(qr.n)
-        assert mod.derivatives_sorted(s.q, t, qr.p, qd, qdd) == 0
+        piv = np.zeros(1)
+        assert mod.derivatives_sorted(s.q, t, qr.p, qd, qdd, piv) == 0
+        assert abs(piv[0]) > 0                  # det Φ_q up to sign
         qd2, qdd2 = np.empty(qr.n), np.empty(qr.n)
         assert mod.velocity_full(s.q, t, qr.p, qd2) == 0
         assert mod.acceleration_full(s.q, qd2, t, qr.p, qdd2) == 0
