@@ -596,7 +596,7 @@ def assemblies(mech, t, starts=256, guess=None, level="position", tol=None, flip
     t = _finite(t, "t")
     if isinstance(starts, bool) or int(starts) != starts or starts < 0:
         raise ValueError(f"starts must be a non-negative integer, got {starts!r}")
-    tol = mech.tol if tol is None else _finite(tol, "tol")
+    tol = mech._tol(tol)
     mod = mech.module
     meth = mech._method(None)
     q_guess = mech._start(guess)
@@ -865,17 +865,9 @@ def design_sweep(mech, t0, t1, n, params, level="position", guess=None, method=N
                                                method=method, tol=tol, maxit=maxit, times=times)
     lev = mech._level(level)
     meth = mech._method(method)
-    if times is None:
-        t0, t1 = _finite(t0, "t0"), _finite(t1, "t1")
-        if isinstance(n, bool) or int(n) != n or n < 1:
-            raise ValueError(f"n must be a positive integer, got {n!r}")
-        ts = np.linspace(t0, t1, int(n))
-    else:
-        ts = np.asarray(times, dtype=np.float64)
-        if ts.ndim != 1 or not np.all(np.isfinite(ts)):
-            raise ValueError("times must be a 1-D array of finite numbers")
-    tol = mech.tol if tol is None else _finite(tol, "tol")
-    maxit = mech.maxit if maxit is None else int(maxit)
+    ts = mech._times(t0, t1, n, times)
+    tol = mech._tol(tol)
+    maxit = mech._maxit(maxit)
     q0 = mech._start(guess)
     grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(axes))
     D, N, nq = grid.shape[0], ts.shape[0], mech.n

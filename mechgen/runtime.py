@@ -367,15 +367,7 @@ class Mechanism:
                                      method=method, tol=tol, maxit=maxit, times=times)
         lev = self._level(level)
         meth = self._method(method)
-        if times is None:
-            t0, t1 = _finite(t0, "t0"), _finite(t1, "t1")
-            if isinstance(n, bool) or int(n) != n or n < 1:
-                raise ValueError(f"n must be a positive integer, got {n!r}")
-            ts = np.linspace(t0, t1, int(n))
-        else:
-            ts = np.asarray(times, dtype=np.float64)
-            if ts.ndim != 1 or not np.all(np.isfinite(ts)):
-                raise ValueError("times must be a 1-D array of finite numbers")
+        ts = self._times(t0, t1, n, times)
         tol = self._tol(tol)
         maxit = self._maxit(maxit)
         q0 = self._start(guess)
@@ -429,6 +421,20 @@ class Mechanism:
             self._report_redundancy(Q[0], ts[0])
             self.last = sw[done - 1]
         return sw
+
+    @staticmethod
+    def _times(t0, t1, n, times=None) -> np.ndarray:
+        """The times of a sweep: n from t0 to t1 (both ends), or the given ones."""
+        if times is None:
+            t0, t1 = _finite(t0, "t0"), _finite(t1, "t1")
+            if isinstance(n, bool) or not isinstance(n, (int, np.integer, float)) \
+                    or int(n) != n or n < 1:
+                raise ValueError(f"n must be a positive integer, got {n!r}")
+            return np.linspace(t0, t1, int(n))
+        ts = np.asarray(times, dtype=np.float64)
+        if ts.ndim != 1 or not np.all(np.isfinite(ts)):
+            raise ValueError("times must be a 1-D array of finite numbers")
+        return ts
 
     def _compiled_sweep(self, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, INFO) -> int:
         """The module's quick path (sweep_fast) while nothing is hard, then its careful
