@@ -35,15 +35,20 @@ def environment() -> jinja2.Environment:
     )
 
 
-def render(model, *, sort=True, level="acceleration", outputs=None, cse=True, closed_forms=True,
-           command=None) -> str:
+def render(model, *, sort=True, level="acceleration", outputs=None, cse=True,
+           closed_forms="cheap", command=None) -> str:
     """The text of the generated module for ``model``."""
     ctx = ModuleBuilder(model, sort=sort, level=level, outputs=outputs, cse=cse,
                         closed_forms=closed_forms).context()
     body = environment().get_template("module.py.j2").render(**ctx)
     source = os.path.basename(getattr(model, "source", "") or "<interactive>")
     if command is None:
-        command = f"mechgen build {source}" + ("" if sort else " --no-sort")
+        flags = ([] if sort else ["--no-sort"]) + \
+            ([] if level == "acceleration" else [f"--level {level}"]) + \
+            ([] if outputs is None else ["--outputs " + ",".join(outputs)]) + \
+            ([] if closed_forms in ("cheap",) else
+             [f"--closed-forms {'all' if closed_forms is True else closed_forms or 'none'}"])
+        command = " ".join([f"mechgen build {source}"] + flags)
     text = PREAMBLE.format(version=ctx["mechgen_version"], source=source, command=command) + body
     return STAMP.format(digest=content_digest(text)) + text
 

@@ -70,7 +70,8 @@ def cmd_build(args):
     models = _models(args)
     outputs = [o.strip() for o in args.outputs.split(",") if o.strip()] if args.outputs else None
     for model in models:
-        kwargs = dict(sort=not args.no_sort, level=args.level, outputs=outputs)
+        kwargs = dict(sort=not args.no_sort, level=args.level, outputs=outputs,
+                      closed_forms=args.closed_forms)
         path = build(model, args.outdir, **kwargs)
         print(f"wrote {path}")
 
@@ -169,6 +170,10 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--level", choices=LEVELS, default="acceleration",
                    help="highest derivative level to emit (default acceleration)")
     p.add_argument("--outputs", help="comma-separated outputs to compile (default: all declared)")
+    p.add_argument("--closed-forms", choices=("all", "cheap", "none"), default="cheap",
+                   help="blocks of a standard form (a sin y + b cos y + c, a quadratic) solved "
+                        "without iterating: all of them, only where that removes all run-time "
+                        "trigonometry (default), or none")
     p.set_defaults(func=cmd_build, all_models=True)
 
     p = sub.add_parser("equations", help="print Φ, Φ_q, ν and γ, labelled by constraint")

@@ -49,9 +49,16 @@ class ModuleBuilder:
     """Collects everything the template needs for one model."""
 
     def __init__(self, model, sort=True, level="acceleration", outputs=None, cse=True,
-                 closed_forms=True):
+                 closed_forms="cheap"):
         self.model = model
-        self.closed_forms = closed_forms
+        # "all": every block of a standard form is solved in closed form; "cheap": only
+        # where that removes all run-time trigonometry (a warm-started Newton is faster
+        # than atan2 or a square root); "none": Newton everywhere
+        if closed_forms is True:
+            closed_forms = "all"
+        if closed_forms not in ("all", "cheap", "none", False):
+            raise ValueError(f"closed_forms must be all, cheap or none, got {closed_forms!r}")
+        self.closed_forms = closed_forms if closed_forms else "none"
         self.eq = model.equations()
         check_square(model, self.eq)   # fewer equations than coordinates: refuse to build
         self.q = list(self.eq.q)
@@ -394,6 +401,8 @@ class ModuleBuilder:
         if trig and (sp.sin(y) in trig or sp.cos(y) in trig):
             ka, kb, kc = (sp.sympify(trig.get(sp.sin(y), 0)), sp.sympify(trig.get(sp.cos(y), 0)),
                           sp.sympify(trig.get(1, 0)))
+            if self.closed_forms == "cheap" and not (ka.is_number and kb.is_number):
+                return None
             st.append(Line(f"# closed form: a sin({name}) + b cos({name}) + c = 0, "
                            f"the root nearest {name}"))
 
@@ -425,7 +434,7 @@ class ModuleBuilder:
             # the 2π-shift of each root nearest the current value (1/2π = 0.159...)
             st.append(Line(f"_y1 += 2.0 * math.pi * math.floor(({name} - _y1) * {1 / (2 * math.pi)!r} + 0.5)"))
             st.append(Line(f"_y2 += 2.0 * math.pi * math.floor(({name} - _y2) * {1 / (2 * math.pi)!r} + 0.5)"))
-        elif quad and y ** 2 in quad:
+        elif quad and y ** 2 in quad and self.closed_forms != "cheap":
             qa, qb, qc = _sym("_qa"), _sym("_qb"), _sym("_qc")
             st += [Line(f"# closed form: A {name}^2 + B {name} + C = 0, the root nearest {name}"),
                    Assign(qa, quad[y ** 2]), Assign(qb, quad.get(y, 0)), Assign(qc, quad.get(1, 0))]
@@ -449,7 +458,7 @@ class ModuleBuilder:
         phi, q = self._rows(), self.q
         tears, res = b.tears, b.residuals
         k = len(tears)
-        if k == 1 and self.closed_forms:
+        if k == 1 and self.closed_forms != "none":
             lines = self._closed_form(b, temps)
             if lines is not None:
                 return lines

@@ -128,3 +128,56 @@ def test_split_solvers_agree_with_full_newton(chain6):
         assert np.abs(s.qd - f.qd).max() < 1e-9
         assert np.abs(s.qdd - f.qdd).max() < 1e-8
         assert s.residual < 1e-10
+
+
+@pytest.fixture(scope="module")
+def closed_form_builds(build_dir):
+    """The quick-return and the four-bar with every standard-form block in closed form,
+    and with Newton everywhere."""
+    out = {}
+    for name in ("quick_return", "fourbar"):
+        for mode in ("all", "none"):
+            m = example_model(name)
+            m.name = f"{name}_{mode}"
+            out[name, mode] = mechgen.load(build(m, os.path.join(build_dir, "cf"),
+                                                 closed_forms=mode))
+    return out
+
+
+def test_closed_forms_are_emitted_as_asked(closed_form_builds):
+    import inspect
+    src_all = inspect.getsource(closed_form_builds["quick_return", "all"].module)
+    src_none = inspect.getsource(closed_form_builds["quick_return", "none"].module)
+    assert "closed form: a sin(Th3) + b cos(Th3) + c = 0" in src_all
+    assert "closed form: A X4^2 + B X4 + C = 0" in src_all
+    assert "closed form" not in src_none
+    assert "# Regenerate with: mechgen build quick_return.py --closed-forms all" in src_all
+
+
+@pytest.mark.parametrize("mode", ["all", "none"])
+def test_closed_forms_agree_with_full_newton(closed_form_builds, mode):
+    mech = closed_form_builds["quick_return", mode]
+    for t, guess in ((0.0, None), (0.3, None), (0.85, None), (0.85, {"X4": 1.0}), (0.62, None)):
+        s = mech.solve(t, guess=guess, level="acceleration", method="sorted")
+        f = mech.solve(t, guess=s, level="acceleration", method="full")
+        assert np.abs(s.q - f.q).max() < 1e-12
+        assert np.abs(s.qd - f.qd).max() < 1e-10 and np.abs(s.qdd - f.qdd).max() < 1e-9
+    assert abs(mech.solve(0.85, guess={"X4": 1.0})["X4"] - 0.802632) < 1e-6
+    fb = closed_form_builds["fourbar", mode]
+    for th3, th4 in ((0.5274103891, 1.792465604), (-1.048246730, -2.313301945)):
+        s = fb.solve(0.0, guess={"Th3": th3 + 0.2, "Th4": th4 - 0.2}, method="sorted")
+        assert abs(s["Th3"] - th3) < 1e-9 and abs(s["Th4"] - th4) < 1e-9
+    sw = mech.sweep(0.0, 1.0, 41, level="acceleration")
+    ref = closed_form_builds["quick_return", "none"].sweep(0.0, 1.0, 41, level="acceleration")
+    assert np.abs(sw.Q - ref.Q).max() < 1e-10
+
+
+def test_closed_form_reports_no_assembly(build_dir):
+    """The slider-driven quick-return inside its gap: the closed form finds no root and the
+    solve fails with ConvergenceError instead of returning numbers."""
+    m = example_model("quick_return_slider")
+    m.name = "quick_return_slider_all"
+    mech = mechgen.load(build(m, os.path.join(build_dir, "cf"), closed_forms="all"))
+    assert abs(mech.solve(0.0)["Th3"] - 0.083778) < 1e-5
+    with pytest.raises(mechgen.ConvergenceError):
+        mech.solve(0.25, guess={"Th2": -1.0, "Th3": -0.64, "X4": 9.54})
