@@ -800,14 +800,8 @@ class DesignTable:
 
     def to_csv(self, path):
         """Write the long table (see table()) to a CSV file; unsolved points are empty."""
-        import csv
-        header, data = self.table()
-        with open(path, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(header)
-            for row in data:
-                w.writerow(["" if math.isnan(x) else repr(float(x)) for x in row])
-        return path
+        from .results import write_csv
+        return write_csv(path, *self.table())
 
     def to_dataframe(self):
         """The long table (see table()) as a pandas DataFrame (needs pandas)."""

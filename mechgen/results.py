@@ -16,6 +16,16 @@ def _lookup(mech, name):
     return kind, k, order
 
 
+def write_csv(path, header, data):
+    """A table as CSV: full-precision numbers, NaN (not solved) as an empty cell."""
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(header)
+        for row in data:
+            w.writerow(["" if x != x else repr(float(x)) for x in row])
+    return path
+
+
 def _solved_names(mech):
     return [c for c, ok in zip(mech.coordinates, mech.solved) if ok]
 
@@ -187,13 +197,7 @@ class Sweep:
 
     def to_csv(self, path):
         """Write T and every column to a CSV file."""
-        header, data = self.table()
-        with open(path, "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(header)
-            for row in data:
-                w.writerow([repr(float(x)) for x in row])
-        return path
+        return write_csv(path, *self.table())
 
     def to_dataframe(self):
         """A pandas DataFrame of T and every column (needs pandas)."""
