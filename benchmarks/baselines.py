@@ -13,7 +13,6 @@ from __future__ import annotations
 import math
 
 import mpmath
-import numpy as np
 from numba import njit
 
 L = 3.0

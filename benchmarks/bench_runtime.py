@@ -188,7 +188,6 @@ def main(argv=None):
     fs_default = lambdify_fsolve(model, p)
     fs_tight = lambdify_fsolve(model, p, xtol=1e-13)
 
-    ts_fast = np.linspace(0.0, 1.0, n_fast)
     ts_slow = np.linspace(0.0, 1.0, n_slow)
     ts_calls = np.linspace(0.0, 1.0, 2000)
     guess = mech.guess.copy()

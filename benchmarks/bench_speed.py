@@ -144,14 +144,12 @@ def main():
             q = solve(t, q)
             qs[float(t)] = q
     results["sympy.lambdify + scipy fsolve"] = [per_point(lf, len(few2), max(1, rounds // 2)), float("nan")]
-    idx = model.coords.index
     worst = 0.0
     for t, r in ref.items():
         if t in qs:
             q = qs[t]
             worst = max(worst, abs(q[5] - r[0]), abs(q[6] - r[1]))
     errs["sympy.lambdify + scipy fsolve"] = [worst, float("nan"), float("nan")]
-    del idx
 
     base = results["hand-written numba, sorted"]
     slow = results["sympy.lambdify + scipy fsolve"][0]

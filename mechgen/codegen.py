@@ -252,7 +252,7 @@ class ModuleBuilder:
         for b in self.blocks:
             lines = [self._block_comment(b)]
             if b.kind == "explicit":
-                st = self._explicit(b.explicit, derivs=())
+                st = self._explicit(b.explicit)
                 lines += self._emit_shared(st, temps)
                 value = st[-1].expr
                 if value.is_number:    # a constant coordinate: substitute it forward
@@ -349,7 +349,7 @@ class ModuleBuilder:
             return self.eq.phi
         return _Subs(self.eq.phi, known)
 
-    def _explicit(self, pairs, derivs, tears=()):
+    def _explicit(self, pairs, tears=()):
         """Statements for z = −rest/coef for each (eq, var), and optionally dz/dy."""
         phi, q = self._rows(), self.q
         st = []
@@ -451,7 +451,7 @@ class ModuleBuilder:
         else:
             return None
         st.append(Line(f"{name} = _y1 if abs(_y1 - {name}) <= abs(_y2 - {name}) else _y2"))
-        st += self._explicit(b.explicit, derivs=())
+        st += self._explicit(b.explicit)
         return self._emit_shared(st, temps)
 
     def _newton_block(self, b, temps):
@@ -462,7 +462,7 @@ class ModuleBuilder:
             lines = self._closed_form(b, temps)
             if lines is not None:
                 return lines
-        st = self._explicit(b.explicit, b.tears, tears=tears)
+        st = self._explicit(b.explicit, tears=tears)
         explicit_vars = [v for _, v in b.explicit]
         R = [_sym(f"_r{i}") for i in range(k)]
         J = [[_sym(f"_J{i}{j}") for j in range(k)] for i in range(k)]
@@ -510,7 +510,7 @@ class ModuleBuilder:
         lines.append("    return 1")
         lines.append("_iters = max(_iters, _it + 1)")
         if b.explicit:  # the explicit unknowns from the final tear values
-            lines += self._emit_shared(self._explicit(b.explicit, derivs=()), temps)
+            lines += self._emit_shared(self._explicit(b.explicit), temps)
         return lines
 
     def _linear_blocks(self, order):

@@ -2,7 +2,6 @@
 from the generated modules."""
 import math
 
-import numpy as np
 import pytest
 
 import mechgen
