@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import hashlib
 import math
+import re
 
 import sympy as sp
 
@@ -36,6 +37,17 @@ def _unpack(names_in_use, vector, arg, comment=""):
         if s in names_in_use:
             lines.append(f"{s.name} = {arg}[{k}]")
     return lines
+
+
+def _replace(st, subs):
+    """A statement with ``subs`` applied to its expression (xreplace)."""
+    if isinstance(st, Assign):
+        return Assign(st.target, sp.sympify(st.expr).xreplace(subs), st.comment)
+    if isinstance(st, Store):
+        return Store(st.lhs, sp.sympify(st.expr).xreplace(subs), st.comment)
+    if isinstance(st, Guard):
+        return Guard(st.value, sp.sympify(st.bound).xreplace(subs), st.status)
+    return st
 
 
 def _free(exprs):
@@ -242,28 +254,14 @@ class ModuleBuilder:
         function of its own (numba compiles many small functions much faster than one
         large one); the main function then runs them in order on a work copy of q."""
         phi, q = self.eq.phi, self.q
-        temps = TempNames()
-        self._known = {}
         # function calls of solved coordinates are shared across blocks, in models whose
         # solver stays one function (a split solver keeps its CSE per part)
-        self._shared = {} if len(q) <= SHARE_MAX else None
-        self._avail = set(self.params) | {T}
-        pieces = []      # (block lines, symbols they use, coordinates they solve)
-        for b in self.blocks:
-            lines = [self._block_comment(b)]
-            if b.kind == "explicit":
-                st = self._explicit(b.explicit)
-                lines += self._emit_shared(st, temps)
-                value = st[-1].expr
-                if value.is_number:    # a constant coordinate: substitute it forward
-                    self._known[q[b.vars[0]]] = value
-            else:
-                lines += self._newton_block(b, temps)
-            used = _free([phi[e] for e in b.eqs]) | {q[v] for v in b.vars}
-            pieces.append((lines, used, [q[v] for v in b.vars]))
-            self._avail |= {q[v] for v in b.vars}
+        pieces = self._position_pieces(share=len(q) <= SHARE_MAX)
+        if self._shared is not None and sum(len(x[0]) for x in pieces) > 2 * CHUNK_LINES:
+            pieces = self._position_pieces(share=False)
         total = sum(len(x[0]) for x in pieces)
         if total <= 2 * CHUNK_LINES:
+            self._step_ready = True
             used = _free(list(phi))
             lines = _unpack(set(q), q, "q") + _unpack(used, self.params, "p")
             if T in used:
@@ -302,6 +300,30 @@ class ModuleBuilder:
         top += ["for _k in range(N_COORDS):", "    q[_k] = _w[_k]", "return 0"]
         return top
 
+    def _position_pieces(self, share):
+        """Code for each block of the position solver: (lines, symbols they use,
+        coordinates they solve)."""
+        phi, q = self.eq.phi, self.q
+        temps = TempNames()
+        self._known = {}
+        self._shared = {} if share else None
+        self._avail = set(self.params) | {T}
+        pieces = []
+        for b in self.blocks:
+            lines = [self._block_comment(b)]
+            if b.kind == "explicit":
+                st = self._explicit(b.explicit)
+                lines += self._emit_shared(st, temps)
+                value = st[-1].expr
+                if value.is_number:    # a constant coordinate: substitute it forward
+                    self._known[q[b.vars[0]]] = value
+            else:
+                lines += self._newton_block(b, temps)
+            used = _free([phi[e] for e in b.eqs]) | {q[v] for v in b.vars}
+            pieces.append((lines, used, [q[v] for v in b.vars]))
+            self._avail |= {q[v] for v in b.vars}
+        return pieces
+
     def _emit_shared(self, st, temps, variant=None):
         """emit() for the position solver, with function calls (sin, cos, atan2, ...) of
         coordinates solved by earlier blocks computed once for the whole function: each
@@ -315,7 +337,7 @@ class ModuleBuilder:
         def swap(expr):
             expr = sp.sympify(expr)
             atoms = [a for a in expr.atoms(sp.Function)
-                     if a.free_symbols and a.free_symbols <= avail]
+                     if a in shared or (a.free_symbols and a.free_symbols <= avail)]
             if not atoms:
                 return expr
             subs = {}
@@ -360,9 +382,12 @@ class ModuleBuilder:
             if coef.is_number:
                 st.append(Assign(z, -rest / coef, f"row {e}: {self.eq.labels[e]}"))
             else:
+                # a reciprocal, then a product: the reciprocal does not wait for the rest
+                inv = _sym(f"_inv_{z.name}")
                 st.append(Assign(den, coef))
                 st.append(Guard(den, sp.Float(1e-12), "4"))
-                st.append(Assign(z, -rest / den, f"row {e}: {self.eq.labels[e]}"))
+                st.append(Assign(inv, 1 / den))
+                st.append(Assign(z, -rest * inv, f"row {e}: {self.eq.labels[e]}"))
             for y in tears:
                 total = sp.diff(phi[e], q[y])
                 for e2, v2 in pairs:
@@ -370,7 +395,7 @@ class ModuleBuilder:
                         break
                     total += sp.diff(phi[e], q[v2]) * _sym(f"_d{q[v2].name}_d{q[y].name}")
                 dz = _sym(f"_d{z.name}_d{q[y].name}")
-                st.append(Assign(dz, -total / (coef if coef.is_number else den)))
+                st.append(Assign(dz, -total / coef if coef.is_number else -total * inv))
         return st
 
     def _closed_form(self, b, temps):
@@ -420,7 +445,7 @@ class ModuleBuilder:
             else:
                 st.append(Guard(rad, sp.Float(TINY), "4"))
             if kc == 0:
-                asin = sp.Integer(0)
+                u, asin = sp.Integer(0), sp.Integer(0)
             else:
                 u = _sym("_u")
                 st.append(Assign(u, -kc / rad))
@@ -431,6 +456,7 @@ class ModuleBuilder:
             x1, x2 = _sym("_y1"), _sym("_y2")
             st.append(Assign(x1, asin - sp.atan2(bb, a)))
             st.append(Assign(x2, sp.pi - asin - sp.atan2(bb, a)))
+
             # the 2π-shift of each root nearest the current value (1/2π = 0.159...)
             st.append(Line(f"_y1 += 2.0 * math.pi * math.floor(({name} - _y1) * {1 / (2 * math.pi)!r} + 0.5)"))
             st.append(Line(f"_y2 += 2.0 * math.pi * math.floor(({name} - _y2) * {1 / (2 * math.pi)!r} + 0.5)"))
@@ -450,7 +476,21 @@ class ModuleBuilder:
                    Line("_y2 = _qc / _qq")]
         else:
             return None
-        st.append(Line(f"{name} = _y1 if abs(_y1 - {name}) <= abs(_y2 - {name}) else _y2"))
+        if trig and self._shared is not None:
+            # sin and cos of both roots from a, b and u alone (y + atan2(b, a) is asin u or
+            # π − asin u), so that later code calls neither sin nor cos of y
+            w = value("_w", sp.sqrt(1 - u ** 2))
+            s1, c1, s2, c2 = (_sym(x) for x in ("_sin1", "_cos1", "_sin2", "_cos2"))
+            st += [Assign(s1, (u * a - w * bb) / rad), Assign(c1, (w * a + u * bb) / rad),
+                   Assign(s2, (u * a + w * bb) / rad), Assign(c2, (u * bb - w * a) / rad)]
+            sin_y, cos_y = _sym(f"_sin_{name}"), _sym(f"_cos_{name}")
+            st += [Line(f"if abs(_y1 - {name}) <= abs(_y2 - {name}):"),
+                   Line(f"    {name}, {sin_y.name}, {cos_y.name} = _y1, {s1.name}, {c1.name}"),
+                   Line("else:"),
+                   Line(f"    {name}, {sin_y.name}, {cos_y.name} = _y2, {s2.name}, {c2.name}")]
+            self._shared[sp.sin(y)], self._shared[sp.cos(y)] = sin_y, cos_y
+        else:
+            st.append(Line(f"{name} = _y1 if abs(_y1 - {name}) <= abs(_y2 - {name}) else _y2"))
         st += self._explicit(b.explicit)
         return self._emit_shared(st, temps)
 
@@ -484,9 +524,27 @@ class ModuleBuilder:
                             * (sp.Abs(J[1][0]) + sp.Abs(J[1][1])), "4"))
             st.append(Assign(S[0], (R[0] * J[1][1] - J[0][1] * R[1]) / det))
             st.append(Assign(S[1], (J[0][0] * R[1] - J[1][0] * R[0]) / det))
-        variant = {q[v] for v in b.vars}
+        # sin and cos of an angle unknown: called once before the loop, then turned by each
+        # Newton step (a rotation, no new calls while the step is small); after the loop
+        # they are the sin and cos of the solution, which later code shares
+        turns = []
+        used = set().union(*(sp.sympify(x.bound if isinstance(x, Guard) else x.expr)
+                             .atoms(sp.sin, sp.cos) for x in st if not isinstance(x, Line)))
+        for i, v in enumerate(tears):
+            y = q[v]
+            if sp.sin(y) in used or sp.cos(y) in used:
+                turns.append((i, y, _sym(f"_sin_{y.name}"), _sym(f"_cos_{y.name}")))
+        if turns:
+            subs = {}
+            for _, y, sin_y, cos_y in turns:
+                subs[sp.sin(y)], subs[sp.cos(y)] = sin_y, cos_y
+            st = [_replace(x, subs) for x in st]
+        variant = {q[v] for v in b.vars} | {x for t in turns for x in t[2:]}
         before, body = self._emit_shared(st, temps, variant=variant)
-        lines = list(before)   # loop-invariant subexpressions, computed once per block
+        lines = []
+        for _, y, sin_y, cos_y in turns:
+            lines += [f"{sin_y.name} = math.sin({y.name})", f"{cos_y.name} = math.cos({y.name})"]
+        lines += before   # loop-invariant subexpressions, computed once per block
         if k > 2:
             lines.append(f"_A = np.empty(({k}, {k}))")
             lines.append(f"_b = np.empty({k})")
@@ -499,6 +557,9 @@ class ModuleBuilder:
             for i in range(k):
                 body.append(f"{S[i].name} = _b[{i}]")
         conv = []
+        for i, y, sin_y, cos_y in turns:
+            body.append(f"{sin_y.name}, {cos_y.name} = _turn({sin_y.name}, {cos_y.name}, "
+                        f"{S[i].name}, {y.name} - {S[i].name})")
         for i, y in enumerate(tears):
             body.append(f"{q[y].name} -= {S[i].name}")
             conv.append(f"abs({R[i].name}) <= tol and abs({S[i].name}) <= xtol * (1.0 + abs({q[y].name}))")
@@ -509,11 +570,14 @@ class ModuleBuilder:
         lines.append("else:")
         lines.append("    return 1")
         lines.append("_iters = max(_iters, _it + 1)")
+        if self._shared is not None:
+            for _, y, sin_y, cos_y in turns:
+                self._shared[sp.sin(y)], self._shared[sp.cos(y)] = sin_y, cos_y
         if b.explicit:  # the explicit unknowns from the final tear values
             lines += self._emit_shared(self._explicit(b.explicit), temps)
         return lines
 
-    def _linear_blocks(self, order):
+    def _linear_blocks(self, order, known=None):
         """The block forward substitution for Φ_q x = rhs, block by block: for each block
         (statements, unknowns). Unknowns that come out as constants (``X2d = 0``) are
         substituted forward so that nothing is multiplied by a known zero; only constants
@@ -527,6 +591,7 @@ class ModuleBuilder:
                 if J[i, j] != 0:
                     jsym[i, j] = J[i, j] if J[i, j].is_number else _sym(f"_j{i}_{j}")
         rsym = self._rhs_symbols(order)
+        rsym.update(known or {})      # right sides known to be constants
         for b in self.blocks:
             body = [Line(self._block_comment(b))]
             inside = set(b.vars)
@@ -581,9 +646,25 @@ class ModuleBuilder:
         """Velocities and accelerations in one pass: the Jacobian entries are computed once
         and serve both forward substitutions (the sweep's inner loop). None for a model
         whose solvers are split into parts: it then calls the two of them."""
+        parts = self._derivative_statements()
+        if parts is None:
+            return None
+        st, tail = parts
+        exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
+        return self._prologue(exprs) + emit(st, TempNames(), self.cse) + tail + ["return 0"]
+
+    def _derivative_statements(self):
+        """The statements of the combined velocity and acceleration pass and the lines that
+        store q̇ and q̈; None when they are too many for one function."""
+        if hasattr(self, "_derivatives"):
+            return self._derivatives
+        self._derivatives = None
         vel, jsym, nsym = self._linear_blocks(1)
         vconst = self._constants        # X2d = 0, ...: exact here, computed just above
-        acc, _, gsym = self._linear_blocks(2)
+        # rows of γ that these constants make constant (a fixed angle's γ = 0, say)
+        known = {i: g.subs(vconst) for i, g in enumerate(self.eq.gamma)
+                 if not g.is_number and g.subs(vconst).is_number}
+        acc, _, gsym = self._linear_blocks(2, known)
         vbody = [x for piece in vel for x in piece[0]]
         abody = [x for piece in acc for x in piece[0]]
         if len(vbody) + len(abody) > 3 * CHUNK_STORES:
@@ -597,14 +678,37 @@ class ModuleBuilder:
         big = any(b.size > 2 for b in self.blocks)
         det = [Store("piv[0]", sp.nan if big else sp.Mul(*pivots), "det Φ_q (up to sign)")]
         st = head + vbody + det + gamma + abody
-        exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
-        lines = self._prologue(exprs) + emit(st, TempNames(), self.cse)
+        tail = []
         for k, (v, a) in enumerate(zip(self.qd, self.qdd)):
             if self.solved[k]:
-                lines += [f"qd[{k}] = {v.name}", f"qdd[{k}] = {a.name}"]
+                tail += [f"qd[{k}] = {v.name}", f"qdd[{k}] = {a.name}"]
             else:
-                lines += [f"qd[{k}] = math.nan", f"qdd[{k}] = math.nan"]
-        return lines + ["return 0"]
+                tail += [f"qd[{k}] = math.nan", f"qdd[{k}] = math.nan"]
+        self._derivatives = st, tail
+        return self._derivatives
+
+    def sweep_step(self, position):
+        """The position solve and the derivative pass as one piece of code, written into
+        the fast sweep's loop (numba's own inlining of array functions costs refcount work
+        at every return): the derivative code takes the sin and cos of solved coordinates
+        from the position code instead of calling them again, and every failure status
+        becomes ``return k``. None for a split solver."""
+        if not getattr(self, "_step_ready", False) or self._shared is None:
+            return None
+        parts = self._derivative_statements()
+        if parts is None:
+            return None
+        st, tail = parts
+        st = [_replace(x, self._shared) for x in st]
+        exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
+        exprs += [x.bound for x in st if isinstance(x, Guard)]
+        used, have = _free(exprs), _free(list(self.eq.phi))
+        lines = position[:-1]               # all but its "return 0"
+        lines += _unpack(used - have, self.params, "p")
+        if T in used and T not in have:
+            lines.append("T = t")
+        lines += emit(st, TempNames("_v"), self.cse) + tail
+        return [re.sub(r"^(\s*)return \d+$", r"\1return k", x) for x in lines]
 
     def _linear_head(self, order, body, jsym, rsym):
         """Assignments of the Jacobian entries and right sides that ``body`` uses."""
@@ -710,7 +814,7 @@ class ModuleBuilder:
             outputs_code=outputs,
             sorted=self.blocks is not None,
             blocks=[], position_sorted=[], velocity_sorted=[], acceleration_sorted=[],
-            derivatives_sorted=None,
+            derivatives_sorted=None, sweep_step=None,
             jacobian_det=[],
             pivot_rtol=repr(PIVOT_RTOL),
             sing_rtol=repr(SING_RTOL),
@@ -731,6 +835,8 @@ class ModuleBuilder:
         # a small model's hot solvers are inlined into their callers (numba IR inlining):
         # a call between jitted functions passing arrays costs about as much as their work
         ctx["inline"] = self.blocks is not None and not self.helpers and len(self.q) <= SHARE_MAX
+        if ctx["inline"] and self.level >= 2:
+            ctx["sweep_step"] = self.sweep_step(ctx["position_sorted"])
         ctx["level"] = self.level
         ctx["solved"] = self.solved
         ctx["pruned"] = not all(self.solved) or self.level < 2

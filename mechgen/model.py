@@ -17,7 +17,10 @@ _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
 # Names the generated module uses for itself; a model name may not take them.
 RESERVED = {"T", "t", "q", "qd", "qdd", "p", "out", "math", "np", "numba", "njit", "I", "E",
             "pi", "oo", "nan", "S", "N", "sin", "cos", "tan", "sqrt", "atan2", "exp", "log",
-            "status", "n", "i", "j", "k"} | set(keyword.kwlist)
+            "status", "n", "i", "j", "k",
+            # arguments of the generated solvers, in which parameters are local names too
+            "tol", "xtol", "maxit", "info", "piv", "ts", "q0", "Q", "QD", "QDD", "INFO",
+            "method", "level"} | set(keyword.kwlist)
 
 
 class Model:

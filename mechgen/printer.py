@@ -120,11 +120,27 @@ def emit(statements, temps: TempNames | None = None, cse: bool = True, variant=N
     emitted = set()
     lines = []
     hoisted = []
+    # what the loop changes: its variables, and every temporary or assignment that reads
+    # one of them (to a fixed point, as assignments and temporaries read each other);
+    # assignments and guards that read none of them are hoisted with their temporaries
     moving = set(variant or ())
-    moving |= {st.target for st in statements if isinstance(st, Assign)}
-    for sym, expr in reps:
-        if expr.free_symbols & moving:
-            moving.add(sym)
+    targets = {st.target for st in statements if isinstance(st, Assign)}
+    if variant is not None:
+        reassigned = {t for t in targets
+                      if sum(isinstance(st, Assign) and st.target == t for st in statements) > 1}
+        moving |= reassigned
+        changed = True
+        while changed:
+            changed = False
+            for sym, expr in reps:
+                if sym not in moving and expr.free_symbols & moving:
+                    moving.add(sym)
+                    changed = True
+            for st, k in slots:
+                if isinstance(st, Assign) and st.target not in moving \
+                        and reduced[k].free_symbols & moving:
+                    moving.add(st.target)
+                    changed = True
 
     def need(expr):
         todo = set()
@@ -146,13 +162,18 @@ def emit(statements, temps: TempNames | None = None, cse: bool = True, variant=N
             continue
         expr = reduced[k]
         need(expr)
+        out = lines
+        if variant is not None and isinstance(st, (Assign, Guard)):
+            free = expr.free_symbols | ({st.value} if isinstance(st, Guard) else set())
+            if not free & moving and not (isinstance(st, Assign) and st.target in moving):
+                out = hoisted
         if isinstance(st, Assign):
             tail = f"  # {st.comment}" if st.comment else ""
-            lines.append(f"{st.target.name} = {pycode(expr)}{tail}")
+            out.append(f"{st.target.name} = {pycode(expr)}{tail}")
         elif isinstance(st, Store):
             tail = f"  # {st.comment}" if st.comment else ""
-            lines.append(f"{st.lhs} = {pycode(expr)}{tail}")
+            out.append(f"{st.lhs} = {pycode(expr)}{tail}")
         else:
-            lines.append(f"if not abs({st.value.name}) > {pycode(expr)}:")
-            lines.append(f"    return {st.status}")
+            out.append(f"if not abs({st.value.name}) > {pycode(expr)}:")
+            out.append(f"    return {st.status}")
     return lines if variant is None else (hoisted, lines)
