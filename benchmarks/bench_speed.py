@@ -4,8 +4,10 @@ process (interleaved rounds, medians), each checked against a 50-digit mpmath re
     python benchmarks/bench_speed.py            # the table
     python benchmarks/bench_speed.py --quick    # fewer points and rounds
 
-Methods: the generated solver (sorted blocks; the compiled sweep, and one mech.solve per
-point with its Python overhead), the generated full-Newton path (method="full"), the
+Methods: the generated module's compiled sweep into preallocated arrays (as the hand-written
+baseline is run), the same through mech.sweep (which allocates its result arrays; the
+first touch of fresh pages adds some 15 ns a point at this size), one mech.solve
+per point with its Python overhead, the generated full-Newton path (method="full"), the
 hand-written sorted numba baseline and sympy.lambdify + scipy.optimize.fsolve.
 """
 from __future__ import annotations

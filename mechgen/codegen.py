@@ -24,6 +24,7 @@ SING_RTOL = 1e-6       # velocity/acceleration: a pivot below this fraction of i
 TINY = 1e-300
 CHUNK_STORES = 48      # straight-line functions longer than this are split into parts
 CHUNK_LINES = 160      # lines of the position solver per part, for large models
+SWEEP_RESYNC = 8       # the fast sweep calls sin and cos afresh every this many points
 SHARE_MAX = 40         # models up to this many coordinates share function calls across blocks
 
 
@@ -307,6 +308,7 @@ class ModuleBuilder:
         temps = TempNames()
         self._known = {}
         self._shared = {} if share else None
+        self._trig_pairs = []      # coordinates whose sin and cos the code calls as a pair
         self._avail = set(self.params) | {T}
         pieces = []
         for b in self.blocks:
@@ -342,7 +344,9 @@ class ModuleBuilder:
                 return expr
             subs = {}
             for a in sorted(atoms, key=sp.default_sort_key):
-                if a not in shared:
+                if a not in shared and isinstance(a, (sp.sin, sp.cos)) and a.args[0] in self.q:
+                    defs.extend(self._trig_pair(a.args[0]))   # sin and cos of a coordinate
+                elif a not in shared:
                     shared[a] = _sym(f"_f{len(shared)}")
                     defs.append(Assign(shared[a], a))
                 subs[a] = shared[a]
@@ -363,6 +367,16 @@ class ModuleBuilder:
         if variant is None:
             return lines + body
         return lines + body[0], body[1]
+
+    def _trig_pair(self, y):
+        """``_sin_<y> = math.sin(<y>)`` and ``_cos_<y> = ...`` as two lines, registered as
+        shared; the fast sweep turns such pairs from the last point instead (sweep_step)."""
+        sin_y, cos_y = _sym(f"_sin_{y.name}"), _sym(f"_cos_{y.name}")
+        if self._shared is not None:
+            self._shared[sp.sin(y)], self._shared[sp.cos(y)] = sin_y, cos_y
+        self._trig_pairs.append(y.name)
+        return [Line(f"{sin_y.name} = math.sin({y.name})"),
+                Line(f"{cos_y.name} = math.cos({y.name})")]
 
     def _rows(self):
         """Φ with the constant coordinates found so far substituted."""
@@ -543,7 +557,7 @@ class ModuleBuilder:
         before, body = self._emit_shared(st, temps, variant=variant)
         lines = []
         for _, y, sin_y, cos_y in turns:
-            lines += [f"{sin_y.name} = math.sin({y.name})", f"{cos_y.name} = math.cos({y.name})"]
+            lines += [x.text for x in self._trig_pair(y)]
         lines += before   # loop-invariant subexpressions, computed once per block
         if k > 2:
             lines.append(f"_A = np.empty(({k}, {k}))")
@@ -568,13 +582,33 @@ class ModuleBuilder:
         lines.append("for _it in range(maxit):")
         lines += ["    " + x for x in body]
         lines.append("else:")
-        lines.append("    return 1")
+        lines += ["    " + x for x in self._singular_exit(b, turns)]
         lines.append("_iters = max(_iters, _it + 1)")
-        if self._shared is not None:
-            for _, y, sin_y, cos_y in turns:
-                self._shared[sp.sin(y)], self._shared[sp.cos(y)] = sin_y, cos_y
         if b.explicit:  # the explicit unknowns from the final tear values
             lines += self._emit_shared(self._explicit(b.explicit), temps)
+        return lines
+
+    def _singular_exit(self, b, turns):
+        """The lines run when a block's Newton used up its iterations: status 1, except
+        for one unknown at a singular configuration (a toggle reached exactly), where Φ
+        holds but the steps along the lost direction are noise. There, as in
+        newton_full, the last iterate is accepted once the residual is within tol and
+        the pivot below SING_RTOL of its row's size (the caller flags it singular)."""
+        if len(b.tears) != 1:
+            return ["return 1"]
+        phi, q = self._rows(), self.q
+        e, y = b.residuals[0], q[b.tears[0]].name
+        scale = sum(sp.Abs(sp.diff(phi[e], x)) for x in sorted(
+            phi[e].free_symbols & set(q), key=q.index))
+        known = dict(self._shared or {})
+        for _, z, sin_z, cos_z in turns:
+            known[sp.sin(z)], known[sp.cos(z)] = sin_z, cos_z
+        scale = scale.xreplace({a: known[a] for a in scale.atoms(sp.Function) if a in known})
+        lines = [f"if not (abs(_r0) <= tol and not abs(_J00) > SING_RTOL * ({pycode(scale)})):",
+                 "    return 1",
+                 f"{y} += _s0  # singular here: back to the last iterate, where Φ holds"]
+        for _, z, sin_z, cos_z in turns:
+            lines.append(f"{sin_z.name}, {cos_z.name} = _turn({sin_z.name}, {cos_z.name}, -_s0, {y})")
         return lines
 
     def _linear_blocks(self, order, known=None):
@@ -708,7 +742,28 @@ class ModuleBuilder:
         if T in used and T not in have:
             lines.append("T = t")
         lines += emit(st, TempNames("_v"), self.cse) + tail
-        return [re.sub(r"^(\s*)return \d+$", r"\1return k", x) for x in lines]
+        lines = [re.sub(r"^(\s*)return \d+$", r"\1return k", x) for x in lines]
+        # sin and cos of each angle the step calls them for: turned from the last point
+        # (a rotation by the change of the angle), called afresh every SWEEP_RESYNC points
+        for y in self._trig_pairs:
+            first = f"_sin_{y} = math.sin({y})"
+            k = next(i for i, x in enumerate(lines) if x.strip() == first)
+            pad = lines[k][:len(lines[k]) - len(first)]
+            assert lines[k + 1].strip() == f"_cos_{y} = math.cos({y})"
+            lines[k:k + 2] = [pad + x for x in (
+                "if _sw_warm:",
+                f"    _sin_{y}, _cos_{y} = _turn(_sw_sin_{y}, _sw_cos_{y}, _sw_{y} - {y}, {y})",
+                "else:", "    " + first, f"    _cos_{y} = math.cos({y})")]
+        return lines
+
+    def sweep_memory(self):
+        """The fast sweep's memory of each turned angle: (initial lines, lines that keep
+        the values of an accepted point)."""
+        init, keep = [], []
+        for y in self._trig_pairs:
+            init += [f"_sw_{y} = 0.0", f"_sw_sin_{y} = 0.0", f"_sw_cos_{y} = 1.0"]
+            keep += [f"_sw_{y} = {y}", f"_sw_sin_{y} = _sin_{y}", f"_sw_cos_{y} = _cos_{y}"]
+        return init, keep
 
     def _linear_head(self, order, body, jsym, rsym):
         """Assignments of the Jacobian entries and right sides that ``body`` uses."""
@@ -837,6 +892,8 @@ class ModuleBuilder:
         ctx["inline"] = self.blocks is not None and not self.helpers and len(self.q) <= SHARE_MAX
         if ctx["inline"] and self.level >= 2:
             ctx["sweep_step"] = self.sweep_step(ctx["position_sorted"])
+            ctx["sweep_init"], ctx["sweep_keep"] = self.sweep_memory()
+            ctx["sweep_resync"] = SWEEP_RESYNC
         ctx["level"] = self.level
         ctx["solved"] = self.solved
         ctx["pruned"] = not all(self.solved) or self.level < 2

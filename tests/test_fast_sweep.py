@@ -93,3 +93,15 @@ def test_closed_form_sin_and_cos_of_the_root(build_dir):
     ts = np.linspace(0.0, 1.0, 300)
     (Q, QD, QDD), (Qc, _, _) = _fast_and_careful(mech, ts)
     assert np.abs(Q - Qc).max() < 1e-11
+
+
+def test_turned_sin_and_cos_do_not_drift_on_a_long_sweep(qr):
+    """20,000 points: the pairs turned from point to point are called afresh every few
+    points, so the quick path stays as accurate as the careful sweep that calls them at
+    every point."""
+    src = inspect.getsource(qr.module.sweep_fast)
+    assert "_turn(_sw_sin_Th3, _sw_cos_Th3" in src and "_turn(_sw_sin_Th2, _sw_cos_Th2" in src
+    ts = np.linspace(0.0, 1.0, 20_000)
+    (Q, QD, QDD), (Qc, QDc, QDDc) = _fast_and_careful(qr, ts)
+    assert np.abs(Q - Qc).max() < 2e-14
+    assert np.abs(QD - QDc).max() < 1e-12
