@@ -696,8 +696,12 @@ class ModuleBuilder:
         vel, jsym, nsym = self._linear_blocks(1)
         vconst = self._constants        # X2d = 0, ...: exact here, computed just above
         # rows of γ that these constants make constant (a fixed angle's γ = 0, say)
-        known = {i: g.subs(vconst) for i, g in enumerate(self.eq.gamma)
-                 if not g.is_number and g.subs(vconst).is_number}
+        known = {}
+        for i, g in enumerate(self.eq.gamma):
+            if not g.is_number and g.free_symbols & set(vconst):
+                g = g.xreplace(vconst)
+                if g.is_number:
+                    known[i] = g
         acc, _, gsym = self._linear_blocks(2, known)
         vbody = [x for piece in vel for x in piece[0]]
         abody = [x for piece in acc for x in piece[0]]
