@@ -105,3 +105,41 @@ def test_turned_sin_and_cos_do_not_drift_on_a_long_sweep(qr):
     (Q, QD, QDD), (Qc, QDc, QDDc) = _fast_and_careful(qr, ts)
     assert np.abs(Q - Qc).max() < 2e-14
     assert np.abs(QD - QDc).max() < 1e-12
+
+
+class _Without:
+    """A generated module with one function hidden (an older module's runtime path)."""
+
+    def __init__(self, module, name):
+        self._module, self._name = module, name
+
+    def __getattr__(self, attr):
+        if attr == self._name:
+            raise AttributeError(attr)
+        return getattr(self._module, attr)
+
+
+def test_solve_point_equals_the_call_by_call_solve(qr, qr_slider):
+    """Mechanism.solve() through the module's solve_point (one compiled call) gives what
+    the call-by-call path gives: values, flags and errors."""
+    from test_robustness import NEAR_T1, T1
+    for mech, cases in ((qr, [(0.15, None), (0.85, {"X4": 1.0}), (0.6, None)]),
+                        (qr_slider, [(0.0, None), (T1, NEAR_T1), (0.25, NEAR_T1)])):
+        old = mech.with_params()
+        old.module = _Without(mech.module, "solve_point")
+        for t, guess in cases:
+            for level in ("position", "velocity", "acceleration"):
+                outcome = []
+                for m in (mech, old):
+                    try:
+                        s = m.solve(t, guess=guess, level=level)
+                        outcome.append((s.q, s.qd, s.qdd, s.residual, s.singular, s.iterations))
+                    except mechgen.MechgenError as exc:
+                        outcome.append((type(exc), str(exc)))
+                a, b = outcome
+                assert len(a) == len(b)
+                for x, y in zip(a, b):
+                    if isinstance(x, np.ndarray):
+                        assert np.array_equal(x, y)
+                    else:
+                        assert x == y
