@@ -113,11 +113,31 @@ def _lagrange_ppoly(t, y, degree=3):
         raise ValueError(f"lagrange interpolation of degree {degree} needs {degree + 1} points, "
                          f"the sweep has {n}")
     half = (degree - 1) // 2
-    c = np.empty((degree + 1, n - 1))
-    for i in range(n - 1):
-        lo = min(max(i - half, 0), n - degree - 1)
-        x = t[lo:lo + degree + 1] - t[i]
-        c[:, i] = np.linalg.solve(np.vander(x, degree + 1), y[lo:lo + degree + 1])
+    i = np.arange(n - 1)
+    lo = np.clip(i - half, 0, n - degree - 1)
+    rows = lo[:, None] + np.arange(degree + 1)          # the points of each piece
+    x = t[rows] - t[i][:, None]                         # local to the piece's start
+    V = x[:, :, None] ** np.arange(degree, -1, -1)      # Vandermonde, highest power first
+    c = np.linalg.solve(V, y[rows][:, :, None])[:, :, 0]   # all pieces in one batch
+    return PPoly(c.T.copy(), t)
+
+
+def _quintic_hermite(t, y, d, dd):
+    """The piecewise quintic matching values, first and second derivatives at every node,
+    built for all pieces at once (BPoly.from_derivatives loops over them in Python)."""
+    from scipy.interpolate import PPoly
+    h = np.diff(t)
+    y0, d0, dd0 = y[:-1], d[:-1], dd[:-1]
+    gap = y[1:] - (y0 + h * (d0 + 0.5 * h * dd0))       # what the quadratic misses at t1
+    gap1 = d[1:] - (d0 + h * dd0)
+    gap2 = dd[1:] - dd0
+    c = np.empty((6, h.size))
+    c[0] = (12.0 * gap - 6.0 * h * gap1 + h * h * gap2) / (2.0 * h ** 5)
+    c[1] = (-30.0 * gap + 14.0 * h * gap1 - 2.0 * h * h * gap2) / (2.0 * h ** 4)
+    c[2] = (20.0 * gap - 8.0 * h * gap1 + h * h * gap2) / (2.0 * h ** 3)
+    c[3] = 0.5 * dd0
+    c[4] = d0
+    c[5] = y0
     return PPoly(c, t)
 
 
@@ -151,9 +171,19 @@ class Interpolant:
         return Interpolant(self.poly.derivative(n), self.name + "'" * n, self.method,
                            self.extrapolate)
 
-    def roots(self) -> np.ndarray:
-        """Real roots inside the interpolated range."""
-        r = self.poly.roots(extrapolate=False)
+    def roots(self, a=None, b=None) -> np.ndarray:
+        """Real roots inside the interpolated range, or only in the pieces that meet
+        [a, b] and their neighbours (a root search per piece: on a long sweep, far
+        cheaper than all of them)."""
+        poly = self.poly
+        if a is not None and b is not None:
+            from scipy.interpolate import PPoly
+            x = poly.x
+            i0 = max(int(np.searchsorted(x, a, side="right")) - 2, 0)
+            i1 = min(int(np.searchsorted(x, b, side="left")) + 1, len(x) - 1)
+            if i1 - i0 < len(x) - 1:
+                poly = PPoly(poly.c[:, i0:i1], x[i0:i1 + 1], extrapolate=False)
+        r = poly.roots(extrapolate=False)
         return np.unique(r[np.isfinite(r)])
 
     def __repr__(self):
@@ -183,7 +213,7 @@ def interpolate(sw, what, method="auto", degree=3, extrapolate=False) -> Interpo
     Mathematica's default InterpolatingFunction (piecewise polynomial through the
     ``degree + 1`` nearest points; Mech's TimeInterpolate), ``"linear"`` joins the points.
     """
-    from scipy.interpolate import BPoly, CubicHermiteSpline, CubicSpline, PPoly
+    from scipy.interpolate import CubicHermiteSpline, CubicSpline
     if method not in METHODS:
         raise ValueError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
     mech = sw.mechanism
@@ -207,8 +237,7 @@ def interpolate(sw, what, method="auto", degree=3, extrapolate=False) -> Interpo
         raise ValueError(f"hermite interpolation of {qty.label!r} needs its derivative: sweep at "
                          f"level {_LEVELS[min(qty.level + 1, 2)]}")
     if method in ("auto", "hermite") and len(derivs) == 2:
-        bp = BPoly.from_derivatives(t, np.column_stack([y, derivs[0], derivs[1]]))
-        poly, used = PPoly.from_bernstein_basis(bp), "quintic hermite"
+        poly, used = _quintic_hermite(t, y, derivs[0], derivs[1]), "quintic hermite"
     elif method in ("auto", "hermite") and len(derivs) == 1:
         poly, used = CubicHermiteSpline(t, y, derivs[0]), "cubic hermite"
     elif method == "linear":
@@ -427,7 +456,6 @@ def extrema(sw, what, method="auto", xtol=1e-12) -> Events:
         else:
             coarse_d = interpolate(sw, qty.what, method=method).derivative()
         coarse_v = interpolate(sw, qty.what, method=method)
-        coarse_roots = coarse_d.roots()
         events = Events()
         for k, node, sign in _sign_changes(t, dy, tol):
             calls = exact_d.calls + exact_v.calls
@@ -444,7 +472,7 @@ def extrema(sw, what, method="auto", xtol=1e-12) -> Events:
                 t_star = _brent(exact_d, lo, hi, float(fa), float(fb), xtol)
                 value = float(exact_v(t_star))
             a, b = float(min(t[k], t[k + 1])), float(max(t[k], t[k + 1]))
-            ti = _nearest(coarse_roots, t_star, a, b)
+            ti = _nearest(coarse_d.roots(a, b), t_star, a, b)
             vi = float(coarse_v(ti)) if math.isfinite(ti) else math.nan
             events.append(Event(qty.label, kind, t_star, value, ti, vi, coarse_v.method,
                                 exact_d.calls + exact_v.calls - calls))
@@ -472,7 +500,6 @@ def roots(sw, what, method="auto", xtol=1e-12) -> Events:
         y = qty.on_sweep(sw)
         tol = _zero_tol(y)
         coarse = interpolate(sw, qty.what, method=method)
-        coarse_roots = coarse.roots()
         events = Events()
         for k, node, sign in _sign_changes(t, y, tol):
             calls = exact.calls
@@ -488,7 +515,7 @@ def roots(sw, what, method="auto", xtol=1e-12) -> Events:
                 t_star = _brent(exact, lo, hi, float(fa), float(fb), xtol)
                 value = float(exact(t_star))
             a, b = float(min(t[k], t[k + 1])), float(max(t[k], t[k + 1]))
-            ti = _nearest(coarse_roots, t_star, a, b)
+            ti = _nearest(coarse.roots(a, b), t_star, a, b)
             vi = float(coarse(ti)) if math.isfinite(ti) else math.nan
             events.append(Event(qty.label, kind, t_star, value, ti, vi, coarse.method,
                                 exact.calls - calls))
