@@ -259,8 +259,12 @@ class Mechanism:
         info = self._info
         qd = np.empty(self.n) if lev >= 1 else self._none
         qdd = np.empty(self.n) if lev >= 2 else self._none
-        status = self.module.solve_point(q, t, self.p, tol, self.xtol, maxit, meth, lev,
-                                         qd, qdd, info)
+        mod = self.module
+        if lev == 0:
+            status = mod.solve_point(q, t, self.p, tol, self.xtol, maxit, meth, info)
+        else:
+            status = mod.solve_point_derivatives(q, t, self.p, tol, self.xtol, maxit, meth, lev,
+                                                 qd, qdd, info)
         if 0 < status < 10:
             self._position_failure(status, t, q, info)
         if status >= 20:
