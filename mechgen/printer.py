@@ -124,11 +124,13 @@ def emit(statements, temps: TempNames | None = None, cse: bool = True, variant=N
     # one of them (to a fixed point, as assignments and temporaries read each other);
     # assignments and guards that read none of them are hoisted with their temporaries
     moving = set(variant or ())
-    targets = {st.target for st in statements if isinstance(st, Assign)}
     if variant is not None:
-        reassigned = {t for t in targets
-                      if sum(isinstance(st, Assign) and st.target == t for st in statements) > 1}
-        moving |= reassigned
+        seen = set()
+        for st in statements:
+            if isinstance(st, Assign):
+                if st.target in seen:       # assigned twice: its value changes in the loop
+                    moving.add(st.target)
+                seen.add(st.target)
         changed = True
         while changed:
             changed = False

@@ -231,7 +231,7 @@ class Mechanism:
         q = self._start(guess)
         info = self._info
         mod = self.module
-        if hasattr(mod, "solve_point"):
+        if hasattr(mod, "solve_point_derivatives"):     # one compiled call (newer modules)
             return self._solve_point(t, q, lev, meth, tol, maxit)
         status = mod.solve_position(q, t, self.p, tol, self.xtol, maxit, meth, info)
         if status != 0:
