@@ -123,19 +123,17 @@ def main():
     # errors of each compiled method at the sample times
     errs = {}
     c = mech.coordinates
-    th3, x4 = c.index("Th3"), c.index("X4")
+    cols = [c.index("Th3"), c.index("X4")]
+
+    def of_arrays(Q, QD, QDD):      # the sample rows of Th3 and X4 at the three levels
+        return [[A[sample_idx, j] for j in cols] for A in (Q, QD, QDD)]
+
     module_sweep()
-    errs[MODULE] = errors(
-        [[Qg[sample_idx, th3], Qg[sample_idx, x4]], [QDg[sample_idx, th3], QDg[sample_idx, x4]],
-         [QDDg[sample_idx, th3], QDDg[sample_idx, x4]]], ts[sample_idx], ref)
-    sw = sweeps[(id(mech), "acceleration")]
-    errs["mech.sweep (Python API, new arrays)"] = errors(
-        [[sw["Th3"][sample_idx], sw["X4"][sample_idx]], [sw["Th3d"][sample_idx], sw["X4d"][sample_idx]],
-         [sw["Th3dd"][sample_idx], sw["X4dd"][sample_idx]]], ts[sample_idx], ref)
-    sw = sweeps[(id(full), "acceleration")]
-    errs["generated, full Newton (--no-sort)"] = errors(
-        [[sw["Th3"][sample_idx], sw["X4"][sample_idx]], [sw["Th3d"][sample_idx], sw["X4d"][sample_idx]],
-         [sw["Th3dd"][sample_idx], sw["X4dd"][sample_idx]]], ts[sample_idx], ref)
+    errs[MODULE] = errors(of_arrays(Qg, QDg, QDDg), ts[sample_idx], ref)
+    for name, m in (("mech.sweep (Python API, new arrays)", mech),
+                    ("generated, full Newton (--no-sort)", full)):
+        sw = sweeps[(id(m), "acceleration")]
+        errs[name] = errors(of_arrays(sw.Q, sw.QD, sw.QDD), ts[sample_idx], ref)
     baselines.hand_sorted_sweep(ts, 2, 1e-10, Qh)
     errs["hand-written numba, sorted"] = errors(
         [[Qh[sample_idx, 0], Qh[sample_idx, 1]], [Qh[sample_idx, 2], Qh[sample_idx, 3]],

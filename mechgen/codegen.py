@@ -368,12 +368,18 @@ class ModuleBuilder:
             return lines + body
         return lines + body[0], body[1]
 
-    def _trig_pair(self, y):
-        """``_sin_<y> = math.sin(<y>)`` and ``_cos_<y> = ...`` as two lines, registered as
-        shared; the fast sweep turns such pairs from the last point instead (sweep_step)."""
+    def _share_trig(self, y):
+        """The names ``_sin_<y>``, ``_cos_<y>`` of the sin and cos of coordinate y, shared
+        by later code when the solver shares calls."""
         sin_y, cos_y = _sym(f"_sin_{y.name}"), _sym(f"_cos_{y.name}")
         if self._shared is not None:
             self._shared[sp.sin(y)], self._shared[sp.cos(y)] = sin_y, cos_y
+        return sin_y, cos_y
+
+    def _trig_pair(self, y):
+        """``_sin_<y> = math.sin(<y>)`` and ``_cos_<y> = ...`` as two lines, registered as
+        shared; the fast sweep turns such pairs from the last point instead (sweep_step)."""
+        sin_y, cos_y = self._share_trig(y)
         self._trig_pairs.append(y.name)
         return [Line(f"{sin_y.name} = math.sin({y.name})"),
                 Line(f"{cos_y.name} = math.cos({y.name})")]
@@ -497,12 +503,11 @@ class ModuleBuilder:
             s1, c1, s2, c2 = (_sym(x) for x in ("_sin1", "_cos1", "_sin2", "_cos2"))
             st += [Assign(s1, (u * a - w * bb) / rad), Assign(c1, (w * a + u * bb) / rad),
                    Assign(s2, (u * a + w * bb) / rad), Assign(c2, (u * bb - w * a) / rad)]
-            sin_y, cos_y = _sym(f"_sin_{name}"), _sym(f"_cos_{name}")
+            sin_y, cos_y = self._share_trig(y)
             st += [Line(f"if abs(_y1 - {name}) <= abs(_y2 - {name}):"),
                    Line(f"    {name}, {sin_y.name}, {cos_y.name} = _y1, {s1.name}, {c1.name}"),
                    Line("else:"),
                    Line(f"    {name}, {sin_y.name}, {cos_y.name} = _y2, {s2.name}, {c2.name}")]
-            self._shared[sp.sin(y)], self._shared[sp.cos(y)] = sin_y, cos_y
         else:
             st.append(Line(f"{name} = _y1 if abs(_y1 - {name}) <= abs(_y2 - {name}) else _y2"))
         st += self._explicit(b.explicit)
@@ -596,14 +601,14 @@ class ModuleBuilder:
         the pivot below SING_RTOL of its row's size (the caller flags it singular)."""
         if len(b.tears) != 1:
             return ["return 1"]
-        phi, q = self._rows(), self.q
-        e, y = b.residuals[0], q[b.tears[0]].name
-        scale = sum(sp.Abs(sp.diff(phi[e], x)) for x in sorted(
-            phi[e].free_symbols & set(q), key=q.index))
+        J = self.eq.phi_q
+        e, y = b.residuals[0], self.q[b.tears[0]].name
+        # the row's size as the velocity pass measures it (Φ_q is already expanded)
+        scale = sum(sp.Abs(J[e, j]) for j in range(J.cols) if J[e, j] != 0)
         known = dict(self._shared or {})
         for _, z, sin_z, cos_z in turns:
             known[sp.sin(z)], known[sp.cos(z)] = sin_z, cos_z
-        scale = scale.xreplace({a: known[a] for a in scale.atoms(sp.Function) if a in known})
+        scale = scale.xreplace(known)
         lines = [f"if not (abs(_r0) <= tol and not abs(_J00) > SING_RTOL * ({pycode(scale)})):",
                  "    return 1",
                  f"{y} += _s0  # singular here: back to the last iterate, where Φ holds"]
@@ -696,9 +701,9 @@ class ModuleBuilder:
         vel, jsym, nsym = self._linear_blocks(1)
         vconst = self._constants        # X2d = 0, ...: exact here, computed just above
         # rows of γ that these constants make constant (a fixed angle's γ = 0, say)
-        known = {}
+        known, constant = {}, set(vconst)
         for i, g in enumerate(self.eq.gamma):
-            if not g.is_number and g.free_symbols & set(vconst):
+            if not g.is_number and g.free_symbols & constant:
                 g = g.xreplace(vconst)
                 if g.is_number:
                     known[i] = g

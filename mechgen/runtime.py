@@ -229,10 +229,40 @@ class Mechanism:
         tol = self._tol(tol)
         maxit = self._maxit(maxit)
         q = self._start(guess)
+        if hasattr(self.module, "solve_point_derivatives"):    # one compiled call
+            qd, qdd, residual, singular = self._solve_point(t, q, lev, meth, tol, maxit)
+        else:                                                  # older modules
+            qd, qdd, residual, singular = self._solve_steps(t, q, lev, meth, tol, maxit)
+        self._report_redundancy(q, t)
         info = self._info
-        mod = self.module
-        if hasattr(mod, "solve_point_derivatives"):     # one compiled call (newer modules)
-            return self._solve_point(t, q, lev, meth, tol, maxit)
+        sol = Solution(self, t, q, qd, qdd, iterations=int(info[0]), residual=residual,
+                       singular=singular, method="full" if info[3] else "sorted")
+        self.last = sol
+        return sol
+
+    def _solve_point(self, t, q, lev, meth, tol, maxit):
+        """The position (in place), its checks and the derivatives asked for through the
+        module's solve_point / solve_point_derivatives: (qd, qdd, residual, singular)."""
+        info, mod = self._info, self.module
+        qd = np.empty(self.n) if lev >= 1 else self._none
+        qdd = np.empty(self.n) if lev >= 2 else self._none
+        if lev == 0:
+            status = mod.solve_point(q, t, self.p, tol, self.xtol, maxit, meth, info)
+        else:
+            status = mod.solve_point_derivatives(q, t, self.p, tol, self.xtol, maxit, meth, lev,
+                                                 qd, qdd, info)
+        if 0 < status < 10:
+            self._position_failure(status, t, q, info)
+        if status >= 20:
+            self._singular(t, q, "acceleration")
+        if status >= 10:
+            self._singular(t, q, "velocity")
+        singular = int(info[2]) < self.n or not info[5] >= self.sing_rtol
+        return (qd if lev >= 1 else None, qdd if lev >= 2 else None, float(info[4]), singular)
+
+    def _solve_steps(self, t, q, lev, meth, tol, maxit):
+        """The same as _solve_point, a compiled call per step (modules without it)."""
+        info, mod = self._info, self.module
         status = mod.solve_position(q, t, self.p, tol, self.xtol, maxit, meth, info)
         if status != 0:
             self._position_failure(status, t, q, info)
@@ -247,37 +277,7 @@ class Mechanism:
             qdd = np.empty(self.n)
             if mod.solve_acceleration(q, qd, t, self.p, meth, qdd) != 0:
                 self._singular(t, q, "acceleration")
-        self._report_redundancy(q, t)
-        sol = Solution(self, t, q, qd, qdd, iterations=int(info[0]), residual=self.residual(q, t),
-                       singular=singular, method="full" if info[3] else "sorted")
-        self.last = sol
-        return sol
-
-    def _solve_point(self, t, q, lev, meth, tol, maxit) -> Solution:
-        """solve() through the module's solve_point: one compiled call for the position,
-        its checks and the derivatives (a few µs less than a call per step)."""
-        info = self._info
-        qd = np.empty(self.n) if lev >= 1 else self._none
-        qdd = np.empty(self.n) if lev >= 2 else self._none
-        mod = self.module
-        if lev == 0:
-            status = mod.solve_point(q, t, self.p, tol, self.xtol, maxit, meth, info)
-        else:
-            status = mod.solve_point_derivatives(q, t, self.p, tol, self.xtol, maxit, meth, lev,
-                                                 qd, qdd, info)
-        if 0 < status < 10:
-            self._position_failure(status, t, q, info)
-        if status >= 20:
-            self._singular(t, q, "acceleration")
-        if status >= 10:
-            self._singular(t, q, "velocity")
-        self._report_redundancy(q, t)
-        singular = int(info[2]) < self.n or not info[5] >= self.sing_rtol
-        sol = Solution(self, t, q, qd if lev >= 1 else None, qdd if lev >= 2 else None,
-                       iterations=int(info[0]), residual=float(info[4]), singular=singular,
-                       method="full" if info[3] else "sorted")
-        self.last = sol
-        return sol
+        return qd, qdd, self.residual(q, t), singular
 
     def _tol(self, tol) -> float:
         if tol is None:
