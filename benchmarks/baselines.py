@@ -111,7 +111,7 @@ def lambdify_fsolve(model):
     """A per-point solver built the way most users write one."""
     import scipy.optimize
     import sympy as sp
-    from mechgen.geometry import T
+    from mechgen.model.geometry import T
 
     eq = model.equations()
     subs = {sym: val for sym, val in model.params.values()}

@@ -152,7 +152,7 @@ def run_child(code):
 
 
 def compile_times(model):
-    from mechgen.build import build
+    from mechgen.compiler.build import build
     folder = tempfile.mkdtemp(prefix="mechgen-bench-")
     t0 = time.perf_counter()
     path = build(model, folder)
@@ -171,8 +171,8 @@ def main(argv=None):
     n_fast, n_slow, rounds = (20_000, 300, 5) if args.quick else (100_000, 2000, 11)
 
     import mechgen
-    from mechgen.build import build
-    from mechgen.loader import load_models
+    from mechgen.compiler.build import build
+    from mechgen.model.loader import load_models
     t0 = time.perf_counter()
     model = load_models(EXAMPLE)[0]
     model.equations()

@@ -23,7 +23,7 @@ sys.path.insert(0, HERE)
 
 from chain_model import chain  # noqa: E402
 
-from mechgen.build import build  # noqa: E402
+from mechgen.compiler.build import build  # noqa: E402
 
 RUN = r"""
 import json, sys, time

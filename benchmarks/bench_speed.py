@@ -28,8 +28,8 @@ sys.path.insert(0, HERE)
 import baselines  # noqa: E402
 
 import mechgen  # noqa: E402
-from mechgen.build import build  # noqa: E402
-from mechgen.loader import load_models  # noqa: E402
+from mechgen.compiler.build import build  # noqa: E402
+from mechgen.model.loader import load_models  # noqa: E402
 
 NAMES = ("Th3", "X4")
 MODULE = "generated, compiled sweep (module)"

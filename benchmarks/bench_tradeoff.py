@@ -24,8 +24,8 @@ sys.path.insert(0, HERE)
 import baselines  # noqa: E402
 
 import mechgen  # noqa: E402
-from mechgen.build import build  # noqa: E402
-from mechgen.loader import load_models  # noqa: E402
+from mechgen.compiler.build import build  # noqa: E402
+from mechgen.model.loader import load_models  # noqa: E402
 from mechgen.runtime import Mechanism  # noqa: E402
 
 

@@ -12,8 +12,8 @@ ROOT = os.path.dirname(HERE)
 
 def main():
     import mechgen
-    from mechgen.build import build
-    from mechgen.loader import load_models
+    from mechgen.compiler.build import build
+    from mechgen.model.loader import load_models
 
     model = load_models(os.path.join(HERE, "quick_return.py"))[0]
     path = build(model, os.path.join(ROOT, "generated"))

@@ -9,7 +9,7 @@ first used; ``import mechgen`` and the runtime (``load``, ``Mechanism``) do not.
 from .errors import (BranchJumpWarning, ConvergenceError, MechgenError, ModelError,
                      RedundancyWarning, SingularError, SolveError)
 
-__version__ = "0.1.0"
+from .protocol import MECHGEN_VERSION as __version__
 
 _SYMPY_NAMES = ("sin", "cos", "tan", "sqrt", "atan2", "atan", "asin", "acos", "exp", "log",
                 "pi", "E", "Abs", "sign", "sinh", "cosh", "tanh", "Rational", "Piecewise",
@@ -18,8 +18,10 @@ _QUANTITIES = ("location", "distance", "point_to_line_distance", "angle", "rotat
                "intersection", "project_on_line", "direction", "magnitude", "unit", "cross",
                "rotation_matrix", "point_to_local", "polar_to_xy", "xy_to_polar", "velocity",
                "acceleration", "dt")
-_LAZY = {"Model": "model", "T": "geometry", "Line": "geometry", "Mechanism": "runtime",
-         "Solution": "results", "Sweep": "results", "Equations": "symbolic"}
+_LAZY = {"Model": "model.language", "T": "model.geometry", "Line": "model.geometry",
+         "load_model": "model.loader", "Mechanism": "runtime.mechanism",
+         "Solution": "runtime.results", "Sweep": "runtime.results",
+         "Equations": "model.symbolic"}
 
 
 def __getattr__(name):
@@ -28,7 +30,7 @@ def __getattr__(name):
         import sympy
         value = getattr(sympy, name)
     elif name in _QUANTITIES:
-        value = getattr(importlib.import_module(".quantities", __name__), name)
+        value = getattr(importlib.import_module(".model.quantities", __name__), name)
     elif name in _LAZY:
         value = getattr(importlib.import_module("." + _LAZY[name], __name__), name)
     else:
@@ -43,13 +45,13 @@ def __dir__():
 
 def load(path_or_module, **kwargs):
     """Load a generated module (a path or an imported module) as a :class:`Mechanism`."""
-    from .runtime import load as _load
+    from .runtime.mechanism import load as _load
     return _load(path_or_module, **kwargs)
 
 
 def compile(model, **kwargs):  # noqa: A001 - the API name
     """Build ``model`` into a module and load it, keeping the symbolic side for evaluate()."""
-    from .build import compile_model
+    from .bridge import compile_model
     return compile_model(model, **kwargs)
 
 

@@ -9,7 +9,7 @@ GENERATED = os.path.join(ROOT, "generated")
 
 
 def example_model(name, model=None):
-    from mechgen.loader import load_models, pick_model
+    from mechgen.model.loader import load_models, pick_model
     return pick_model(load_models(os.path.join(EXAMPLES, name + ".py")), model)
 
 

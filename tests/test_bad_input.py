@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import mechgen
-from mechgen.runtime import _CHECK, content_digest
+from mechgen.protocol import _STAMP as _CHECK, content_digest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GENERATED = os.path.join(ROOT, "generated")
@@ -207,8 +207,8 @@ def test_cli_exit_status_and_message(tmp_path):
 
 
 def test_failed_write_leaves_no_half_module(tmp_path, monkeypatch):
-    from mechgen import build as build_mod
-    from mechgen.loader import load_models
+    from mechgen.compiler import build as build_mod
+    from mechgen.model.loader import load_models
     model = load_models(os.path.join(EXAMPLES, "fourbar_loop.py"))[0]
     out = tmp_path / "out"
     path = build_mod.build(model, str(out))

@@ -49,7 +49,7 @@ class Reference:
 
     def __init__(self, model):
         import sympy as sp
-        from mechgen.geometry import T
+        from mechgen.model.geometry import T
         self.model = model
         eq = model.equations()
         q, qd, qdd = list(eq.q), list(eq.qd), list(eq.qdd)
@@ -276,7 +276,7 @@ def committed(request):
 def built(tmp_path_factory, references):
     """(name, variant) -> Mechanism, built into a tmp dir once per session."""
     import mechgen
-    from mechgen.build import build
+    from mechgen.compiler.build import build
     cache = {}
 
     def get(name, variant):
@@ -315,7 +315,7 @@ def test_module_matches_lambdify(name, variant, references, built, committed):
 
 def test_variants_print_differently(references):
     """The variants really differ in text (else the matrix above would prove little)."""
-    from mechgen.build import render
+    from mechgen.compiler.build import render
     model = references("quick_return").model
     texts = {v: render(model, **kw) for v, kw in VARIANTS.items()}
     assert "_t0" in texts["cse"] and "_t0 = " not in texts["nocse"].split("def phi(")[1].split("@njit")[0]
@@ -345,7 +345,7 @@ sys.path.insert(0, {tests!r})
 import numba
 assert numba.config.DISABLE_JIT, "NUMBA_DISABLE_JIT did not take"
 import mechgen
-from mechgen.build import build
+from mechgen.compiler.build import build
 import test_codegen_numbers as T
 report = {{}}
 for name in T.MODELS:

@@ -9,7 +9,7 @@ import pytest
 import sympy as sp
 
 import mechgen
-from mechgen.printer import Assign, Guard, emit
+from mechgen.compiler.printer import Assign, Guard, emit
 
 from conftest import example_model
 
@@ -84,7 +84,7 @@ def test_closed_form_sin_and_cos_of_the_root(build_dir):
     """--closed-forms all: Th3 comes from a sin + b cos + c = 0 and its sin and cos from
     a, b and the root choice; the sweep agrees with Newton everywhere on the cycle."""
     import os
-    from mechgen.build import build
+    from mechgen.compiler.build import build
     m = example_model("quick_return")
     m.name = "quick_return_turn_all"
     mech = mechgen.load(build(m, os.path.join(build_dir, "turn"), closed_forms="all"))

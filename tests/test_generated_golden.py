@@ -19,7 +19,7 @@ EXAMPLE_FILES = sorted(glob.glob(os.path.join(EXAMPLES, "*.py")))
 
 
 def _models_of(path):
-    from mechgen.loader import load_models
+    from mechgen.model.loader import load_models
     try:
         return load_models(path)
     except mechgen.ModelError as exc:
@@ -31,7 +31,7 @@ def _models_of(path):
 @pytest.mark.parametrize("path", EXAMPLE_FILES, ids=os.path.basename)
 def test_generated_module_is_up_to_date(path):
     """Rebuilding every model of examples/ gives the committed bytes."""
-    from mechgen.build import render
+    from mechgen.compiler.build import render
     models = _models_of(path)
     if not models:
         pytest.skip(f"{os.path.basename(path)} defines no model (a script)")
@@ -67,7 +67,7 @@ def test_every_generated_module_has_a_model():
 def test_render_is_deterministic():
     """Two renders of a freshly loaded model give the same bytes (no timestamps, no set order)."""
     from conftest import example_model
-    from mechgen.build import render
+    from mechgen.compiler.build import render
     a = render(example_model("quick_return"))
     b = render(example_model("quick_return"))
     assert a == b
@@ -108,8 +108,8 @@ def test_unstamped_module_is_refused(tmp_path):
 
 def test_other_format_version_is_refused(tmp_path):
     """A correctly stamped module of another FORMAT_VERSION (a future mechgen, say)."""
-    from mechgen.build import STAMP
-    from mechgen.runtime import SUPPORTED_FORMAT, content_digest
+    from mechgen.compiler.build import STAMP
+    from mechgen.protocol import FORMAT_VERSION as SUPPORTED_FORMAT, content_digest
     path = _copy(tmp_path)
     text = path.read_text(encoding="utf-8")
     body = re.sub(r"^# content-sha256: .*\n", "", text, count=1, flags=re.M)

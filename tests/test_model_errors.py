@@ -8,7 +8,7 @@ import sympy as sp
 
 import mechgen
 from mechgen import Line, Model, ModelError, T
-from mechgen.loader import load_models, pick_model
+from mechgen.model.loader import load_models, pick_model
 
 HERE = os.path.abspath(__file__)
 
@@ -212,7 +212,7 @@ def fourbar_without_driver():
 
 
 def test_non_square_model_expands_but_does_not_build():
-    from mechgen.build import render
+    from mechgen.compiler.build import render
     m = fourbar_without_driver()
     eq = m.equations()                              # `mechgen check` needs these
     assert eq.phi_q.shape == (8, 9)
@@ -228,7 +228,7 @@ def test_non_square_model_expands_but_does_not_build():
 
 def test_redundant_model_builds(tmp_path):
     """More equations than coordinates is allowed: the solver handles consistent redundancy."""
-    from mechgen.build import render
+    from mechgen.compiler.build import render
     m = fourbar_without_driver()
     m.rotation_lock(m["crank"], 1.0 + T)
     m.relative_y(m["crank"][1], 0, name="redundant")        # the revolute already holds it
@@ -302,7 +302,7 @@ def test_file_without_models_and_missing_file(tmp_path):
 
 
 def test_non_square_file_names_the_model_line(tmp_path):
-    from mechgen.build import render
+    from mechgen.compiler.build import render
     path = write(tmp_path, """
         from mechgen import Model
         # a slider without its driver

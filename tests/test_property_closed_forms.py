@@ -65,7 +65,7 @@ def slider_crank_model():
 
 @pytest.fixture(scope="module")
 def mechs(tmp_path_factory):
-    from mechgen.build import build
+    from mechgen.compiler.build import build
     out = str(tmp_path_factory.mktemp("property_models"))
     return {"fourbar": mechgen.load(build(fourbar_model(), out)),
             "slider": mechgen.load(build(slider_crank_model(), out))}

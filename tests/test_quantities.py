@@ -18,7 +18,7 @@ from mechgen import (ModelError, T, acceleration, angle, cross, direction, dista
                      intersection, location, magnitude, point_to_line_distance, point_to_local,
                      polar_to_xy, project_on_line, rotation, rotation_matrix, unit, velocity,
                      xy_to_polar)
-from mechgen.geometry import Line
+from mechgen.model.geometry import Line
 
 
 def close(a, b, digits=6):

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import mechgen
-from mechgen.singular import Singularity
+from mechgen.runtime.singular import Singularity
 
 # -- the slider-driven quick-return of seed 001, section 3B ------------------------------
 # X4 = C + A sin 2πT overshoots the stroke [XMIN, XMAX] the linkage can reach: the crank
@@ -235,8 +235,8 @@ m.rotation_lock(crank, 0.5 + omega * T, name="crank angle")
 
 @pytest.fixture(scope="module")
 def redundant(tmp_path_factory):
-    from mechgen.build import build
-    from mechgen.loader import load_models
+    from mechgen.compiler.build import build
+    from mechgen.model.loader import load_models
     d = tmp_path_factory.mktemp("redundant")
     src = d / "parallelogram_extra.py"
     src.write_text(PARALLELOGRAM)
@@ -349,8 +349,8 @@ m.constraint(0.8 * sin(th2) + 2.5 * sin(th3) - 2 * sin(th4), name="loop imaginar
 
 
 def test_a_jump_the_step_control_cannot_avoid_is_reported(tmp_path):
-    from mechgen.build import build
-    from mechgen.loader import load_models
+    from mechgen.compiler.build import build
+    from mechgen.model.loader import load_models
     (tmp_path / "snapping.py").write_text(JUMPY)
     mech = mechgen.load(build(load_models(str(tmp_path / "snapping.py"))[0], str(tmp_path)))
     with pytest.warns(mechgen.BranchJumpWarning, match="could not keep the assembly mode"):
@@ -378,7 +378,7 @@ def test_angles_are_continuous_along_sweeps(qr, fourbar_loop):
 
 
 def test_singularity_analysis_stays_on_the_runtime_side():
-    """mechgen.singular runs on the generated module with numpy: sympy is never imported."""
+    """mechgen.runtime.singular runs on the generated module with numpy: sympy is never imported."""
     import subprocess
     import sys
     code = ("import sys, mechgen; m = mechgen.load(%r); "

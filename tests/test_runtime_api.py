@@ -337,7 +337,7 @@ def test_evaluate_derivatives(qr_compiled, qr_model):
 def test_evaluate_on_a_sweep_is_vectorised(qr_compiled, qr_model, monkeypatch):
     """One call of the lambdified function for the whole sweep; the values equal those at
     each point; matrices get a leading axis."""
-    import mechgen.evaluate as ev_mod
+    import mechgen.bridge as ev_mod
     from mechgen import distance, location, velocity
     mech, m = qr_compiled, qr_model
     sw = mech.sweep(0.0, 1.0, 101, level="velocity")

@@ -5,7 +5,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .errors import ModelError
+from ..errors import ModelError
 from .geometry import T
 
 

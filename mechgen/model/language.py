@@ -8,8 +8,10 @@ import re
 
 import sympy as sp
 
-from . import constraints as C
-from .errors import ModelError, _user_frame
+from .constraints import (Constraint, Expression, Orthogonal, Parallel, PointOnLine,
+                          RelativeAngle, RelativeDistance, RelativeX, RelativeY, Revolute,
+                          RotationLock, Translate)
+from ..errors import ModelError, _user_frame
 from .geometry import Body, T
 from .quantities import register_coordinates
 
@@ -37,7 +39,7 @@ class Model:
         self.bodies: dict[str, Body] = {}
         self.coords: list[sp.Symbol] = []        # q, in declaration order
         self.guess: dict[sp.Symbol, object] = {}
-        self.constraints: list[C.Constraint] = []
+        self.constraints: list[Constraint] = []
         self.outputs: dict[str, object] = {}
         self._names: dict[str, str] = {}          # every user-visible name -> what it is
         self._equations = None
@@ -168,37 +170,37 @@ class Model:
         return con
 
     def revolute(self, p1, p2, name=None):
-        return self._add(C.Revolute, (p1, p2), name)
+        return self._add(Revolute, (p1, p2), name)
 
     def translate(self, a1, a2, name=None):
-        return self._add(C.Translate, (a1, a2), name)
+        return self._add(Translate, (a1, a2), name)
 
     def point_on_line(self, p, a, name=None):
-        return self._add(C.PointOnLine, (p, a), name)
+        return self._add(PointOnLine, (p, a), name)
 
     def relative_distance(self, p1, p2, d, name=None):
-        return self._add(C.RelativeDistance, (p1, p2, d), name)
+        return self._add(RelativeDistance, (p1, p2, d), name)
 
     def rotation_lock(self, b1, b2, angle=None, name=None):
-        return self._add(C.RotationLock, (b1, b2, angle), name)
+        return self._add(RotationLock, (b1, b2, angle), name)
 
     def relative_x(self, p1, p2, dx=None, name=None):
-        return self._add(C.RelativeX, (p1, p2, dx), name)
+        return self._add(RelativeX, (p1, p2, dx), name)
 
     def relative_y(self, p1, p2, dy=None, name=None):
-        return self._add(C.RelativeY, (p1, p2, dy), name)
+        return self._add(RelativeY, (p1, p2, dy), name)
 
     def parallel(self, a1, a2, name=None):
-        return self._add(C.Parallel, (a1, a2), name)
+        return self._add(Parallel, (a1, a2), name)
 
     def orthogonal(self, a1, a2, name=None):
-        return self._add(C.Orthogonal, (a1, a2), name)
+        return self._add(Orthogonal, (a1, a2), name)
 
     def relative_angle(self, a1, a2, angle, name=None):
-        return self._add(C.RelativeAngle, (a1, a2, angle), name)
+        return self._add(RelativeAngle, (a1, a2, angle), name)
 
     def constraint(self, expr, name=None):
-        return self._add(C.Expression, (expr,), name)
+        return self._add(Expression, (expr,), name)
 
     # -- queries ------------------------------------------------------------------
     @property
@@ -232,7 +234,7 @@ class Model:
     def _repr_latex_(self):
         """The labelled equations for Jupyter: report.equations_text(latex=True), whose
         comment lines become headings, each a display of its own beside the align* blocks."""
-        from .report import equations_text
+        from .printing import equations_text
         out = []
         for line in equations_text(self, latex=True).splitlines():
             if line.startswith("% "):

@@ -5,13 +5,14 @@ import argparse
 import os
 import sys
 
-from .errors import MechgenError
+from ..errors import MechgenError
+from .options import parse_guess as _parse_guess
 
 LEVELS = ("position", "velocity", "acceleration")
 
 
 def _models(args):
-    from .loader import load_models, pick_model
+    from ..model.loader import load_models, pick_model
     models = load_models(args.model_file)
     if getattr(args, "all_models", False):
         return models
@@ -20,7 +21,7 @@ def _models(args):
 
 def _build_if_needed(model, outdir, **kwargs) -> str:
     """Write the module unless the file already holds exactly this text."""
-    from .build import render, write_module
+    from ..compiler.build import render, write_module
     path = os.path.join(outdir, f"{model.name}.py")
     text = render(model, **kwargs)
     try:
@@ -34,25 +35,12 @@ def _build_if_needed(model, outdir, **kwargs) -> str:
 
 def mechanism(args):
     """Build (when out of date) and load the model the arguments name."""
-    from .runtime import load
+    from ..runtime import load
     model = _models(args)[0]
     path = _build_if_needed(model, args.outdir)
     mech = load(path)
     mech.model = model
     return mech
-
-
-def _parse_guess(items):
-    guess = {}
-    for item in items or ():
-        name, sep, value = item.partition("=")
-        if not sep:
-            raise MechgenError(f"--guess takes NAME=VALUE, got {item!r}")
-        try:
-            guess[name.strip()] = float(value)
-        except ValueError:
-            raise MechgenError(f"--guess {item!r}: {value!r} is not a number") from None
-    return guess or None
 
 
 def _format_table(header, rows) -> str:
@@ -66,7 +54,7 @@ def _format_table(header, rows) -> str:
 
 # -- commands -------------------------------------------------------------------------
 def cmd_build(args):
-    from .build import build
+    from ..compiler.build import build
     models = _models(args)
     outputs = [o.strip() for o in args.outputs.split(",") if o.strip()] if args.outputs else None
     for model in models:
@@ -77,14 +65,14 @@ def cmd_build(args):
 
 
 def cmd_equations(args):
-    from .report import equations_text
+    from ..model.printing import equations_text
     for model in _models(args):
         sys.stdout.write(equations_text(model, numeric=args.numeric, latex=args.latex,
                                         mathematica_style=args.mathematica))
 
 
 def cmd_check(args):
-    from .report import check_report
+    from ..compiler.check import check_report
     ok = True
     for model in _models(args):
         text, good = check_report(model, t=args.t)
@@ -112,7 +100,7 @@ def cmd_solve(args):
 
 def cmd_sweep(args):
     mech = mechanism(args)
-    from .analysis import parse_param_option
+    from ..runtime.analysis import parse_param_option
     params = parse_param_option(args.param)
     if any(not isinstance(v, float) for v in params.values()):   # a design table
         progress = sys.stderr.isatty() if args.progress is None else args.progress
@@ -158,7 +146,7 @@ def parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(prog="mechgen", description=__doc__.split("\n")[0] + "\n"
                                  "Kinematics of planar mechanisms: symbolic equations compiled "
                                  "to numba solvers.")
-    from . import __version__
+    from .. import __version__
     ap.add_argument("--version", action="version", version=f"mechgen {__version__}")
     sub = ap.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
@@ -210,7 +198,7 @@ def parser() -> argparse.ArgumentParser:
     p.set_defaults(func=cmd_sweep)
 
     try:
-        from .plot_cli import add_commands
+        from .plot_commands import add_commands
     except ModuleNotFoundError as exc:  # the picture commands are not there yet
         if exc.name != __package__ + ".plot_cli":
             raise

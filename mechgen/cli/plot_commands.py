@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import os
 
-from .errors import MechgenError
+from ..errors import MechgenError
 
 LEVELS = ("position", "velocity", "acceleration")
 
@@ -16,7 +16,7 @@ def _pyplot():
 
 
 def _guess(items):
-    from .cli import _parse_guess
+    from .options import parse_guess as _parse_guess
     return _parse_guess(items)
 
 
@@ -31,7 +31,7 @@ def _bodies(value):
 
 def _needed_level(mech, names) -> str:
     """The lowest sweep level that yields every named quantity."""
-    from .results import _lookup
+    from ..runtime.results import _lookup
     need = 0
     for name in names:
         try:
@@ -67,7 +67,7 @@ def _sweep(mech, args, level="position", guess=None):
 
 
 def cmd_draw(args):
-    from . import plot
+    from .. import plot
     plt = _pyplot()
     mech = args.load_mechanism(args)
     s = mech.solve(args.t, guess=_guess(args.guess))
@@ -80,7 +80,7 @@ def cmd_draw(args):
 
 
 def cmd_animate(args):
-    from . import plot
+    from .. import plot
     plt = _pyplot()
     mech = args.load_mechanism(args)
     path = _output(args, mech, "{name}.gif")
@@ -95,7 +95,7 @@ def cmd_animate(args):
 
 
 def cmd_plot(args):
-    from . import plot
+    from .. import plot
     plt = _pyplot()
     mech = args.load_mechanism(args)
     names = list(args.names) + ([args.x] if args.x else [])

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .errors import ModelError
+from ..errors import ModelError
 
 T = sp.Symbol("T", real=True)
 

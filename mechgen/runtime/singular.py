@@ -455,7 +455,7 @@ def singularities(mech, t0, t1, n=201, guess=None):
     lock positions (where that branch ends: the sweep resumes on the far side of a stretch
     without assembly from the configuration at the lock) and crossings (det Φ_q changes
     sign). ``n`` sample times, refined to ~1e-12 in t. Returns a list of Singularity."""
-    from .runtime import _finite
+    from .mechanism import _finite
     t0, t1 = _finite(t0, "t0"), _finite(t1, "t1")
     if isinstance(n, bool) or int(n) != n or n < 2:
         raise ValueError(f"n must be an integer >= 2, got {n!r}")

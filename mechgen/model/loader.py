@@ -5,8 +5,8 @@ import os
 import runpy
 import traceback
 
-from .errors import MechgenError, ModelError
-from .model import Model
+from ..errors import MechgenError, ModelError
+from .language import Model
 
 
 def load_models(path: str) -> list[Model]:
@@ -57,3 +57,8 @@ def pick_model(models: list[Model], name: str | None, path: str = "") -> Model:
             return mdl
     names = ", ".join(m.name for m in models)
     raise ModelError(f"no model named {name!r} in the file (it defines {names})", where=path or None)
+
+
+def load_model(path: str, name: str | None = None) -> Model:
+    """The Model defined in the model file at ``path`` (``name=`` picks one of several)."""
+    return pick_model(load_models(path), name, path)

@@ -34,8 +34,8 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Circle, FancyArrow, Patch, Polygon, Rectangle
 from matplotlib.transforms import Affine2D
 
-from .errors import MechgenError
-from .results import Solution, Sweep, _lookup
+from ..errors import MechgenError
+from ..runtime.results import Solution, Sweep, _lookup
 
 BAR = 0.014          # bar half-width as a fraction of the frame's larger side
 MARGIN = 0.05        # blank border around the motion, fraction of the larger side

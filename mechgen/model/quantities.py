@@ -10,7 +10,7 @@ import numbers
 import sympy as sp
 
 from .constraints import cross2, dot2
-from .errors import ModelError
+from ..errors import ModelError
 from .geometry import Body, Line, Point, as_pair
 from .symbolic import total_derivative
 

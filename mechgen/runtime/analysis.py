@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import MechgenError
+from ..errors import MechgenError
 
 _ORDER = {"": 0, "d": 1, "dd": 2}
 _LEVELS = ("position", "velocity", "acceleration")
@@ -62,7 +62,7 @@ class _Quantity:
         if self.level >= 2:
             return None
         if self.kind == "expr":
-            from .quantities import dt
+            from ..model.quantities import dt
             return _Quantity(self.mech, dt(self.expr, model=self.mech.model))
         name = self.base + "d" * (self.order + 1)
         return _Quantity(self.mech, name)
@@ -619,7 +619,7 @@ def assemblies(mech, t, starts=256, guess=None, level="position", tol=None, flip
     its guide: u1 × u2 = 0 holds for opposite directions too) is the same mode unless
     ``flips=True``; the representative kept is the one nearest the guess's angles.
     """
-    from .runtime import _finite
+    from .mechanism import _finite
     t = _finite(t, "t")
     if isinstance(starts, bool) or int(starts) != starts or starts < 0:
         raise ValueError(f"starts must be a non-negative integer, got {starts!r}")
@@ -865,7 +865,7 @@ def design_sweep(mech, t0, t1, n, params, level="position", guess=None, method=N
     ``progress(done, total)`` called between compiled chunks.
     on_fail: "warn" (default), "raise" or "ignore" for designs that fail to solve.
     """
-    from .runtime import _finite
+    from .mechanism import _finite
     if not isinstance(params, dict) or not params:
         raise ValueError("params must be a dict of parameter names to values or sequences")
     if on_fail not in ("warn", "raise", "ignore"):

@@ -14,7 +14,7 @@ import numpy as np
 import sympy as sp
 
 from .errors import ModelError
-from .results import Solution, Sweep
+from .runtime.results import Solution, Sweep
 
 _LEVELS = ("position", "velocity", "acceleration")
 
@@ -124,3 +124,19 @@ def evaluate(mech, expr, solution_or_sweep):
     if shape[1] == 1:      # a column vector (a point, a direction): flat
         return out
     return out.reshape(out.shape[:-1] + shape)
+
+
+def compile_model(model, outdir=None, **kwargs):
+    """``mechgen.compile``: build ``model`` into a cache folder (``$MECHGEN_CACHE``, else
+    ``~/.cache/mechgen``; ``outdir=`` to choose) and load it, keeping the symbolic model so
+    that ``mech.evaluate(expr, solution_or_sweep)`` works."""
+    import os
+
+    from .compiler.build import build
+    from .runtime.mechanism import load
+    if outdir is None:
+        outdir = os.environ.get("MECHGEN_CACHE") or os.path.join(
+            os.path.expanduser("~"), ".cache", "mechgen")
+    mech = load(build(model, outdir, **kwargs))
+    mech.model = model
+    return mech

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .errors import ModelError
+from ..errors import ModelError
 from .geometry import Body, Line, Point, T, as_pair
 
 

@@ -10,18 +10,14 @@ import re
 
 import sympy as sp
 
-from . import __version__  # noqa: F401
+from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL, TINY
+from ..protocol import MECHGEN_VERSION as __version__
 from .blocks import incidence, linear_in, sort_blocks
-from .errors import ModelError
-from .geometry import T, Point
+from ..errors import ModelError
+from ..model.geometry import T, Point
 from .printer import Assign, Guard, Line, Store, TempNames, emit, pycode
-from .symbolic import check_square, total_derivative
+from ..model.symbolic import check_square, total_derivative
 
-FORMAT_VERSION = 1
-PIVOT_RTOL = 1e-10     # a pivot below this fraction of its row's size counts as zero
-SING_RTOL = 1e-6       # velocity/acceleration: a pivot below this fraction of its row's
-                       # size marks a singular configuration (status 2, SingularError)
-TINY = 1e-300
 CHUNK_STORES = 48      # straight-line functions longer than this are split into parts
 CHUNK_LINES = 160      # lines of the position solver per part, for large models
 SWEEP_RESYNC = 8       # the fast sweep calls sin and cos afresh every this many points

@@ -1,0 +1,125 @@
+"""The shape of the house: imports flow one way between the layers of mechgen, and no
+module of mechgen imports itself back through others (function-level imports included)."""
+import ast
+import os
+
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+PACKAGE = os.path.join(ROOT, "mechgen")
+
+# the layer each may import from (besides itself); "api" is mechgen/__init__.py
+ALLOWED = {
+    "base": set(),
+    "model": {"base"},
+    "compiler": {"base", "model"},
+    "runtime": {"base"},
+    "plot": {"base", "runtime"},
+    "bridge": {"base", "model", "compiler", "runtime"},
+    "cli": {"base", "model", "compiler", "runtime", "plot", "bridge", "api"},
+    "api": {"base", "model", "compiler", "runtime", "plot", "bridge", "cli"},
+}
+NO_SYMPY = {"base", "runtime", "plot"}
+
+
+def layer(module):
+    parts = module.split(".")
+    if module == "mechgen":
+        return "api"
+    if parts[1] in ("errors", "protocol"):
+        return "base"
+    return parts[1]
+
+
+def modules():
+    out = {}
+    for folder, _, files in os.walk(PACKAGE):
+        for f in files:
+            if f.endswith(".py"):
+                path = os.path.join(folder, f)
+                rel = os.path.relpath(path, ROOT)[:-3].replace(os.sep, ".")
+                name = rel[:-len(".__init__")] if rel.endswith(".__init__") else rel
+                out[name] = path
+    return out
+
+
+def imports(name, path):
+    """(imported module, line) for every import in the file, at any depth."""
+    package = name if path.endswith("__init__.py") else name.rsplit(".", 1)[0]
+    found = []
+    with open(path, encoding="utf-8") as fh:
+        tree = ast.parse(fh.read(), path)
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            found += [(a.name, node.lineno) for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = package.split(".")[:len(package.split(".")) - node.level + 1]
+                target = ".".join(base + ([node.module] if node.module else []))
+            else:
+                target = node.module or ""
+            found.append((target, node.lineno))
+            found += [(target + "." + a.name, node.lineno) for a in node.names]
+    return found
+
+
+MODULES = modules()
+
+
+def test_the_layers_are_where_the_design_note_says():
+    for package in ("model", "compiler", "runtime", "plot", "cli"):
+        assert f"mechgen.{package}" in MODULES
+    assert "mechgen.protocol" in MODULES and "mechgen.bridge" in MODULES
+
+
+@pytest.mark.parametrize("name", sorted(MODULES))
+def test_imports_flow_one_way(name):
+    mine = layer(name)
+    wrong = []
+    for target, line in imports(name, MODULES[name]):
+        top = target.split(".")[0]
+        if top == "sympy" and mine in NO_SYMPY:
+            wrong.append(f"line {line}: sympy (the {mine} layer never imports sympy)")
+        if top != "mechgen" or target not in MODULES or target == "mechgen":
+            continue
+        theirs = layer(target)
+        if theirs != mine and theirs not in ALLOWED[mine]:
+            wrong.append(f"line {line}: {target} (the {mine} layer may not import the {theirs} layer)")
+    assert not wrong, f"{name} imports against the direction of the layers:\n  " + "\n  ".join(wrong)
+
+
+def test_no_import_cycles():
+    graph = {m: {t for t, _ in imports(m, p) if t in MODULES and t not in (m, "mechgen")}
+             for m, p in MODULES.items()}
+    index, low, stack, on, cycles = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in sorted(graph[v]):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            comp = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                comp.append(w)
+                if w == v:
+                    break
+            if len(comp) > 1:
+                cycles.append(sorted(comp))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    assert not cycles, "import cycles inside mechgen: " + "; ".join(" <-> ".join(c) for c in cycles)
+
+
+def test_no_file_is_too_long_to_read():
+    long = {m: n for m, p in MODULES.items() if (n := sum(1 for _ in open(p, encoding="utf-8"))) > 600}
+    assert not long, f"files over 600 lines: {long}"
