@@ -7,6 +7,7 @@ import sys
 
 from ..errors import MechgenError
 from .options import parse_guess as _parse_guess
+from .plot_commands import add_commands
 
 LEVELS = ("position", "velocity", "acceleration")
 
@@ -197,14 +198,7 @@ def parser() -> argparse.ArgumentParser:
     _add_solve_opts(p)
     p.set_defaults(func=cmd_sweep)
 
-    try:
-        from .plot_commands import add_commands
-    except ModuleNotFoundError as exc:  # the picture commands are not there yet
-        if exc.name != __package__ + ".plot_cli":
-            raise
-        add_commands = None
-    if add_commands is not None:
-        add_commands(sub, _add_common, mechanism)
+    add_commands(sub, _add_common, mechanism)
     return ap
 
 
@@ -221,5 +215,3 @@ def main(argv=None) -> int:
     return int(code or 0)
 
 
-if __name__ == "__main__":
-    sys.exit(main())
