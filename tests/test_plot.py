@@ -343,3 +343,69 @@ def test_drawing_never_imports_sympy():
                          cwd=ROOT, timeout=300)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip().splitlines()[-1] == "False"
+
+
+# -- the parts of the layer: plane geometry, the scene, the level a plot needs -----------------
+def test_plane_geometry():
+    from mechgen.plot.shapes import hatch, hull, rot, rounded
+    square = np.array([(0, 0), (2, 0), (2, 2), (0, 2), (1, 1), (1, 0)])  # an inner, an edge point
+    h = hull(square)
+    assert len(h) == 4 and set(map(tuple, h)) == {(0, 0), (2, 0), (2, 2), (0, 2)}
+    area = 0.5 * np.sum(h[:, 0] * np.roll(h[:, 1], -1) - np.roll(h[:, 0], -1) * h[:, 1])
+    assert area == pytest.approx(4.0)                  # positive: counter-clockwise
+    assert rot(np.pi / 2) @ (1.0, 0.0) == pytest.approx([0.0, 1.0])
+    bar = rounded([(0, 0), (3, 0)], 0.5)               # a bar of half-width 0.5, round ends
+    assert bar[:, 0].min() == pytest.approx(-0.5) and bar[:, 0].max() == pytest.approx(3.5)
+    assert np.abs(bar[:, 1]).max() == pytest.approx(0.5)
+    ticks = hatch([(0, 0), (4, 0)], 1.0, 0.5)          # every 1.0, 0.5 long, on the right
+    assert [a[0] for a, _ in ticks] == pytest.approx([0.5, 1.5, 2.5, 3.5])
+    for a, b in ticks:
+        assert a[1] == 0 and b[1] < 0 and np.hypot(*(b - a)) == pytest.approx(0.5)
+    left = hatch([(0, 0), (4, 0)], 1.0, 0.5, side=-1.0)
+    assert all(b[1] > 0 for _, b in left)
+
+
+def test_scene_of_quick_return(qr):
+    from mechgen.plot.scene import Scene
+    st = Scene(qr, colors={"colisa": "blue"})
+    assert [b.name for b in st.bodies] == ["base", "manivela", "colisa", "deslizadera"]
+    base, colisa = st.by_name["base"], st.by_name["colisa"]
+    assert base.ground and base.th is None and base.origin == -1
+    assert qr.coordinates[colisa.th] == "Th3"
+    assert colisa.edge == (0.0, 0.0, 1.0) and colisa.fill == pytest.approx((0.55, 0.55, 1.0))
+    assert st.point("colisa[2]") == qr.point_names.index("colisa[2]") == st.point(7)
+    assert st.point("colisa[0]") == colisa.origin
+    sw = qr.sweep(0.0, 1.0, 5)
+    org, ang = st.poses(sw.points(), sw.Q)
+    assert org.shape == (5, 4, 2) and ang.shape == (5, 4)
+    assert np.allclose(org[:, 2], sw.points()[:, colisa.origin])
+    assert np.allclose(ang[:, 2], sw["Th3"]) and not np.any(ang[:, 0]) and not np.any(org[:, 0])
+    with pytest.raises(MechgenError, match="colors: no body named 'crank'"):
+        Scene(qr, colors={"crank": "red"})
+
+
+def test_needed_level(qr):
+    from mechgen.plot.timeplot import needed_level
+    assert needed_level(qr, ["X4", "stroke_x"]) == "position"
+    assert needed_level(qr, ["X4", "Th3d"]) == "velocity"
+    assert needed_level(qr, ["stroke_xd"]) == "velocity"
+    assert needed_level(qr, ["Th3", "X4dd"]) == "acceleration"
+    with pytest.raises(KeyError, match="X9"):
+        needed_level(qr, ["X9"])
+
+
+def test_drawing_moves_all_but_the_ground(qr):
+    d = plot.draw(qr, 0.1, frame="pose")
+    moving = {id(a) for a in d.moving()}
+    assert not moving & {id(a) for a in d.artists["base"]}
+    assert {id(a) for a in d.artists["joints"] + d.artists["colisa"]} <= moving
+    assert id(d.title) in moving
+
+
+def test_public_names():
+    assert sorted(plot.__all__) == sorted(
+        ["draw", "draw_modes", "animate", "plot", "motion", "unit", "Drawing", "Animation",
+         "Shape", "Disk", "Bar", "Edge", "Plate", "AUTO", "check_movie_path"])
+    for name in plot.__all__ + ["BAR", "MARGIN", "MOTION_POINTS", "PALETTE", "INK", "MOVIES"]:
+        assert getattr(plot, name) is not None
+    assert callable(plot.draw) and callable(plot.animate) and callable(plot.plot)

@@ -4,20 +4,19 @@ from __future__ import annotations
 import os
 
 from ..errors import MechgenError
+from ..protocol import LEVELS
+from .options import parse_guess
 
-LEVELS = ("position", "velocity", "acceleration")
 
-
-def _pyplot():
+def _pictures():
+    """pyplot (headless) and mechgen.plot. Imported when a picture command runs, not with
+    the parser: the other commands then start without loading matplotlib."""
     import matplotlib
     matplotlib.use("Agg")  # files only: no window, no display needed
     import matplotlib.pyplot as plt
-    return plt
 
-
-def _guess(items):
-    from .options import parse_guess as _parse_guess
-    return _parse_guess(items)
+    from .. import plot
+    return plt, plot
 
 
 def _bodies(value):
@@ -29,21 +28,6 @@ def _bodies(value):
     return [v.strip() for v in value.split(",") if v.strip()]
 
 
-def _needed_level(mech, names) -> str:
-    """The lowest sweep level that yields every named quantity."""
-    from ..runtime.results import _lookup
-    need = 0
-    for name in names:
-        try:
-            kind, k, order = _lookup(mech, name)
-        except KeyError as exc:
-            raise MechgenError(exc.args[0]) from None
-        if kind == "out":
-            order += mech.output_orders[k]
-        need = max(need, order)
-    return LEVELS[min(need, 2)]
-
-
 def _output(args, mech, default):
     path = args.output or default.format(name=mech.name)
     folder = os.path.dirname(os.path.abspath(path))
@@ -52,7 +36,7 @@ def _output(args, mech, default):
     return path
 
 
-def _sweep(mech, args, level="position", guess=None):
+def _sweep(mech, args, level=LEVELS[0], guess=None):
     if args.n < 1:
         raise MechgenError(f"-n must be at least 1, got {args.n}")
     try:
@@ -67,10 +51,9 @@ def _sweep(mech, args, level="position", guess=None):
 
 
 def cmd_draw(args):
-    from .. import plot
-    plt = _pyplot()
+    plt, plot = _pictures()
     mech = args.load_mechanism(args)
-    s = mech.solve(args.t, guess=_guess(args.guess))
+    s = mech.solve(args.t, guess=parse_guess(args.guess))
     d = plot.draw(mech, s, labels=_bodies(args.labels), axes=_bodies(args.axes),
                   legend=args.legend, width=args.width)
     path = _output(args, mech, "{name}.png")
@@ -80,12 +63,11 @@ def cmd_draw(args):
 
 
 def cmd_animate(args):
-    from .. import plot
-    plt = _pyplot()
+    plt, plot = _pictures()
     mech = args.load_mechanism(args)
     path = _output(args, mech, "{name}.gif")
     plot.check_movie_path(path)
-    sw = _sweep(mech, args, guess=_guess(args.guess))
+    sw = _sweep(mech, args, guess=parse_guess(args.guess))
     a = plot.animate(mech, sw, None, trace=tuple(args.trace or ()), fps=args.fps,
                      labels=_bodies(args.labels), axes=_bodies(args.axes), legend=args.legend,
                      width=args.width)
@@ -95,12 +77,14 @@ def cmd_animate(args):
 
 
 def cmd_plot(args):
-    from .. import plot
-    plt = _pyplot()
+    plt, plot = _pictures()
     mech = args.load_mechanism(args)
     names = list(args.names) + ([args.x] if args.x else [])
-    level = _needed_level(mech, names)
-    sw = _sweep(mech, args, level=level, guess=_guess(args.guess))
+    try:
+        level = plot.timeplot.needed_level(mech, names)
+    except KeyError as exc:
+        raise MechgenError(exc.args[0]) from None
+    sw = _sweep(mech, args, level=level, guess=parse_guess(args.guess))
     lines = plot.plot(sw, *args.names, x=args.x)
     fig = lines[0].figure
     path = _output(args, mech, "{name}_" + "_".join(args.names) + ".png")

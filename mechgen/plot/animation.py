@@ -1,0 +1,164 @@
+"""A sweep animated: one drawing whose artists move in place frame by frame, with the
+paths of traced points; rendered as RGB frames, written as a GIF (pillow) or a movie
+(ffmpeg)."""
+from __future__ import annotations
+
+import os
+
+import numpy as np
+from matplotlib.lines import Line2D
+
+from ..errors import MechgenError
+from ..runtime.results import Sweep
+from .drawing import draw
+from .scene import Scene
+
+MOVIES = (".mp4", ".m4v", ".mov", ".mkv")
+
+
+class Animation:
+    """What animate() made: the Drawing, its traces, ``frames()`` (RGB arrays),
+    ``save(path)`` and, for notebooks and windows, a matplotlib FuncAnimation
+    (``.animation``) stepping the same artists."""
+
+    def __init__(self, drawing, step, n, fps, traces):
+        self.drawing = drawing
+        self.traces = traces
+        self.fps = fps
+        self.path = None
+        self._step = step
+        self._n = n
+        self._anim = None
+
+    def __len__(self):
+        return self._n
+
+    @property
+    def figure(self):
+        return self.drawing.figure
+
+    @property
+    def animation(self):
+        """A blit-free matplotlib FuncAnimation moving the drawing's artists in place."""
+        if self._anim is None:
+            from matplotlib.animation import FuncAnimation
+            self._anim = FuncAnimation(self.figure, self._step, frames=self._n,
+                                       interval=1000.0 / self.fps, blit=False, repeat=True,
+                                       cache_frame_data=False)
+        return self._anim
+
+    def frames(self, dpi=None):
+        """Render every frame as an (h, w, 3) uint8 array. The still parts (axes, ticks,
+        grid) are rendered once; each frame moves the artists in place and draws only them."""
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        fig = self.figure
+        canvas = fig.canvas if isinstance(fig.canvas, FigureCanvasAgg) else FigureCanvasAgg(fig)
+        old_dpi = fig.dpi
+        if dpi is not None:
+            fig.set_dpi(dpi)
+        moving = self.drawing.moving()
+        try:
+            for a in moving:
+                a.set_animated(True)
+            canvas.draw()
+            background = canvas.copy_from_bbox(fig.bbox)
+            for f in range(self._n):
+                self._step(f)
+                canvas.restore_region(background)
+                for a in sorted(self.drawing.moving(), key=lambda a: a.get_zorder()):
+                    a.axes.draw_artist(a) if a.axes is not None else fig.draw_artist(a)
+                yield np.asarray(canvas.buffer_rgba())[..., :3].copy()
+        finally:
+            for a in self.drawing.moving():
+                a.set_animated(False)
+            if dpi is not None:
+                fig.set_dpi(old_dpi)
+
+    def save(self, path, fps=None, dpi=80):
+        """Write a GIF (pillow) or, with ffmpeg on the PATH, an MP4 (.mp4, .mov, .mkv)."""
+        fps = self.fps if fps is None else fps
+        ext = check_movie_path(path)
+        if ext == ".gif":
+            from PIL import Image
+            images = [Image.fromarray(f) for f in self.frames(dpi)]
+            # one palette for the whole film: from a few frames side by side
+            picks = images[:: max(1, len(images) // 4)][:4]
+            sheet = Image.new("RGB", (sum(i.width for i in picks), picks[0].height))
+            x = 0
+            for im in picks:
+                sheet.paste(im, (x, 0))
+                x += im.width
+            palette = sheet.quantize(colors=127, method=Image.Quantize.MEDIANCUT)
+            colors = np.array(palette.getpalette()[:3 * 127]).reshape(-1, 3)
+            colors[colors.min(axis=1) >= 244] = 255      # paper stays white, not 252-grey
+            palette.putpalette(colors.ravel().tolist() + [255, 255, 255] * (256 - len(colors)))
+            film = [im.quantize(palette=palette, dither=Image.Dither.NONE) for im in images]
+            film[0].save(str(path), save_all=True, append_images=film[1:],
+                         duration=int(round(1000.0 / fps)), loop=0, optimize=False)
+        else:
+            from matplotlib import animation as manim
+            writer = manim.FFMpegWriter(fps=fps)
+            with writer.saving(self.figure, str(path), dpi):
+                for f in range(self._n):
+                    self._step(f)
+                    writer.grab_frame()
+        self._step(0)
+        self.path = path
+        return path
+
+
+def check_movie_path(path) -> str:
+    """The extension of an animation file name, or a MechgenError saying what works."""
+    ext = os.path.splitext(str(path))[1].lower()
+    if ext == ".gif":
+        return ext
+    if ext in MOVIES:
+        from matplotlib import animation as manim
+        if not manim.writers.is_available("ffmpeg"):
+            raise MechgenError(f"writing {path} needs ffmpeg on the PATH; install it or write "
+                               "a .gif instead")
+        return ext
+    raise MechgenError(f"cannot write an animation as {str(path)!r}: give a .gif (or "
+                       f"{', '.join(MOVIES)} with ffmpeg installed)")
+
+
+def animate(mech, sweep, path=None, *, trace=(), fps=25, ax=None, dpi=80, **kwargs):
+    """Animate a sweep (``mech.sweep(0, 1, 200)``): one drawing whose artists move in place
+    frame by frame; ``trace`` names points whose paths are drawn (coupler curves: POINTS
+    labels or ``body[k]``). Writes ``path`` (.gif with pillow, .mp4 with ffmpeg) when given.
+    Other keywords go to draw(). Returns an :class:`Animation`."""
+    if not isinstance(sweep, Sweep):
+        raise TypeError(f"animate() takes a Sweep (mech.sweep(t0, t1, n)), got {sweep!r}")
+    if not len(sweep):
+        raise MechgenError("animate(): the sweep holds no points")
+    if path is not None:
+        check_movie_path(path)
+    if isinstance(trace, str):
+        trace = (trace,)
+    st = Scene(mech)
+    idx = [st.point(label) for label in trace]
+    P, Q, T = sweep.points(), sweep.Q, sweep.t
+    kwargs.setdefault("width", 7.0)
+    d = draw(mech, sweep[0], ax=ax, sweep=sweep, **kwargs)
+    d.artists["traces"] = []
+    lines = []
+    for k in idx:
+        color = d.structure.by_name[st.owner[k]].edge
+        full = Line2D(P[:, k, 0], P[:, k, 1], color=color, linewidth=0.8, alpha=0.4,
+                      linestyle="--", zorder=4.4)
+        part = Line2D(P[:1, k, 0], P[:1, k, 1], color=color, linewidth=1.8, zorder=4.5)
+        d.ax.add_line(full)
+        d.ax.add_line(part)
+        d.artists["traces"] += [full, part]
+        lines.append((k, part))
+
+    def step(f):
+        d.set_state(P[f], Q[f], T[f])
+        for k, line in lines:
+            line.set_data(P[:f + 1, k, 0], P[:f + 1, k, 1])
+        return ()
+
+    out = Animation(d, step, len(T), fps, [line for _, line in lines])
+    if path is not None:
+        out.save(path, dpi=dpi)
+    return out
