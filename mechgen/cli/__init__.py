@@ -101,7 +101,7 @@ def cmd_solve(args):
 
 def cmd_sweep(args):
     mech = mechanism(args)
-    from ..runtime.analysis import parse_param_option
+    from .options import parse_param_option
     params = parse_param_option(args.param)
     if any(not isinstance(v, float) for v in params.values()):   # a design table
         progress = sys.stderr.isatty() if args.progress is None else args.progress
