@@ -40,8 +40,9 @@ def level_index(level, built_level, name) -> int:
     if level not in LEVEL:
         raise ValueError(f"level must be one of {', '.join(LEVEL)}, got {level!r}")
     if LEVEL[level] > built_level:
-        raise ValueError(f"module '{name}' was built for level {LEVELS[built_level]} only; rebuild it "
-                         f"with `mechgen build MODEL.py --level {level}` to solve {level}")
+        raise ValueError(f"module '{name}' was built for level {LEVELS[built_level]} only; "
+                         f"rebuild it with `mechgen build MODEL.py --level {level}` to solve "
+                         f"{level}")
     return LEVEL[level]
 
 

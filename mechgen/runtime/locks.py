@@ -223,10 +223,9 @@ def lock_between(mech, q_good, t_good, t_bad):
     """The lock position between a solved configuration at t_good and a time t_bad where
     the branch does not assemble: step-controlled continuation to the last configuration
     reachable, then the augmented Newton. None when none is found."""
-    done, Q, INFO = _continue(mech, q_good, [t_good, t_bad])
-    if done == 2:
-        return None
-    if done == 0:
+    times = [t_good, t_bad]
+    done, Q, INFO = _continue(mech, q_good, times)
+    if done == len(times) or done == 0:     # it assembles at t_bad after all, or not at t_good
         return None
     # on failure the sweep leaves the last configuration it reached in Q[1] and its time
     # in INFO[1, INFO_SUBSTEPS]

@@ -15,8 +15,8 @@ import warnings
 import numpy as np
 
 from ..errors import BranchJumpWarning, MechgenError, RedundancyWarning
-from ..protocol import (ACCELERATION, INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP, INFO_METHOD, INFO_RANK,
-                        INFO_STATUS, INFO_SUBSTEPS, JUMP, LEVEL, LEVELS, METHOD, OK,
+from ..protocol import (ACCELERATION, INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP, INFO_METHOD,
+                        INFO_RANK, INFO_STATUS, INFO_SUBSTEPS, JUMP, LEVEL, LEVELS, METHOD, OK,
                         POINT_INFO_SIZE, POINT_PIVOT, POINT_RESIDUAL, SING_RTOL,
                         THROUGH_SINGULAR, VELOCITY)
 from .assembly import assemblies as find_assemblies
@@ -25,10 +25,10 @@ from .design import (ON_FAIL, DesignTable, design_grid, report_failures, run_des
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
                      sweep_times)
 from .loader import open_module
-from .quantity import symbolic_side
-from .results import Solution, Sweep
 from .locks import convergence_error, singular_error
 from .locks import singularities as find_singularities
+from .quantity import symbolic_side
+from .results import Solution, Sweep
 from .singular import null_space, solve_q
 
 
@@ -297,9 +297,10 @@ class Mechanism:
                 "(sw.jumps lists the times)", BranchJumpWarning, stacklevel=2)
         if np.any(crossed):
             k = int(np.argmax(crossed))
+            more = "" if crossed.sum() == 1 else f" ({int(crossed.sum())} such points)"
             warnings.warn(
                 f"sweep of '{self.name}': the way to t={ts[k]:.10g} reaches or passes a singular "
-                f"configuration (dead centre, lock or branch point){'' if crossed.sum() == 1 else f' ({int(crossed.sum())} such points)'}: "
+                f"configuration (dead centre, lock or branch point){more}: "
                 "there the mechanism may continue in another assembly mode "
                 "(sw.crossings lists the times; mech.singularities locates them)",
                 BranchJumpWarning, stacklevel=2)
