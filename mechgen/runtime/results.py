@@ -97,7 +97,10 @@ class Solution:
 
 
 class Sweep:
-    """Solutions at many times: ``sw.t`` and ``sw["X4"]`` are numpy arrays."""
+    """Solutions at many times: ``sw.t`` and ``sw["X4"]`` are numpy arrays.
+
+    ``sw.jumps`` and ``sw.crossings`` are the times a sweep reached by a branch jump or
+    at or through a singular configuration (Mechanism.sweep fills them in)."""
 
     def __init__(self, mech, t, Q, QD=None, QDD=None, info=None):
         self.mechanism = mech
@@ -106,6 +109,7 @@ class Sweep:
         self.QD = QD
         self.QDD = QDD
         self.info = info
+        self.jumps = self.crossings = np.empty(0)
 
     @property
     def level(self) -> str:
@@ -182,7 +186,9 @@ class Sweep:
         already are kept; raises SingularError at a point where they are not determined."""
         lev = LEVEL[level] if isinstance(level, str) else int(level)
         QD, QDD = self.mechanism.solve_derivatives(self.t, self.Q, self.QD, self.QDD, lev)
-        return Sweep(self.mechanism, self.t, self.Q, QD, QDD, self.info)
+        out = Sweep(self.mechanism, self.t, self.Q, QD, QDD, self.info)
+        out.jumps, out.crossings = self.jumps, self.crossings
+        return out
 
     # -- analysis (mechgen.runtime.interpolate, mechgen.runtime.events) ---------------------
     def interpolate(self, name, method="auto", degree=3, extrapolate=False):
