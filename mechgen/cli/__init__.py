@@ -6,10 +6,9 @@ import os
 import sys
 
 from ..errors import MechgenError
+from ..protocol import LEVELS
 from .options import parse_guess as _parse_guess
 from .plot_commands import add_commands
-
-LEVELS = ("position", "velocity", "acceleration")
 
 
 def _models(args):
@@ -39,9 +38,7 @@ def mechanism(args):
     from ..runtime import load
     model = _models(args)[0]
     path = _build_if_needed(model, args.outdir)
-    mech = load(path)
-    mech.model = model
-    return mech
+    return load(path)
 
 
 def _format_table(header, rows) -> str:
