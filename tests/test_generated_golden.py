@@ -1,7 +1,9 @@
 """The committed modules in generated/ are exactly what the generator emits today, and a
 module that was edited by hand (or comes from another format) is refused by mechgen.load.
 
-Nothing here writes to generated/: the comparison renders in memory."""
+The comparison renders in memory; only with ``pytest --update-golden`` (or the environment
+variable MECHGEN_UPDATE_GOLDEN=1) are the modules that differ rewritten, and the test
+then says which."""
 from __future__ import annotations
 
 import difflib
@@ -28,32 +30,54 @@ def _models_of(path):
         raise
 
 
+DIFF_LINES = 80     # of a mismatch's unified diff, shown in the failure
+
+
+def _diff(committed, fresh, name):
+    """The first DIFF_LINES lines of the unified diff from the committed module to a fresh one."""
+    lines = list(difflib.unified_diff(
+        committed.splitlines(True), fresh.splitlines(True),
+        fromfile=f"generated/{name}.py (committed)",
+        tofile=f"generated/{name}.py (rendered now)", n=2))
+    if len(lines) > DIFF_LINES:
+        lines = lines[:DIFF_LINES] + [f"... ({len(lines) - DIFF_LINES} more diff lines)\n"]
+    return "".join(lines)
+
+
 @pytest.mark.parametrize("path", EXAMPLE_FILES, ids=os.path.basename)
-def test_generated_module_is_up_to_date(path):
+def test_generated_module_is_up_to_date(path, update_golden):
     """Rebuilding every model of examples/ gives the committed bytes."""
-    from mechgen.compiler.build import render
+    from mechgen.compiler.build import render, write_module
     models = _models_of(path)
     if not models:
         pytest.skip(f"{os.path.basename(path)} defines no model (a script)")
     rel = os.path.relpath(path, os.path.dirname(EXAMPLES))
+    rewritten = []
     for model in models:
         target = os.path.join(GENERATED, f"{model.name}.py")
+        fresh = render(model)
+        if update_golden and not os.path.isfile(target):
+            write_module(fresh, target)
+            rewritten.append(target)
+            continue
         assert os.path.isfile(target), (
-            f"generated/{model.name}.py is missing: run `mechgen build {rel}` and commit it")
+            f"generated/{model.name}.py is missing: run `mechgen build {rel}` and commit it "
+            f"(or pytest --update-golden)")
         with open(target, encoding="utf-8", newline="") as fh:
             committed = fh.read()
-        fresh = render(model)
-        if fresh != committed:
-            diff = "".join(difflib.unified_diff(
-                committed.splitlines(True), fresh.splitlines(True),
-                fromfile=f"generated/{model.name}.py (committed)",
-                tofile=f"generated/{model.name}.py (rendered now)", n=2))
-            lines = diff.splitlines(True)
-            if len(lines) > 120:
-                diff = "".join(lines[:120]) + f"... ({len(lines) - 120} more diff lines)\n"
-            pytest.fail(f"generated/{model.name}.py is out of date with the generator; "
-                        f"refresh it with `mechgen build {rel}` (from the repository root) and commit it.\n{diff}",
-                        pytrace=False)
+        if fresh == committed:
+            continue
+        if update_golden:
+            write_module(fresh, target)
+            rewritten.append(target)
+            continue
+        pytest.fail(f"generated/{model.name}.py is out of date with the generator; refresh it "
+                    f"with `pytest tests/test_generated_golden.py --update-golden` (or "
+                    f"`mechgen build {rel}` from the repository root) and commit it.\n"
+                    f"{_diff(committed, fresh, model.name)}", pytrace=False)
+    if rewritten:
+        pytest.skip("rewrote " + ", ".join(os.path.relpath(t, os.path.dirname(GENERATED))
+                                          for t in rewritten) + " (--update-golden)")
 
 
 def test_every_generated_module_has_a_model():
