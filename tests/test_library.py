@@ -427,6 +427,16 @@ def test_library_files_import_only_numerics_the_toy_and_each_other():
                         or node.level == 0 and node.module.split(".")[0] in allowed, name
 
 
+def test_library_imported_by_itself_caches_nothing_on_disk():
+    """numba's cache would not notice a change to the toy's constants (another file)."""
+    import numba.core.caching
+    dispatchers = [f for mod in (linalg, solve, continuation, toy) for f in vars(mod).values()
+                   if hasattr(f, "py_func")]
+    assert len(dispatchers) > 30
+    for f in dispatchers:
+        assert isinstance(f._cache, numba.core.caching.NullCache), f.__name__
+
+
 def test_library_text_is_the_bodies_in_order():
     text = library.library_text()
     assert text == library.library_text()

@@ -8,7 +8,6 @@ above it stand for what a generated module defines (the toy model's here).
 import math
 
 import numpy as np
-from numba import njit
 
 from .solve import _fin, pivot_ratio, solve_position, solve_velocity, solve_acceleration
 from .toy import (ACCELERATION, BRANCH_ATOL, BRANCH_HMIN, BRANCH_NEAR, BRANCH_RATIO,
@@ -16,7 +15,7 @@ from .toy import (ACCELERATION, BRANCH_ATOL, BRANCH_HMIN, BRANCH_NEAR, BRANCH_RA
                   INFO_SUBSTEPS, JUMP, LEVEL, METHOD_FULL, N_COORDS, N_EQS, OK,
                   POSITION_INFO_SIZE, SORTED, THROUGH_SINGULAR, TINY, VELOCITY,
                   derivatives_sorted, jacobian_det, outputs, outputs_d, outputs_dd, phi,
-                  points, sweep_fast)
+                  points, sweep_fast, njit)
 
 # -- module body: below this line, the text as a generated module holds it --
 # ---------------------------------------------------------------------------------------

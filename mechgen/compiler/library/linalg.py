@@ -8,9 +8,8 @@ above it stand for what a generated module's header defines (the toy model's val
 import math
 
 import numpy as np
-from numba import njit
 
-from .toy import SING_RTOL, TINY
+from .toy import SING_RTOL, TINY, njit
 
 # -- module body: below this line, the text as a generated module holds it --
 # ---------------------------------------------------------------------------------------

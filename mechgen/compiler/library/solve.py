@@ -11,14 +11,13 @@ module, which numba compiles in, so the branches of a module without them cost n
 import math
 
 import numpy as np
-from numba import njit
 
 from .linalg import _det, _fp_eliminate, _fp_solve, _consistent, _max_abs
 from .toy import (ACCELERATION, ALL_SOLVED, INFO_ITERATIONS, INFO_METHOD, INFO_RANK,
                   INFO_RESIDUAL, METHOD_FULL, METHOD_SORTED, LEVEL, N_COORDS, N_EQS,
                   NO_CONVERGENCE, NOT_FINITE, OK, PIVOT_RTOL, POINT_PIVOT, POINT_RESIDUAL,
                   SING_RTOL, SINGULAR, SORTED, VELOCITY, acceleration_sorted, gamma, nu, phi,
-                  phi_q, position_sorted, velocity_sorted)
+                  phi_q, position_sorted, velocity_sorted, njit)
 
 # -- module body: below this line, the text as a generated module holds it --
 # ---------------------------------------------------------------------------------------

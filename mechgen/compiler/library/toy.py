@@ -13,9 +13,9 @@ th from the driver, ph by Newton on the second row and x from the first: with a 
 crank turns fully (cos ph > 0 throughout), with a > b the mechanism locks where
 |sin th| = b / a (det Φ_q = b cos ph = 0).
 
-``njit`` here is numba's without the on-disk cache: numba's cache of a library function
-would not notice a change to these constants, which live in another file. (A generated
-module has all of them in one file and caches.)
+``njit`` here, which the library files import too, is numba's without the on-disk cache:
+numba's cache of a library function would not notice a change to these constants, which
+live in another file. (A generated module has all of them in one file, and caches.)
 """
 import math
 
