@@ -19,9 +19,7 @@ LEVEL = {name: k for k, name in enumerate(LEVELS)}
 # Solving methods (the ``method`` argument of the generated solvers).
 METHODS = ("auto", "sorted", "full")
 METHOD = {name: k for k, name in enumerate(METHODS)}
-AUTO, SORTED, FULL = 0, 1, 2
-# the same under the names a generated module's header gives them (its SORTED is a flag)
-METHOD_AUTO, METHOD_SORTED, METHOD_FULL = AUTO, SORTED, FULL
+METHOD_AUTO, METHOD_SORTED, METHOD_FULL = 0, 1, 2
 
 # Status codes returned by the generated solvers (position solve; a velocity failure is
 # VELOCITY + its status, an acceleration failure ACCELERATION + its status).

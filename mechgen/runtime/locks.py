@@ -27,7 +27,7 @@ import math
 import numpy as np
 
 from ..errors import ConvergenceError, SingularError
-from ..protocol import (AUTO, GAVE_UP, INFO_COLUMNS, INFO_ITERATIONS, INFO_RESIDUAL,
+from ..protocol import (GAVE_UP, METHOD_AUTO, INFO_COLUMNS, INFO_ITERATIONS, INFO_RESIDUAL,
                         INFO_SUBSTEPS, LEVEL, NO_CONVERGENCE, NOT_FINITE, SING_RTOL)
 from .results import Solution
 from .singular import (NullSpace, assemble_near, det_indicator, independent_rows,
@@ -215,7 +215,7 @@ def _continue(mech, q0, times):
     Q, QD, QDD = np.zeros((N, mech.n)), np.zeros((N, mech.n)), np.zeros((N, mech.n))
     INFO = np.zeros((N, INFO_COLUMNS))
     done = mech.module.sweep(times, np.array(q0, dtype=np.float64), mech.p, LEVEL["position"],
-                             mech.tol, mech.xtol, mech.maxit, AUTO, Q, QD, QDD, INFO)
+                             mech.tol, mech.xtol, mech.maxit, METHOD_AUTO, Q, QD, QDD, INFO)
     return int(done), Q, INFO
 
 

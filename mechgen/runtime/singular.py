@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from ..protocol import AUTO, OK, POINT_INFO_SIZE, SING_RTOL
+from ..protocol import METHOD_AUTO, OK, POINT_INFO_SIZE, SING_RTOL
 
 
 # -- rank analysis ------------------------------------------------------------------------
@@ -164,7 +164,7 @@ def det_indicator(mech, q, t, rows=None) -> float:
 
 
 # -- solving helpers (no exceptions) ------------------------------------------------------
-def solve_q(mech, q, t, maxit=None, method=AUTO, tol=None):
+def solve_q(mech, q, t, maxit=None, method=METHOD_AUTO, tol=None):
     """Position solve from q at t: (q, ok)."""
     q = np.array(q, dtype=np.float64)
     info = np.zeros(POINT_INFO_SIZE)
