@@ -257,12 +257,12 @@ def test_cli_runtime_errors(tmp_path, capsys):
     src = os.path.join(EXAMPLES, "quick_return_slider.py")
     out = str(tmp_path / "gen")
     cases = [
-        (["solve", src, "-o", out, "-t", "0.249"], ["ConvergenceError", "t=0.249", "cannot assemble",
+        (["solve", src, "--outdir", out, "-t", "0.249"], ["ConvergenceError", "t=0.249", "cannot assemble",
                                                    "0.2464863829"]),
-        (["solve", src, "-o", out, "-t", "nan"], ["t must be finite"]),
-        (["solve", src, "-o", out, "-t", "0.1", "--guess", "X9=1"], ["'X9'"]),
-        (["solve", src, "-o", out, "-t", "0.1", "--guess", "X4=far"], ["X4=far"]),
-        (["sweep", src, "-o", out, "--t0", "0", "--t1", "1", "-n", "101"],
+        (["solve", src, "--outdir", out, "-t", "nan"], ["t must be finite"]),
+        (["solve", src, "--outdir", out, "-t", "0.1", "--guess", "X9=1"], ["'X9'"]),
+        (["solve", src, "--outdir", out, "-t", "0.1", "--guess", "X4=far"], ["X4=far"]),
+        (["sweep", src, "--outdir", out, "--t0", "0", "--t1", "1", "-n", "101"],
          ["ConvergenceError", "lock (toggle) position at t≈0.2464863829"]),
     ]
     for argv, words in cases:

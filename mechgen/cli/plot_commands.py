@@ -1,11 +1,10 @@
 """The picture commands: ``mechgen draw | animate | plot`` (matplotlib, headless)."""
 from __future__ import annotations
 
-import os
-
 from ..errors import MechgenError
 from ..protocol import LEVELS
-from .options import parse_guess
+from .loading import mechanism
+from .options import number_type, output_file, parse_guess
 
 
 def _pictures():
@@ -29,11 +28,7 @@ def _bodies(value):
 
 
 def _output(args, mech, default):
-    path = args.output or default.format(name=mech.name)
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise MechgenError(f"cannot write {path}: folder {folder} does not exist")
-    return path
+    return output_file(args.output or default.format(name=mech.name))
 
 
 def _sweep(mech, args, level=LEVELS[0], guess=None):
@@ -52,7 +47,7 @@ def _sweep(mech, args, level=LEVELS[0], guess=None):
 
 def cmd_draw(args):
     plt, plot = _pictures()
-    mech = args.load_mechanism(args)
+    mech = mechanism(args)
     s = mech.solve(args.t, guess=parse_guess(args.guess))
     d = plot.draw(mech, s, labels=_bodies(args.labels), axes=_bodies(args.axes),
                   legend=args.legend, width=args.width)
@@ -64,7 +59,7 @@ def cmd_draw(args):
 
 def cmd_animate(args):
     plt, plot = _pictures()
-    mech = args.load_mechanism(args)
+    mech = mechanism(args)
     path = _output(args, mech, "{name}.gif")
     plot.check_movie_path(path)
     sw = _sweep(mech, args, guess=parse_guess(args.guess))
@@ -78,7 +73,7 @@ def cmd_animate(args):
 
 def cmd_plot(args):
     plt, plot = _pictures()
-    mech = args.load_mechanism(args)
+    mech = mechanism(args)
     names = list(args.names) + ([args.x] if args.x else [])
     try:
         level = plot.timeplot.needed_level(mech, names)
@@ -93,26 +88,24 @@ def cmd_plot(args):
     print(f"wrote {path} ({', '.join(args.names)} over {len(sw)} points)")
 
 
-def add_commands(sub, add_common, mechanism):
+def add_commands(sub, add_common):
     """Add draw, animate and plot to the ``mechgen`` parser. ``-o/--output`` names the
-    picture; ``--outdir`` the folder of generated modules (as ``build -o``)."""
+    picture; ``--outdir`` the folder of generated modules (as on every command)."""
 
     def common(p, image):
-        add_common(p, outdir=False)
+        add_common(p)
         p.add_argument("-o", "--output", metavar="FILE",
                        help=f"the picture to write (default: MODEL_NAME{image} here)")
-        p.add_argument("--outdir", default="generated",
-                       help="folder of generated modules, rebuilt when out of date "
-                            "(default: generated/)")
         p.add_argument("--guess", action="append", metavar="NAME=VALUE",
                        help="start value of a coordinate (repeatable; picks an assembly mode)")
         p.add_argument("--dpi", type=float, default=100 if image == ".png" else 80,
                        help="resolution, dots per inch")
-        p.set_defaults(load_mechanism=mechanism)
 
     def span(p, n):
-        p.add_argument("--t0", type=float, default=0.0, help="first time (default 0)")
-        p.add_argument("--t1", type=float, default=1.0, help="last time (default 1)")
+        p.add_argument("--t0", type=number_type, default=0.0,
+                       help="first time (default 0); a number or an expression such as 2*pi")
+        p.add_argument("--t1", type=number_type, default=1.0,
+                       help="last time (default 1); a number or an expression")
         p.add_argument("-n", type=int, default=n, help=f"number of times, both ends "
                                                        f"included (default {n})")
 
@@ -128,7 +121,8 @@ def add_commands(sub, add_common, mechanism):
                        description="Draw the mechanism at time T: bodies, joints, slots, "
                                    "sliders; framed by its motion over one time unit.")
     common(p, ".png")
-    p.add_argument("-t", type=float, default=0.0, help="the time (default 0)")
+    p.add_argument("-t", type=number_type, default=0.0,
+                   help="the time (default 0); a number or an expression")
     looks(p)
     p.set_defaults(func=cmd_draw)
 
