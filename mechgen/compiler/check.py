@@ -103,12 +103,15 @@ class System:
 
 def halton(count, dim):
     """Points 1..count of the Halton sequence in [0, 1)^dim: deterministic and even."""
-    primes = [p for p in range(2, 1000) if all(p % d for d in range(2, int(p ** 0.5) + 1))]
+    primes, p = [], 2
+    while len(primes) < dim:
+        if all(p % d for d in primes if d * d <= p):
+            primes.append(p)
+        p += 1
     out = np.empty((count, dim))
-    for d in range(dim):
-        base = primes[d % len(primes)]
+    for d, base in enumerate(primes):
         for k in range(count):
-            f, x, i = 1.0, 0.0, k + 1 + d // len(primes) * 7919
+            f, x, i = 1.0, 0.0, k + 1
             while i > 0:
                 f /= base
                 x += f * (i % base)
@@ -121,20 +124,15 @@ def angle_coordinates(system, q, names, body_angles) -> tuple[set, set]:
     """(periodic, shown wrapped): the coordinates in which Φ is 2π-periodic (angles equal
     modulo 2π are one configuration), and those printed in (−π, π] (these and every
     body's rotation: a driven Th2 − ωT is not periodic, yet it is an orientation)."""
+    x = np.asarray(q, dtype=float) + np.random.default_rng(7).uniform(-0.5, 0.5, (2, system.n))
+    r0 = system(x)[0]
     periodic = set()
-    rng = np.random.default_rng(7)
     for j in range(system.n):
-        same = True
-        for _ in range(2):
-            x = np.asarray(q, dtype=float) + rng.uniform(-0.5, 0.5, system.n)
-            y = x.copy()
-            y[j] += 2 * math.pi
-            r0, r1 = system(x)[0], system(y)[0]
-            if not (np.all(np.isfinite(r0)) and np.all(np.isfinite(r1))) or \
-                    np.max(np.abs(r1 - r0), initial=0.0) > 1e-9 * (1 + np.max(np.abs(r0), initial=0.0)):
-                same = False
-                break
-        if same:
+        y = x.copy()
+        y[:, j] += 2 * math.pi
+        r1 = system(y)[0]
+        if np.all(np.isfinite(r0)) and np.all(np.isfinite(r1)) and \
+                np.max(np.abs(r1 - r0)) <= 1e-9 * (1 + np.max(np.abs(r0))):
             periodic.add(j)
     return periodic, periodic | {j for j, s in enumerate(names) if s in body_angles}
 
@@ -165,10 +163,11 @@ def _is_flip(a, b, periodic, same):
     return bool(flipped) and np.max(np.abs(rest), initial=0.0) <= same
 
 
-def assembly_modes(system, guess, periodic, starts=STARTS):
+def assembly_modes(system, guess, periodic, starts=STARTS, first=None):
     """Every distinct assembly found at the system's time from the guess and from
     ``starts`` quasi-random starts (angles over [−π, π), positions within the model's size
-    of the guess), as the runtime's mech.assemblies counts them: angles equal modulo 2π
+    of the guess; ``first`` is the solution Newton reaches from the guess, when known), as
+    the runtime's mech.assemblies counts them: angles equal modulo 2π
     and a body turned half a turn with all else equal (a slider reversed on its guide)
     count once. Returns (modes, index of the mode the guess reaches or None); the modes
     come in (−π, π], the guess's first."""
@@ -186,14 +185,18 @@ def assembly_modes(system, guess, periodic, starts=STARTS):
         found.append(w)
         return len(found) - 1
 
-    q, _, _, ok = system.solve(guess)
-    reached = add(q) if ok else None
+    if first is None:                       # where Newton goes from the guess, if known
+        q, _, _, ok = system.solve(guess)
+        first = q if ok else None
+    reached = None if first is None else add(first)
     if starts:
-        u = halton(starts, system.n)
+        u = halton(starts, system.n + 1)
         Q = np.repeat(guess[None, :], starts, axis=0)
         for j in periodic:
             Q[:, j] = -math.pi + 2 * math.pi * u[:, j]
-        moved = np.arange(starts) % 2 == 1          # every other start moves positions too
+        # half the starts move the positions too, picked by a dimension of their own (the
+        # parity of k would pick the same half of the first coordinate's range each time)
+        moved = u[:, system.n] < 0.5
         for j in others:
             Q[moved, j] = guess[j] + size * (2 * u[moved, j] - 1)
         for q in system.solve_many(Q, step=size):
@@ -252,6 +255,8 @@ def _mode_table(modes, reached, nearest, names, periodic):
     """The modes side by side, on the coordinates in which they differ."""
     cols = [j for j in range(len(names))
             if any(abs(_differ(modes[0], w, periodic)[j]) > 1e-7 * (1 + abs(w[j])) for w in modes)]
+    if len(modes) == 1 or reached is None:     # no mode to tell apart: show all of it
+        cols = list(range(len(names)))
     cells = [[str(k + 1)] + [_num(w[j]) for j in cols] for k, w in enumerate(modes)]
     header = ["mode"] + [names[j] for j in cols]
     widths = [max(len(h), *(len(r[c]) for r in cells)) for c, h in enumerate(header)]
@@ -263,14 +268,8 @@ def _mode_table(modes, reached, nearest, names, periodic):
     return out
 
 
-def _constraint_lines(model, numbers):
-    by_number = {c.number: c for c in model.constraints}
-    return [f"    {c} {by_number[c].label}" for c in numbers]
-
-
-def _missing(model, n, m, drivers, driver_rows, free, owner):
+def _missing(drivers, driver_rows, missing, free, owner):
     """What a model with fewer equations than coordinates lacks, in words."""
-    missing = n - m
     left = f"; left free: {', '.join(f'{c} ({owner[c]})' if c in owner else c for c in free)}" \
         if free else ""
     if not drivers:
@@ -283,96 +282,103 @@ def _missing(model, n, m, drivers, driver_rows, free, owner):
             f"freedom{left}")
 
 
-def check_report(model, t=0.0, starts=STARTS) -> tuple[str, bool]:
-    """Mech's CheckSystem and more. Returns (text, ok).
+class _Check:
+    """One model checked at one time: the counts, the first assembly from the guess, and
+    the lines of the report (``run`` says whether the model passes)."""
 
-    ok is False when equations are missing, the Jacobian is rank-deficient at the
-    assembled configuration (a coordinate left free), or the model cannot be assembled
-    at t (constraints that contradict each other, or a guess from which no mode is
-    reached); redundant but consistent equations are reported, not failed.
-    """
-    eq = model.equations()
-    q_names = [str(c) for c in eq.q]
-    n, m = len(eq.q), eq.phi.rows
-    drivers = model.drivers
-    driver_rows = sum(len(c.exprs) for c in drivers)
-    params = list(model.param_defaults.values())
-    owner = {}
-    for b in model.bodies.values():
-        if not b.is_ground:
-            owner.update({str(b.x): b.name, str(b.y): b.name, str(b.th): b.name})
-    bodies = [f"{b.name} = {b.number}" + (" (ground)" if b.is_ground else "")
-              for b in model.bodies.values()]
-    lines = [f"Model {model.name}" + (f"  [{model.source}]" if getattr(model, "source", None)
-                                       else ""),
-             f"  bodies:       {len(model.bodies)}" + (f": {', '.join(bodies)}" if bodies else ""),
-             f"  coordinates:  {n}: {', '.join(q_names)}",
-             f"  equations:    {m} from {len(model.constraints)} constraints",
-             f"  drivers:      {len(drivers)}" +
-             "".join(f"\n    {c.number} {c.label}" for c in drivers)]
-    dof = n - (m - driver_rows)
-    lines.append(f"  degrees of freedom: {dof} ({n} coordinates - {m - driver_rows} kinematic "
-                 f"equations), {driver_rows} driven")
-    ok = True
-    system = System(eq, params, t)
-    guess = np.array(model.guess_vector(), dtype=float)
-    q, residual, its, converged = system.solve(guess)
-    J0 = system(guess)[1]
-    rank0, rows, cols = rank_analysis(J0)
-    if converged:
-        rank, rows, cols = rank_analysis(system(q)[1])
-    free = [q_names[j] for j in cols] if converged and rank < n else []
-    if m < n:
-        ok = False
-        lines.append(_missing(model, n, m, drivers, driver_rows, free, owner))
-    elif m > n:
-        lines.append(f"  over-determined: {m - n} equation(s) more than coordinates "
-                     "(redundant constraints must be consistent)")
-    unused = [q_names[j] for j in range(n) if all(eq.phi_q[i, j] == 0 for i in range(m))]
-    if unused:
-        ok = False
-        lines.append(f"  coordinates in no equation: {', '.join(unused)}")
-    lines.append(f"  Jacobian rank at the guess (t = {t:g}): {rank0} of {n}")
-    body_angles = {str(b.th) for b in model.bodies.values() if not b.is_ground}
-    periodic, shown = angle_coordinates(system, guess, q_names, body_angles)
-    if converged:
-        lines.append(f"  Jacobian rank assembled at t = {t:g} ({its} Gauss-Newton steps "
-                     f"from the guess, residual {residual:.1e}): {rank} of {n}")
-        if rows and m > rank:
-            lines.append(f"  redundant: {m - rank} dependent equation(s); the dependency "
-                         "involves:")
-            lines += [f"    [{i + 1}] {eq.labels[i]}" for i in rows]
-        if free:
+    def __init__(self, model, t, starts):
+        self.model, self.t, self.starts = model, float(t), starts
+        self.eq = eq = model.equations()
+        self.names = [str(c) for c in eq.q]
+        self.n, self.m = len(eq.q), eq.phi.rows
+        self.system = System(eq, list(model.param_defaults.values()), t)
+        self.guess = np.array(model.guess_vector(), dtype=float)
+        self.owner = {}
+        for b in model.bodies.values():
+            if not b.is_ground:
+                self.owner.update({str(b.x): b.name, str(b.y): b.name, str(b.th): b.name})
+        self.periodic, self.shown = angle_coordinates(
+            self.system, self.guess, self.names,
+            {str(b.th) for b in model.bodies.values() if not b.is_ground})
+        self.lines = []
+
+    def counts(self):
+        model, n, m = self.model, self.n, self.m
+        drivers = model.drivers
+        driver_rows = sum(len(c.exprs) for c in drivers)
+        bodies = [f"{b.name} = {b.number}" + (" (ground)" if b.is_ground else "")
+                  for b in model.bodies.values()]
+        self.lines += [
+            f"Model {model.name}" + (f"  [{model.source}]" if getattr(model, "source", None)
+                                     else ""),
+            f"  bodies:       {len(model.bodies)}" + (f": {', '.join(bodies)}" if bodies else ""),
+            f"  coordinates:  {n}: {', '.join(self.names)}",
+            f"  equations:    {m} from {len(model.constraints)} constraints",
+            f"  drivers:      {len(drivers)}" +
+            "".join(f"\n    {c.number} {c.label}" for c in drivers),
+            f"  degrees of freedom: {n - (m - driver_rows)} ({n} coordinates - "
+            f"{m - driver_rows} kinematic equations), {driver_rows} driven"]
+        return drivers, driver_rows
+
+    def run(self) -> bool:
+        eq, n, m, t, lines = self.eq, self.n, self.m, self.t, self.lines
+        drivers, driver_rows = self.counts()
+        ok = True
+        q, residual, its, converged = self.first = self.system.solve(self.guess)
+        rank0, rows, cols = rank_analysis(self.system(self.guess)[1])
+        if converged:
+            rank, rows, cols = rank_analysis(self.system(q)[1])
+        free = [self.names[j] for j in cols] if converged and rank < n else []
+        if m < n:
             ok = False
-            lines.append(f"  free: {n - rank} coordinate direction(s) not fixed by the "
-                         f"equations; coordinates left free: {', '.join(free)}")
-        else:
-            w = wrap(q, shown)
-            lines.append(f"  configuration reached (angles in (-pi, pi]): " +
-                         ", ".join(f"{s} = {_num(v)}" for s, v in zip(q_names, w)))
-    if not free and m >= n:
-        ok = _modes(lines, system, guess, q, converged, residual, its, periodic, q_names,
-                    starts, model, eq) and ok
-    lines.append(_structure(eq, guess, model))
-    lines.append("  check: " + ("True" if ok else "False"))
-    return "\n".join(lines) + "\n", ok
+            lines.append(_missing(drivers, driver_rows, n - m, free, self.owner))
+        elif m > n:
+            lines.append(f"  over-determined: {m - n} equation(s) more than coordinates "
+                         "(redundant constraints must be consistent)")
+        unused = [self.names[j] for j in range(n) if all(eq.phi_q[i, j] == 0 for i in range(m))]
+        if unused:
+            ok = False
+            lines.append(f"  coordinates in no equation: {', '.join(unused)}")
+        lines.append(f"  Jacobian rank at the guess (t = {t:g}): {rank0} of {n}")
+        if converged:
+            lines.append(f"  Jacobian rank assembled at t = {t:g} ({its} Gauss-Newton steps "
+                         f"from the guess, residual {residual:.1e}): {rank} of {n}")
+            if rows and m > rank:
+                lines.append(f"  redundant: {m - rank} dependent equation(s); the dependency "
+                             "involves:")
+                lines += [f"    [{i + 1}] {eq.labels[i]}" for i in rows]
+            if free:
+                ok = False
+                lines.append(f"  free: {n - rank} coordinate direction(s) not fixed by the "
+                             f"equations; coordinates left free: {', '.join(free)}")
+            else:
+                lines.append("  configuration reached (angles in (-pi, pi]): " + ", ".join(
+                    f"{s} = {_num(v)}" for s, v in zip(self.names, wrap(q, self.shown))))
+        if not free and m >= n:
+            ok = self.modes() and ok
+        lines.append(_structure(eq, self.guess, self.model))
+        lines.append("  check: " + ("True" if ok else "False"))
+        return ok
 
-
-def _modes(lines, system, guess, q_ls, converged, residual, its, periodic, names, starts,
-           model, eq) -> bool:
-    """The assembly modes at t, or why there is none; False when the guess reaches none."""
-    t = system.t
-    modes, reached = assembly_modes(system, guess, periodic, starts)
-    if modes:
-        target = wrap(guess, periodic)
+    def modes(self) -> bool:
+        """The assembly modes at t, or why there is none; False when the guess reaches
+        none."""
+        t, periodic, lines = self.t, self.periodic, self.lines
+        q, residual, its, converged = self.first
+        modes, reached = assembly_modes(self.system, self.guess, periodic, self.starts,
+                                        first=q if converged else None)
+        if not modes:
+            return self.contradiction()
+        target = wrap(self.guess, periodic)
         nearest = min(range(len(modes)), key=lambda k: np.max(np.abs(
             _differ(target, modes[k], periodic))))
+        same = "; angles equal modulo 2 pi count once" if periodic else ""
         lines.append(f"  assembly modes at t = {t:g}: {len(modes)} found (from the guess and "
-                     f"{starts} other starts; angles equal modulo 2 pi count once)" +
+                     f"{self.starts} other starts{same})" +
                      (f"; the guess reaches mode {reached + 1}" if reached is not None else ""))
         if len(modes) > 1 or reached is None:
             lines += _mode_table(modes, reached, nearest if nearest != reached else None,
-                                 names, periodic)
+                                 self.names, periodic)
         if reached is not None and nearest != reached:
             lines.append(f"  note: mode {nearest + 1} lies nearer the guess than mode "
                          f"{reached + 1}, which Newton reaches from it: check the guesses "
@@ -382,17 +388,36 @@ def _modes(lines, system, guess, q_ls, converged, residual, its, periodic, names
         lines.append(f"  CANNOT ASSEMBLE from the guess at t = {t:g} (residual {residual:.2g} "
                      f"after {its} steps): start it near one of the modes above")
         return False
-    groups = {}
-    for i, (number, _) in enumerate(eq.rows):
-        groups.setdefault(number, []).append(i)
-    culprits = disagreeing(system, groups, [guess, q_ls])
-    lines.append(f"  CANNOT ASSEMBLE at t = {t:g}: no configuration from the guess (residual "
-                 f"{residual:.2g}) or from {starts} other starts.")
-    lines.append(f"  These {len(culprits)} constraints contradict each other (redundant "
-                 "constraints that disagree, or a loop that cannot close); correct or remove "
-                 "one of them:")
-    lines += _constraint_lines(model, culprits)
-    return False
+
+    def contradiction(self) -> bool:
+        """No assembly at all: name a smallest set of constraints that cannot hold
+        together."""
+        groups = {}
+        for i, (number, _) in enumerate(self.eq.rows):
+            groups.setdefault(number, []).append(i)
+        culprits = disagreeing(self.system, groups, [self.guess, self.first[0]])
+        self.lines += [
+            f"  CANNOT ASSEMBLE at t = {self.t:g}: no configuration from the guess (residual "
+            f"{self.first[1]:.2g}) or from {self.starts} other starts.",
+            f"  These {len(culprits)} constraints contradict each other (redundant "
+            "constraints that disagree, or a loop that cannot close); correct or remove one "
+            "of them:"]
+        by_number = {c.number: c for c in self.model.constraints}
+        self.lines += [f"    {c} {by_number[c].label}" for c in culprits]
+        return False
+
+
+def check_report(model, t=0.0, starts=STARTS) -> tuple[str, bool]:
+    """Mech's CheckSystem and more. Returns (text, ok).
+
+    ok is False when equations are missing, the Jacobian is rank-deficient at the
+    assembled configuration (a coordinate left free), or the model cannot be assembled
+    at t (constraints that contradict each other, or a guess from which no mode is
+    reached); redundant but consistent equations are reported, not failed.
+    """
+    check = _Check(model, t, starts)
+    ok = check.run()
+    return "\n".join(check.lines) + "\n", ok
 
 
 def _structure(eq, guess, model) -> str:
