@@ -161,6 +161,8 @@ def test_check_time_takes_an_expression(capsys):
     code, out, _ = run(capsys, "check", QR, "-t", "1/4")
     assert code == 0 and "Jacobian rank at the guess (t = 0.25)" in out
     assert "Th2 = 1.5708" in out
+    code, out, _ = run(capsys, "check", FOURBAR, "--starts", "0")
+    assert code == 0 and "assembly modes at t = 0: 1 found (from the guess and 0 other" in out
 
 
 # -- one meaning per option ------------------------------------------------------------------
