@@ -68,7 +68,9 @@ def cmd_animate(args):
                      width=args.width)
     a.save(path, dpi=args.dpi)
     plt.close(a.figure)
-    print(f"wrote {path} ({len(sw)} frames, T from {sw.t[0]:g} to {sw.t[-1]:g})")
+    last = sw.t[len(a) - 1]
+    same = "" if len(a) == len(sw) else f"; T = {sw.t[-1]:g} repeats T = {sw.t[0]:g}, left out"
+    print(f"wrote {path} ({len(a)} frames, T from {sw.t[0]:g} to {last:g}{same})")
 
 
 def cmd_plot(args):
@@ -133,7 +135,8 @@ def add_commands(sub, add_common):
     span(p, 100)
     p.add_argument("--fps", type=float, default=25.0, help="frames per second (default 25)")
     p.add_argument("--trace", action="append", metavar="POINT",
-                   help="draw the path of a point, e.g. colisa[2] (repeatable)")
+                   help="draw the path of a point: colisa[2], or body.at(x, y) for a point "
+                        "the model does not name, e.g. coupler.at(1.2, 0.8) (repeatable)")
     looks(p)
     p.set_defaults(func=cmd_animate)
 

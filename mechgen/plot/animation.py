@@ -122,11 +122,26 @@ def check_movie_path(path) -> str:
                        f"{', '.join(MOVIES)} with ffmpeg installed)")
 
 
-def animate(mech, sweep, path=None, *, trace=(), fps=25, ax=None, dpi=80, **kwargs):
+def repeats_first(P, tol=1e-7) -> bool:
+    """True when the last of frames P (F, N, 2) shows the configuration of the first (a
+    sweep over one period, both ends included): every point back where it started."""
+    if P.shape[0] < 3:
+        return False
+    span = float(np.ptp(P.reshape(-1, 2), axis=0).max()) or 1.0
+    return bool(np.abs(P[-1] - P[0]).max() <= tol * span)
+
+
+def animate(mech, sweep, path=None, *, trace=(), fps=25, ax=None, dpi=80, periodic=None,
+            **kwargs):
     """Animate a sweep (``mech.sweep(0, 1, 200)``): one drawing whose artists move in place
-    frame by frame; ``trace`` names points whose paths are drawn (coupler curves: POINTS
-    labels or ``body[k]``). Writes ``path`` (.gif with pillow, .mp4 with ffmpeg) when given.
-    Other keywords go to draw(). Returns an :class:`Animation`."""
+    frame by frame; ``trace`` names points whose paths are drawn: POINTS labels,
+    ``body[k]``, or ``body.at(x, y)`` for a point the model does not name (a coupler
+    curve). Writes ``path`` (.gif with pillow, .mp4 with ffmpeg) when given.
+
+    A film loops: when the sweep's last configuration is its first (one period, both
+    ends included) the last frame is left out, so that the loop does not stop on a
+    repeated picture (``periodic=False`` keeps every frame, ``True`` drops the last one
+    whatever it shows). Other keywords go to draw(). Returns an :class:`Animation`."""
     if not isinstance(sweep, Sweep):
         raise TypeError(f"animate() takes a Sweep (mech.sweep(t0, t1, n)), got {sweep!r}")
     if not len(sweep):
@@ -136,29 +151,33 @@ def animate(mech, sweep, path=None, *, trace=(), fps=25, ax=None, dpi=80, **kwar
     if isinstance(trace, str):
         trace = (trace,)
     st = Scene(mech)
-    idx = [st.point(label) for label in trace]
+    found = [st.locate(label) for label in trace]
     P, Q, T = sweep.points(), sweep.Q, sweep.t
+    drop = repeats_first(P) if periodic is None else bool(periodic) and len(T) > 1
+    n = len(T) - 1 if drop else len(T)
     kwargs.setdefault("width", 7.0)
     d = draw(mech, sweep[0], ax=ax, sweep=sweep, **kwargs)
     d.artists["traces"] = []
     lines = []
-    for k in idx:
-        color = d.structure.by_name[st.owner[k]].edge
-        full = Line2D(P[:, k, 0], P[:, k, 1], color=color, linewidth=0.8, alpha=0.4,
+    for body, where in found:
+        xy = where(P, Q)
+        color = d.structure.by_name[body.name].edge
+        full = Line2D(xy[:, 0], xy[:, 1], color=color, linewidth=0.8, alpha=0.4,
                       linestyle="--", zorder=4.4)
-        part = Line2D(P[:1, k, 0], P[:1, k, 1], color=color, linewidth=1.8, zorder=4.5)
+        part = Line2D(xy[:1, 0], xy[:1, 1], color=color, linewidth=1.8, zorder=4.5)
         d.ax.add_line(full)
         d.ax.add_line(part)
         d.artists["traces"] += [full, part]
-        lines.append((k, part))
+        lines.append((xy, part))
 
     def step(f):
         d.set_state(P[f], Q[f], T[f])
-        for k, line in lines:
-            line.set_data(P[:f + 1, k, 0], P[:f + 1, k, 1])
+        upto = f + 1 if f < n - 1 else len(T)    # the last frame closes the curve
+        for xy, line in lines:
+            line.set_data(xy[:upto, 0], xy[:upto, 1])
         return ()
 
-    out = Animation(d, step, len(T), fps, [line for _, line in lines])
+    out = Animation(d, step, n, fps, [line for _, line in lines])
     if path is not None:
         out.save(path, dpi=dpi)
     return out

@@ -13,6 +13,7 @@ from matplotlib.patches import Circle, FancyArrow, Patch, Polygon, Rectangle
 from matplotlib.transforms import Affine2D
 
 from ..errors import MechgenError
+from .labels import Label, Obstacles, label_artist, place, renderer_of, set_offset
 from .shapes import AUTO, Shape, hatch, hull, rot, rounded
 from .style import BAR, INK, MARGIN
 
@@ -52,7 +53,6 @@ class Builder:
         self.d.set_state(P0, q0, t0)
         self.slotted = set()
         self.boxed = {}
-        self.obstacles = []       # global spots labels keep away from (pivots, axes)
 
     # frames and local coordinates
     def trans(self, body):
@@ -101,7 +101,6 @@ class Builder:
         x, y = self.P0[k]
         w = self.w
         h, half, foot = 3.0 * w, 1.9 * w, 3.0 * w
-        self.obstacles += [(x, y - 1.5 * w), (x, y - h), (x - half, y - h), (x + half, y - h)]
         ground = self.st.by_name[self.st.owner[k]]
         self.add(ground.name, Polygon([(x, y), (x - half, y - h), (x + half, y - h)],
                                       closed=True, facecolor="#e6e6e6", edgecolor=INK,
@@ -302,49 +301,51 @@ class Builder:
         self.d.on_move(move)
 
     def labels(self, bodies, fontsize):
-        """P1, P2, ... next to each point, away from its body's middle and from labels
-        already placed (checked on screen at the drawn configuration)."""
-        self.ax.apply_aspect()
-        to_px = self.ax.transData.transform
-        px_per_pt = self.ax.figure.dpi / 72.0
-        off, gap = 13.0, 1.9 * fontsize * px_per_pt
-        taken = [to_px(xy) for xy in self.obstacles]
-        turns = [math.radians(a) for a in (0, 40, -40, 80, -80, 120, -120, 180)]
-        for b in bodies:
-            if not b.pts:
-                continue
-            pts = np.array([self.P0[k] for k in b.pts])
-            mid = pts.mean(axis=0)
+        """P1, P2, ... next to the points of the bodies, where they collide with nothing
+        (mechgen.plot.labels); one label for a point several of them share."""
+        if not bodies:
+            return
+        ax, fig = self.ax, self.ax.figure
+        ax.apply_aspect()
+        renderer = renderer_of(fig)
+        to_px = ax.transData.transform
+        px_per_pt = fig.dpi / 72.0
+        scale = abs(to_px((1.0, 0.0))[0] - to_px((0.0, 0.0))[0])   # pixels per length
+        obstacles = Obstacles(ax, renderer)
+        tol = 1e-6 * self.span
+        groups = []          # [(body, number, POINTS index)] of points that stay together
+        for b in sorted(bodies, key=lambda b: self.bi[b.name]):
             for n, k in enumerate(b.pts, start=1):
-                d0 = self.P0[k] - mid
-                if math.hypot(*d0) < 1e-9 * self.span:
-                    d0 = np.array([1.0, 1.0])
-                d0 = d0 / math.hypot(*d0)
-                at = to_px(self.P0[k])
-                best = None
-                for a in turns:      # the first free direction, else the least crowded
-                    d = rot(a) @ d0
-                    spot = at + off * px_per_pt * d
-                    room = min((math.hypot(*(spot - t)) for t in taken), default=math.inf)
-                    if best is None or room > best[0]:
-                        best = (room, d, spot)
-                    if room > gap:
+                for g in groups:
+                    if np.abs(self.P[:, k] - self.P[:, g[0][2]]).max() <= tol:
+                        g.append((b, n, k))
                         break
-                _, d, spot = best
-                taken.append(spot)
-                ann = self.ax.annotate(f"P{n}", xy=self.local(b, k), xycoords=self.trans(b),
-                                       xytext=(off * d[0], off * d[1]), textcoords="offset points",
-                                       ha="center", va="center", fontsize=fontsize,
-                                       color=b.edge, zorder=6, annotation_clip=False)
-                self.d.artists[b.name].append(ann)
+                else:
+                    groups.append([(b, n, k)])
+        placed = []
+        for g in groups:
+            host, _, k = next((m for m in g if not m[0].ground), g[0])   # moves with it
+            art = label_artist(ax, [(f"P{n}", b.edge) for b, n, _ in g], self.local(host, k),
+                               self.trans(host), fontsize)
+            self.d.artists[host.name].append(art)
+            prefer = np.zeros(2)
+            for b, _, _ in g:      # away from the middle of each body the point is on
+                away = self.P0[k] - np.mean([self.P0[j] for j in b.pts], axis=0)
+                norm = math.hypot(*away)
+                prefer += away / norm if norm > 1e-9 * self.span else 0.0
+            norm = math.hypot(*prefer)
+            prefer = prefer / norm if norm > 1e-9 else np.array([0.6, 0.8])
+            bb = art.get_window_extent(renderer)
+            placed.append(Label(art, to_px(self.P0[k]), (bb.width, bb.height), prefer,
+                                0.85 * self.w * scale + 1.0))
+        frame = ax.get_window_extent(renderer)
+        place(placed, obstacles, (frame.x0, frame.y0, frame.x1, frame.y1), px_per_pt)
+        for lb in placed:
+            set_offset(lb.artist, lb.offset / px_per_pt)
 
     def local_axes(self, bodies, fontsize):
         for b in bodies:
             L = (0.12 if b.ground else 0.07) * self.span
-            i = self.bi[b.name]
-            R = rot(self.ang0[i])
-            for f in (0.35, 0.7, 1.0, 1.15):
-                self.obstacles += [self.org0[i] + R @ (f * L, 0.0), self.org0[i] + R @ (0.0, f * L)]
             for (dx, dy), name in (((L, 0.0), "x"), ((0.0, L), "y")):
                 arrow = FancyArrow(0.0, 0.0, dx, dy, width=0.04 * self.w, head_width=0.55 * self.w,
                                    head_length=0.9 * self.w, length_includes_head=True,

@@ -6,10 +6,15 @@ solved coordinates; nothing here draws.
 """
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 from ..errors import MechgenError
 from .style import GROUND, PALETTE, tints
+
+# body.at(x, y): a point fixed in a body at local (x, y), as in the model language
+_AT = re.compile(r"^\s*(\w+)\s*\.\s*at\s*\(\s*([^,()]+?)\s*,\s*([^,()]+?)\s*\)\s*$")
 
 
 class Body:
@@ -85,6 +90,34 @@ class Scene:
                 return body.pts[k - 1]
         raise MechgenError(f"'{self.name}' has no point {label!r} (points: "
                            f"{', '.join(self.labels)}; or body[k] for its k-th point)")
+
+    def locate(self, label):
+        """Where a point is over a motion: ``(body, path)``, ``path(P, Q)`` giving its
+        positions (F, 2) over frames P (F, N, 2), Q (F, n). ``label`` is a point of the
+        module (see point()) or ``body.at(x, y)``: the point at local (x, y) of a body,
+        which the model need not name (a coupler point whose curve to trace)."""
+        found = _AT.match(label) if isinstance(label, str) else None
+        if found is None:
+            k = self.point(label)
+            return self.by_name[self.owner[k]], lambda P, Q: P[:, k]
+        name, xs, ys = found.groups()
+        if name not in self.by_name:
+            raise MechgenError(f"'{self.name}' has no body {name!r} (in {label!r}; bodies: "
+                               f"{', '.join(self.by_name)})")
+        try:
+            xy = np.array([float(xs), float(ys)])
+        except ValueError:
+            raise MechgenError(f"{label!r}: body.at(x, y) takes two numbers") from None
+        body, i = self.by_name[name], self.bodies.index(self.by_name[name])
+        if not body.ground and body.origin < 0:
+            raise MechgenError(f"{label!r}: the module does not state where body {name!r} "
+                               "has its origin; trace one of its points instead")
+
+        def path(P, Q):
+            org, ang = self.poses(P, Q)
+            c, s = np.cos(ang[:, i]), np.sin(ang[:, i])
+            return org[:, i] + np.column_stack([c * xy[0] - s * xy[1], s * xy[0] + c * xy[1]])
+        return body, path
 
     def poses(self, P, Q):
         """Origins (F, nb, 2) and angles (F, nb) of every body over frames P (F, N, 2)."""

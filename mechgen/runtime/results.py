@@ -10,7 +10,7 @@ import numpy as np
 from ..protocol import LEVEL, LEVELS
 from .events import extrema as _extrema, roots as _roots
 from .interpolate import interpolate as _interpolate
-from .quantity import SUFFIXES, _lookup, column_names, level_of, solved_names
+from .quantity import _lookup, column_names, level_of
 
 __all__ = ["Solution", "Sweep", "write_csv", "_lookup"]
 
@@ -69,13 +69,13 @@ class Solution:
         return float(self.mechanism.output_values(self.q, self.qd, self.qdd, self.t, order)[k])
 
     def keys(self):
-        """The coordinates and the derivatives this solution holds (not the outputs)."""
-        coords = solved_names(self.mechanism)
-        return [c + SUFFIXES[order] for order in range(level_of(self.qd, self.qdd) + 1)
-                for c in coords]
+        """The names this solution answers, in the order of a sweep's columns: the
+        coordinates, their derivatives up to its level, then the declared outputs (OUTPUTS
+        of the generated module) and those of their derivatives the level allows."""
+        return column_names(self.mechanism, level_of(self.qd, self.qdd))
 
     def as_dict(self) -> dict:
-        """Mech's rule list: {"T": t, "X2": ..., ...}."""
+        """Mech's rule list: {"T": t, "X2": ..., ..., "stroke_x": ...}, outputs included."""
         out = {"T": self.t}
         out.update({k: self[k] for k in self.keys()})
         return out
@@ -85,12 +85,14 @@ class Solution:
         return self.mechanism.points_at(self.q, self.t)
 
     def __repr__(self):
-        items = ", ".join(f"{k} -> {v:.6g}" for k, v in self.as_dict().items())
+        # the outputs too, as a sweep's repr and table show them
+        items = ", ".join(f"{k} -> {v + 0.0:.6g}" for k, v in self.as_dict().items())  # no -0
         flag = ", singular" if self.singular else ""
         return f"<Solution {{{items}}}{flag}>"
 
     def _repr_html_(self):
-        cells = "".join(f"<tr><td>{k}</td><td>{v:.10g}</td></tr>" for k, v in self.as_dict().items())
+        cells = "".join(f"<tr><td>{k}</td><td>{v + 0.0:.10g}</td></tr>"
+                        for k, v in self.as_dict().items())
         flag = " (singular)" if self.singular else ""
         return (f"<p>Solution of <b>{self.mechanism.name}</b>{flag}</p>"
                 f"<table><tbody>{cells}</tbody></table>")
