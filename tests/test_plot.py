@@ -198,7 +198,8 @@ def test_animate_quick_return_gif(qr, tmp_path):
     sw = qr.sweep(0.0, 1.0, 6)
     a = plot.animate(qr, sw, tmp_path / "qr.gif", fps=10)
     im = _image(tmp_path / "qr.gif")
-    assert im.format == "GIF" and im.n_frames == 6
+    # one crank turn: T = 1 repeats T = 0 and is left out of the looping film
+    assert im.format == "GIF" and im.n_frames == 5
     fig, ax = a.figure, a.drawing.ax
     assert _size_ok(im, fig, 80)
     fig.set_dpi(80)
@@ -218,9 +219,9 @@ def test_animate_quick_return_gif(qr, tmp_path):
 def test_animate_fourbar_trace(fourbar, tmp_path):
     sw = fourbar.sweep(0.0, 1.0, 8)
     a = plot.animate(fourbar, sw, None, trace=["crank[2]"])     # the crank pin's circle
-    assert len(a) == 8 and a.path is None
+    assert len(a) == 7 and a.path is None                       # T = 1 repeats T = 0
     frames = list(a.frames(dpi=72))
-    assert len(frames) == 8 and frames[0].shape[2] == 3
+    assert len(frames) == 7 and frames[0].shape[2] == 3
     fig, ax = a.figure, a.drawing.ax
     fig.set_dpi(72)
     ax.apply_aspect()
@@ -233,7 +234,7 @@ def test_animate_fourbar_trace(fourbar, tmp_path):
         return bool(np.any(np.all(np.abs(win - trace) < 40, axis=-1)))
     assert not traced(frames[0]) and traced(frames[-1])
     a.save(tmp_path / "fb.gif", dpi=60)
-    assert _image(tmp_path / "fb.gif").n_frames == 8
+    assert _image(tmp_path / "fb.gif").n_frames == 7
 
 
 # -- plot -------------------------------------------------------------------------------------
@@ -242,7 +243,8 @@ def test_plot_stroke(qr, tmp_path):
     lines = plot.plot(sw, "X4")
     assert len(lines) == 1 and np.allclose(lines[0].get_ydata(), sw["X4"])
     ax = lines[0].axes
-    assert ax.get_xlabel() == "T [s]" and ax.get_ylabel() == "X4 [length]"
+    # T is said to be the time; lengths have no unit unless one is named (never "[length]")
+    assert ax.get_xlabel() == "time T [s]" and ax.get_ylabel() == "X4"
     fig = ax.figure
     fig.savefig(tmp_path / "x4.png", dpi=fig.dpi)
     im = _image(tmp_path / "x4.png")
@@ -295,7 +297,7 @@ def test_cli_pictures(tmp_path, cli_outdir, capsys):
     gif = tmp_path / "qr.gif"
     assert _cli("animate", model, "-o", gif, "--outdir", cli_outdir, "-n", 4,
                 "--trace", "colisa[2]") == 0
-    assert _image(gif).n_frames == 4
+    assert _image(gif).n_frames == 3           # T = 1 repeats T = 0: left out
     plotted = tmp_path / "stroke.png"
     assert _cli("plot", model, "X4", "X4d", "-o", plotted, "--outdir", cli_outdir,
                 "-n", 21) == 0

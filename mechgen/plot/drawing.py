@@ -17,6 +17,7 @@ from ..errors import MechgenError
 from ..runtime.results import Solution
 from .glyphs import Builder
 from .scene import Scene
+from .shapes import AUTO
 from .style import INK
 
 MOTION_POINTS = 41   # solves of the sweep that frames a single drawing
@@ -24,8 +25,9 @@ MOTION_POINTS = 41   # solves of the sweep that frames a single drawing
 
 class Drawing:
     """What draw() drew: ``ax``, ``artists`` (by body name; ``"joints"`` for pins, blocks
-    and rods), ``frame`` (xmin, xmax, ymin, ymax), ``size`` (a bar's half-width, the unit
-    of every detail) and ``update(solution)`` to move it."""
+    and rods), ``labels`` ((text, artist) of the point labels), ``frame`` (xmin, xmax,
+    ymin, ymax), ``size`` (a bar's half-width, the unit of every detail) and
+    ``update(solution)`` to move it."""
 
     def __init__(self, ax, mech, structure):
         self.ax = ax
@@ -36,6 +38,7 @@ class Drawing:
         self.frame = None
         self.size = None
         self.title = None
+        self.labels = []          # (text, artist) of every point label, "P2·P1" when shared
         self.transforms = {}      # body name -> the Affine2D that carries its artists
         self.redrawn = set()      # bodies drawn by user functions, redrawn at each update
         self._movers = []         # functions (P, q, t) moving what a transform cannot
@@ -75,6 +78,10 @@ class Drawing:
             tf.set_matrix(np.array([[c, -s, o[0]], [s, c, o[1]], [0.0, 0.0, 1.0]]))
         for fn in self._movers:
             fn(P, q, t)
+
+
+def _listed(shapes):
+    return list(shapes) if isinstance(shapes, (list, tuple)) else [shapes]
 
 
 def _as_solution(mech, solution):
@@ -195,11 +202,13 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
         elif kind == "relative_distance" and len(used) == 2:
             bld.rod(*used)
     for b in st.bodies:
+        if b.ground and (b.name not in custom or AUTO in _listed(custom[b.name])):
+            bld.ground_link(b)
+    for b in st.bodies:
         shapes = custom.get(b.name)
         keep_auto = True
         if shapes is not None:
-            shapes = shapes if isinstance(shapes, (list, tuple)) else [shapes]
-            keep_auto = bld.custom(b, shapes)
+            keep_auto = bld.custom(b, _listed(shapes))
         if b.ground:
             xy = np.array([P0[k] for k in b.pts]) if b.pts else np.zeros((0, 2))
             if len(xy):

@@ -13,9 +13,9 @@ from matplotlib.patches import Circle, FancyArrow, Patch, Polygon, Rectangle
 from matplotlib.transforms import Affine2D
 
 from ..errors import MechgenError
-from .labels import Label, Obstacles, label_artist, place, renderer_of, set_offset
+from .labels import JOIN, Label, Obstacles, label_artist, place, renderer_of, set_offset
 from .shapes import AUTO, Shape, hatch, hull, rot, rounded
-from .style import BAR, INK, MARGIN
+from .style import BAR, GROUND, INK, MARGIN
 
 
 def _vertices(artist):
@@ -138,6 +138,42 @@ class Builder:
                                                     hatch_side), colors=INK, linewidths=0.8,
                                              zorder=1.2))
 
+    def free_side(self, ground, a1, a2):
+        """The unit normal of the ground's axis a1->a2 pointing away from the ground's other
+        points (its left when all lie on the axis): where a slider's box sits. Read off
+        the ground alone, so that every drawing and animation puts it on the same side."""
+        A, B = self.P0[a1], self.P0[a2]
+        u = (B - A) / (math.hypot(*(B - A)) or 1.0)
+        left = np.array([-u[1], u[0]])
+        off = [(self.P0[k] - A) @ left for k in ground.pts]
+        off = [x for x in off if abs(x) > 1e-9 * self.span]
+        return -left if off and np.mean(off) > 0 else left
+
+    def ground_link(self, ground):
+        """The fixed link between the ground's pivots (a four-bar's fourth bar): grey bars
+        along the shortest tree joining the ground points that hold a moving body."""
+        pivots = []
+        for _, kind, used in self.st.joints:
+            if kind not in ("revolute", "relative_distance") or len(used) != 2:
+                continue
+            b1, b2 = self.body_of(used[0]), self.body_of(used[1])
+            for k, other in ((used[0], b2), (used[1], b1)):
+                if self.body_of(k) is ground and not other.ground and \
+                        all(math.hypot(*(self.P0[k] - self.P0[j])) > 1e-9 * self.span
+                            for j in pivots):
+                    pivots.append(k)
+        if len(pivots) < 2:
+            return
+        joined, rest = [pivots[0]], pivots[1:]
+        while rest:       # Prim: the nearest pivot not yet joined
+            d, i, j = min((math.hypot(*(self.P0[i] - self.P0[j])), i, j)
+                          for i in joined for j in rest)
+            self.add(ground.name, Polygon(rounded([self.P0[i], self.P0[j]], 0.6 * self.w),
+                                          closed=True, facecolor=GROUND[0], edgecolor=INK,
+                                          linewidth=1.0, zorder=1.1))
+            joined.append(j)
+            rest.remove(j)
+
     def slot(self, body, a1, a2, travel):
         """A slot cut in body along its axis a1->a2 over the travel (local points)."""
         A, B = self.local(body, a1), self.local(body, a2)
@@ -207,10 +243,9 @@ class Builder:
         if s1 - s0 < 2 * self.w:
             s0, s1 = (s0 + s1) / 2 - 2 * self.w, (s0 + s1) / 2 + 2 * self.w
         h = 3.2 * self.w
-        if g.ground:                       # the box sits on the guide, away from the middle
+        if g.ground:                       # the box sits on the guide, on its free side
             R = rot(self.ang0[self.bi[s.name]])
-            outward = (self.P0[b1] - self.center) @ (R @ n)
-            sign = 1.0 if outward >= 0 else -1.0
+            sign = 1.0 if (R @ n) @ self.free_side(g, a1, a2) >= 0 else -1.0
             lo, hi = (0.0, h) if sign > 0 else (-h, 0.0)
         else:
             lo, hi = -h / 2, h / 2
@@ -328,6 +363,7 @@ class Builder:
             art = label_artist(ax, [(f"P{n}", b.edge) for b, n, _ in g], self.local(host, k),
                                self.trans(host), fontsize)
             self.d.artists[host.name].append(art)
+            self.d.labels.append((JOIN.join(f"P{n}" for _, n, _ in g), art))
             prefer = np.zeros(2)
             for b, _, _ in g:      # away from the middle of each body the point is on
                 away = self.P0[k] - np.mean([self.P0[j] for j in b.pts], axis=0)
