@@ -225,6 +225,19 @@ def test_labels_of_a_strandbeest_leg_merge_at_its_joints(beest):
                                     "P2·P2·P1", "P2·P2", "P3"])
 
 
+def test_labels_placed_on_the_panels_as_laid_out(fourbar):
+    s1 = fourbar.solve(0.0)
+    s2 = fourbar.solve(0.0, guess={"Th3": -1.0, "Th4": -2.3, "X4": 3.0, "Y4": 0.0})
+    for d in plot.draw_modes(fourbar, [s1, s2], labels=True):   # after tight_layout
+        assert sorted(t for t, _ in d.labels) == ["P1·P1", "P2·P1", "P2·P1", "P2·P2"]
+        _check_labels(d)
+    d = plot.draw(fourbar, s1, labels=True)
+    d.figure.set_size_inches(4.0, 3.0)           # the user's own layout, then placed anew
+    d.update(fourbar.solve(0.3))
+    d.place_labels()
+    _check_labels(d)
+
+
 def test_ground_link_of_the_fourbar(fourbar, tmp_path):
     d = plot.draw(fourbar, fourbar.solve(0.0))
     bars = [a for a in d.artists["ground"] if isinstance(a, Polygon) and a.get_zorder() < 1.2]
@@ -319,7 +332,13 @@ def test_different_sizes_on_twin_axes(qr):
     assert left is not right and right.get_shared_x_axes().joined(left, right)
     assert left.get_ylabel() == "X4" and right.get_ylabel() == "X4d"
     assert lines[0].get_color() != lines[1].get_color()
-    assert right.get_legend() is not None and len(right.get_legend().get_texts()) == 2
+    # each axis' label in its line's colour says which is which: no legend over the lines
+    assert left.yaxis.label.get_color() == lines[0].get_color()
+    assert right.yaxis.label.get_color() == lines[1].get_color()
+    assert left.get_legend() is None and right.get_legend() is None
+    lines = plot.plot(sw, "X4", "X4d", "Y4")      # X4 and Y4 share the left axis: a legend
+    assert lines[0].axes is lines[2].axes is not lines[1].axes
+    assert len(lines[1].axes.get_legend().get_texts()) == 3
     # two outputs of unknown unit, sizes far apart (9.5 against 85): twin axes too
     lines = plot.plot(sw, "stroke_x", "stroke_xd")
     assert lines[0].axes is not lines[1].axes

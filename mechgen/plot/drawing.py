@@ -26,8 +26,8 @@ MOTION_POINTS = 41   # solves of the sweep that frames a single drawing
 class Drawing:
     """What draw() drew: ``ax``, ``artists`` (by body name; ``"joints"`` for pins, blocks
     and rods), ``labels`` ((text, artist) of the point labels), ``frame`` (xmin, xmax,
-    ymin, ymax), ``size`` (a bar's half-width, the unit of every detail) and
-    ``update(solution)`` to move it."""
+    ymin, ymax), ``size`` (a bar's half-width, the unit of every detail),
+    ``update(solution)`` to move it and ``place_labels()`` to place its labels anew."""
 
     def __init__(self, ax, mech, structure):
         self.ax = ax
@@ -41,7 +41,9 @@ class Drawing:
         self.labels = []          # (text, artist) of every point label, "P2·P1" when shared
         self.transforms = {}      # body name -> the Affine2D that carries its artists
         self.redrawn = set()      # bodies drawn by user functions, redrawn at each update
+        self.points = None        # the points (npoints, 2) of the configuration shown
         self._movers = []         # functions (P, q, t) moving what a transform cannot
+        self._place_labels = lambda: None
 
     @property
     def figure(self):
@@ -66,8 +68,14 @@ class Drawing:
         """Move the drawing to another configuration (a Solution of the same mechanism)."""
         self.set_state(solution.points(), solution.q, solution.t)
 
+    def place_labels(self):
+        """Place the point labels again for the configuration shown and the figure as it
+        is now (after a change of its size or layout, or an update())."""
+        self._place_labels()
+
     def set_state(self, P, q, t):
         """Move every artist to points P (npoints, 2), coordinates q, time t, in place."""
+        self.points = P
         for b in self.structure.bodies:
             tf = self.transforms.get(b.name)
             if tf is None:
@@ -147,7 +155,8 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
     ``solution``: a Solution (``mech.solve(t)``) or a time. The frame covers the motion:
     of ``sweep`` when given, else of one time unit solved from the solution (in its
     assembly mode); ``frame=(xmin, xmax, ymin, ymax)`` fixes it, ``frame="pose"`` fits
-    this configuration only. ``labels``: True (or a list of body names) writes P1, P2, ...;
+    this configuration only. ``labels``: True (or a list of body names) writes P1, P2, ...
+    where they overlap nothing (one label, "P2·P1", for a point two bodies share);
     ``axes``: True (or body names) draws local axes. ``artists``: {body name: Shape,
     function(ax, xy) or a list of them} replaces a body's automatic bar (add ``"auto"`` to
     the list to keep it); for the ground it replaces the automatic guides. ``colors``:
@@ -301,4 +310,6 @@ def draw_modes(mech, solutions, axs=None, titles=None, **kwargs):
         ah = min(max((panel - 0.8) * (f[3] - f[2]) / max(f[1] - f[0], 1e-12), 1.5), 1.6 * panel)
         fig.set_size_inches(panel * n, ah + 1.3)
         fig.tight_layout()
+    for d in drawings:       # on the panels as laid out
+        d.place_labels()
     return drawings

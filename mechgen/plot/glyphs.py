@@ -13,7 +13,7 @@ from matplotlib.patches import Circle, FancyArrow, Patch, Polygon, Rectangle
 from matplotlib.transforms import Affine2D
 
 from ..errors import MechgenError
-from .labels import JOIN, Label, Obstacles, label_artist, place, renderer_of, set_offset
+from .labels import put_labels
 from .shapes import AUTO, Shape, hatch, hull, rot, rounded
 from .style import BAR, GROUND, INK, MARGIN
 
@@ -338,46 +338,7 @@ class Builder:
     def labels(self, bodies, fontsize):
         """P1, P2, ... next to the points of the bodies, where they collide with nothing
         (mechgen.plot.labels); one label for a point several of them share."""
-        if not bodies:
-            return
-        ax, fig = self.ax, self.ax.figure
-        ax.apply_aspect()
-        renderer = renderer_of(fig)
-        to_px = ax.transData.transform
-        px_per_pt = fig.dpi / 72.0
-        scale = abs(to_px((1.0, 0.0))[0] - to_px((0.0, 0.0))[0])   # pixels per length
-        obstacles = Obstacles(ax, renderer)
-        tol = 1e-6 * self.span
-        groups = []          # [(body, number, POINTS index)] of points that stay together
-        for b in sorted(bodies, key=lambda b: self.bi[b.name]):
-            for n, k in enumerate(b.pts, start=1):
-                for g in groups:
-                    if np.abs(self.P[:, k] - self.P[:, g[0][2]]).max() <= tol:
-                        g.append((b, n, k))
-                        break
-                else:
-                    groups.append([(b, n, k)])
-        placed = []
-        for g in groups:
-            host, _, k = next((m for m in g if not m[0].ground), g[0])   # moves with it
-            art = label_artist(ax, [(f"P{n}", b.edge) for b, n, _ in g], self.local(host, k),
-                               self.trans(host), fontsize)
-            self.d.artists[host.name].append(art)
-            self.d.labels.append((JOIN.join(f"P{n}" for _, n, _ in g), art))
-            prefer = np.zeros(2)
-            for b, _, _ in g:      # away from the middle of each body the point is on
-                away = self.P0[k] - np.mean([self.P0[j] for j in b.pts], axis=0)
-                norm = math.hypot(*away)
-                prefer += away / norm if norm > 1e-9 * self.span else 0.0
-            norm = math.hypot(*prefer)
-            prefer = prefer / norm if norm > 1e-9 else np.array([0.6, 0.8])
-            bb = art.get_window_extent(renderer)
-            placed.append(Label(art, to_px(self.P0[k]), (bb.width, bb.height), prefer,
-                                0.85 * self.w * scale + 1.0))
-        frame = ax.get_window_extent(renderer)
-        place(placed, obstacles, (frame.x0, frame.y0, frame.x1, frame.y1), px_per_pt)
-        for lb in placed:
-            set_offset(lb.artist, lb.offset / px_per_pt)
+        self.d._place_labels = put_labels(self, bodies, fontsize)
 
     def local_axes(self, bodies, fontsize):
         for b in bodies:

@@ -18,6 +18,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from matplotlib import patheffects
 from matplotlib.collections import LineCollection
 from matplotlib.colors import to_rgba
 from matplotlib.lines import Line2D
@@ -39,10 +40,11 @@ W_LINE = 1e3      # per line or hatching segment struck through
 W_MARK = 400.0    # hiding a pin or block (fraction of the label covering it)
 W_DARK = 300.0    # sitting on a dark fill (a connecting rod)
 W_EDGE = 30.0     # per outline segment of a body crossed
-W_FILL = 12.0     # sitting on a body's light fill (fraction covered)
+W_FILL = 3.0      # sitting on a body's light fill (fraction covered)
 W_OUT = 1e4       # leaving the axes
 W_FAR = 0.35      # per pixel of distance from the pin
 W_TURN = 4.0      # turning from the preferred direction (1 - cos)
+HALO = [patheffects.withStroke(linewidth=2.2, foreground="white")]   # legible on a fill
 
 
 class Obstacles:
@@ -170,7 +172,8 @@ class Label:
         self.size = np.asarray(size, dtype=float)  # width, height, pixels
         self.prefer = prefer                       # unit direction to favour
         self.clear = clear                         # pixels from the point to keep clear
-        self.box = None
+        self.box = None                            # the spot chosen (x0, y0, x1, y1)
+        self.offset = None                         # its centre from the point, pixels
 
     def candidates(self, px_per_pt):
         """(centres (C, 2), rectangles (C, 4), cost of distance and direction (C,))."""
@@ -234,13 +237,16 @@ def label_artist(ax, pieces, xy, transform, fontsize):
     if len(pieces) == 1:
         text, color = pieces[0]
         art = ax.annotate(text, xytext=(0.0, 0.0), textcoords="offset points", ha="center",
-                          va="center", fontsize=fontsize, color=color, zorder=6, **common)
+                          va="center", fontsize=fontsize, color=color, zorder=6,
+                          path_effects=HALO, **common)
         return art
     parts = []
     for n, (text, color) in enumerate(pieces):
         if n:
-            parts.append(TextArea(JOIN, textprops=dict(color=INK, fontsize=fontsize)))
-        parts.append(TextArea(text, textprops=dict(color=color, fontsize=fontsize)))
+            parts.append(TextArea(JOIN, textprops=dict(color=INK, fontsize=fontsize,
+                                                       path_effects=HALO)))
+        parts.append(TextArea(text, textprops=dict(color=color, fontsize=fontsize,
+                                                   path_effects=HALO)))
     row = HPacker(children=parts, align="baseline", pad=0, sep=0)
     art = AnnotationBbox(row, xybox=(0.0, 0.0), boxcoords="offset points", frameon=False,
                          pad=0.0, box_alignment=(0.5, 0.5), zorder=6, **common)
@@ -254,3 +260,61 @@ def set_offset(artist, offset_pt):
         artist.xybox = tuple(offset_pt)
     else:
         artist.xyann = tuple(offset_pt)
+
+
+def put_labels(bld, bodies, fontsize):
+    """Label the points of ``bodies`` in the drawing a glyphs.Builder ``bld`` is making
+    (its configuration P0, motion P, bar size w) and place them; returns a function
+    that places them again where the figure's layout or the configuration has changed
+    (``Drawing.place_labels``)."""
+    if not bodies:
+        return lambda: None
+    ax, d = bld.ax, bld.d
+    renderer = renderer_of(ax.figure)
+    tol = 1e-6 * bld.span
+    groups = []          # [(body, number, POINTS index)] of points that stay together
+    for b in sorted(bodies, key=lambda b: bld.bi[b.name]):
+        for n, k in enumerate(b.pts, start=1):
+            for g in groups:
+                if np.abs(bld.P[:, k] - bld.P[:, g[0][2]]).max() <= tol:
+                    g.append((b, n, k))
+                    break
+            else:
+                groups.append([(b, n, k)])
+    made = []            # (artist, POINTS index, the bodies' points around it)
+    for g in groups:
+        host, _, k = next((m for m in g if not m[0].ground), g[0])   # moves with it
+        art = label_artist(ax, [(f"P{n}", b.edge) for b, n, _ in g], bld.local(host, k),
+                           bld.trans(host), fontsize)
+        d.artists[host.name].append(art)
+        d.labels.append((JOIN.join(f"P{n}" for _, n, _ in g), art))
+        made.append((art, k, [b.pts for b, _, _ in g]))
+    pin = 0.85 * bld.w
+
+    def again():
+        P = d.points if d.points is not None else bld.P0
+        ax.apply_aspect()
+        fig = ax.figure
+        to_px = ax.transData.transform
+        px_per_pt = fig.dpi / 72.0
+        scale = abs(to_px((1.0, 0.0))[0] - to_px((0.0, 0.0))[0])   # pixels per length
+        obstacles = Obstacles(ax, renderer, skip=[art for art, _, _ in made])
+        placed = []
+        for art, k, around in made:
+            prefer = np.zeros(2)
+            for pts in around:      # away from the middle of each body the point is on
+                away = P[k] - np.mean([P[j] for j in pts], axis=0)
+                norm = math.hypot(*away)
+                prefer += away / norm if norm > 1e-9 * bld.span else 0.0
+            norm = math.hypot(*prefer)
+            prefer = prefer / norm if norm > 1e-9 else np.array([0.6, 0.8])
+            set_offset(art, (0.0, 0.0))
+            bb = art.get_window_extent(renderer)
+            placed.append(Label(art, to_px(P[k]), (bb.width, bb.height), prefer,
+                                pin * scale + 1.0))
+        frame = ax.get_window_extent(renderer)
+        place(placed, obstacles, (frame.x0, frame.y0, frame.x1, frame.y1), px_per_pt)
+        for lb in placed:
+            set_offset(lb.artist, lb.offset / px_per_pt)
+    again()
+    return again

@@ -137,7 +137,8 @@ def plot(sweep, *names, x=None, ax=None, labels=None, length=None, time="s", tit
     "X4 [mm]", "X4d [mm/s]"); by default none is stated. Angles are in rad.
 
     Quantities of two kinds (X4 and X4d) or of sizes more than ``SCALE_RATIO`` apart go on
-    two y axes, the second on the right (``ax.twinx()``), with one legend. A path (y and x
+    two y axes, the second on the right (``ax.twinx()``), each labelled in its line's
+    colour when it holds one line, else with one legend for both. A path (y and x
     both lengths, or names paired by x/y such as ``plot(sw, "foot_y", x="foot_x")``) is
     drawn at equal scale; ``equal=True`` or ``False`` decides it yourself.
     """
@@ -178,13 +179,15 @@ def plot(sweep, *names, x=None, ax=None, labels=None, length=None, time="s", tit
                 kw["color"] = cycle[len(lines) % len(cycle)]
             lines += where[n].plot(xs, sw[n], label=text, **kw)
     ax.set_xlabel(f"time T [{time}]" if x is None else _label(mech, x, length, time))
+    coloured = 0
     for a, group in zip(axes, groups):
         a.set_ylabel(_axis_label(mech, group, length, time))
         mine = [ln for ln in lines if ln.axes is a]
         if len(axes) > 1 and len({ln.get_color() for ln in mine}) == 1:
             a.yaxis.label.set_color(mine[0].get_color())   # which axis is whose
+            coloured += 1
     ax.grid(True, color="#dddddd", linewidth=0.7)
-    if len(lines) > 1:
+    if len(lines) > 1 and coloured < len(axes):   # (axis labels in line colours say it all)
         axes[-1].legend(handles=lines, fontsize="small")
     if path:
         ax.set_aspect("equal", adjustable="datalim")
