@@ -325,6 +325,22 @@ def test_time_axis_and_units(qr):
     assert plot.unit(qr, "stroke_xd") == ""       # an output's unit is not known
 
 
+def test_cli_plot_units(qr, build_dir, tmp_path, monkeypatch):
+    from mechgen.cli import main
+    seen = []
+    real = plot.plot
+
+    def spy(*args, **kwargs):
+        lines = real(*args, **kwargs)
+        seen.append([lines[0].axes.get_xlabel()] + [ln.axes.get_ylabel() for ln in lines])
+        return lines
+    monkeypatch.setattr(plot, "plot", spy)
+    model = os.path.join(ROOT, "examples", "quick_return.py")
+    assert main(["plot", model, "X4", "X4d", "-o", str(tmp_path / "p.png"), "--outdir",
+                 build_dir, "-n", "11", "--length", "mm"]) == 0
+    assert seen[-1] == ["time T [s]", "X4 [mm]", "X4d [mm/s]"]     # on twin axes
+
+
 def test_different_sizes_on_twin_axes(qr):
     sw = qr.sweep(0.0, 1.0, 21, level="velocity")
     lines = plot.plot(sw, "X4", "X4d")

@@ -82,7 +82,7 @@ def cmd_plot(args):
     except KeyError as exc:
         raise MechgenError(exc.args[0]) from None
     sw = _sweep(mech, args, level=level, guess=parse_guess(args.guess))
-    lines = plot.plot(sw, *args.names, x=args.x)
+    lines = plot.plot(sw, *args.names, x=args.x, length=args.length, time=args.time)
     fig = lines[0].figure
     path = _output(args, mech, "{name}_" + "_".join(args.names) + ".png")
     fig.savefig(path, dpi=args.dpi)
@@ -146,5 +146,9 @@ def add_commands(sub, add_common):
     common(p, ".png")
     p.add_argument("names", nargs="+", metavar="NAME", help="quantities to plot")
     p.add_argument("--x", metavar="NAME", help="plot against this quantity instead of T")
+    p.add_argument("--length", metavar="UNIT", help="the unit of the model's lengths, e.g. mm "
+                                                   "(default: none stated)")
+    p.add_argument("--time", metavar="UNIT", default="s",
+                   help="the unit of the model's time T (default: s)")
     span(p, 101)
     p.set_defaults(func=cmd_plot)
