@@ -7,7 +7,6 @@ import sys
 import numpy as np
 
 from ..errors import MechgenError
-from ..protocol import LEVELS
 from .loading import mechanism
 from .options import (number_type, output_file, parse_columns, parse_guess,
                       parse_param_option)
@@ -32,13 +31,7 @@ def cmd_solve(args):
     columns = parse_columns(args.columns)
     level = needed_level(mech, columns, args.level)
     s = mech.solve(args.t, guess=parse_guess(args.guess), level=level, method=args.method)
-    rows = [("T", s.t)] + [(k, s[k]) for k in s.keys()]
-    if mech.outputs:
-        have = LEVELS.index(s.level)
-        for k, o in enumerate(mech.outputs):
-            for suffix, d in (("", 0), ("d", 1), ("dd", 2)):
-                if mech.output_orders[k] + d <= have:
-                    rows.append((o + suffix, s[o + suffix]))
+    rows = [("T", s.t)] + [(k, s[k]) for k in s.keys()]     # the outputs included
     if columns:
         by_name = dict(rows)
         rows = [("T", s.t)] + [(c, by_name[c]) for c in columns if c != "T"]
