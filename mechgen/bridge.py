@@ -20,7 +20,7 @@ import os
 import numpy as np
 import sympy as sp
 
-from .compiler.build import build
+from .compiler.build import render, write_module
 from .errors import ModelError
 from .model.quantities import dt
 from .protocol import LEVEL, LEVELS
@@ -172,11 +172,31 @@ def attach(mech, model):
     return mech
 
 
+def cache_folder() -> str:
+    """Where ``mechgen.compile`` writes modules by default: ``$MECHGEN_CACHE``, else
+    ``~/.cache/mechgen``."""
+    return os.environ.get("MECHGEN_CACHE") or os.path.join(
+        os.path.expanduser("~"), ".cache", "mechgen")
+
+
+def build_if_changed(model, outdir, **kwargs) -> str:
+    """Write ``outdir/<name>.py`` unless it already holds exactly this text: a rewrite
+    would change the file's time stamp and throw away numba's compiled cache beside it."""
+    text = render(model, **kwargs)
+    path = os.path.join(outdir, f"{model.name}.py")
+    try:
+        with open(path, encoding="utf-8") as fh:
+            if fh.read() == text:
+                return path
+    except OSError:
+        pass
+    return write_module(text, path)
+
+
 def compile_model(model, outdir=None, **kwargs):
-    """``mechgen.compile``: build ``model`` into a cache folder (``$MECHGEN_CACHE``, else
-    ``~/.cache/mechgen``; ``outdir=`` to choose) and load it, keeping the symbolic model so
-    that ``mech.evaluate(expr, solution_or_sweep)`` works."""
+    """``mechgen.compile``: build ``model`` into a folder (``outdir``, default
+    :func:`cache_folder`; rewritten only when its text changed) and load it, keeping the
+    symbolic model so that ``mech.evaluate(expr, solution_or_sweep)`` works."""
     if outdir is None:
-        outdir = os.environ.get("MECHGEN_CACHE") or os.path.join(
-            os.path.expanduser("~"), ".cache", "mechgen")
-    return attach(load(build(model, outdir, **kwargs)), model)
+        outdir = cache_folder()
+    return attach(load(build_if_changed(model, outdir, **kwargs)), model)

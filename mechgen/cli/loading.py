@@ -6,8 +6,6 @@ jinja2 or numba (the same reason plot_commands imports matplotlib late).
 """
 from __future__ import annotations
 
-import os
-
 from .options import model_file, module_folder
 
 
@@ -22,17 +20,10 @@ def models(args):
 
 
 def build_if_needed(model, outdir, **kwargs) -> str:
-    """Write the module unless the file already holds exactly this text."""
-    from ..compiler.build import render, write_module
-    path = os.path.join(module_folder(outdir), f"{model.name}.py")
-    text = render(model, **kwargs)
-    try:
-        with open(path, encoding="utf-8") as fh:
-            if fh.read() == text:
-                return path
-    except OSError:
-        pass
-    return write_module(text, path)
+    """Write the module unless the file already holds exactly this text (as
+    mechgen.compile does)."""
+    from ..bridge import build_if_changed
+    return build_if_changed(model, module_folder(outdir), **kwargs)
 
 
 def mechanism(args):

@@ -11,10 +11,12 @@ from .geometry import Body, Line, Point, T, as_pair
 
 
 def cross2(a, b):
+    """The planar cross product a × b = a_x b_y − a_y b_x."""
     return a[0] * b[1] - a[1] * b[0]
 
 
 def dot2(a, b):
+    """The dot product a · b of two 2-vectors."""
     return a[0] * b[0] + a[1] * b[1]
 
 
@@ -32,8 +34,14 @@ class Constraint:
         self.where = where
         self.exprs: list = []
 
+    def build(self, *args) -> str:
+        """Check the arguments, set ``exprs`` (one expression per row, = 0) and return
+        the arguments as the label writes them. Each kind defines it."""
+        raise NotImplementedError
+
     @property
     def label(self) -> str:
+        """``kind(arguments)``, prefixed by ``name: `` when the constraint has a name."""
         base = f"{self.kind}({self.args_text})"
         return f"{self.name}: {base}" if self.name else base
 
@@ -47,6 +55,7 @@ class Constraint:
 
     @property
     def is_driver(self) -> bool:
+        """True when an equation holds the time T."""
         return any(T in sp.sympify(e).free_symbols for e in self.exprs)
 
     def __repr__(self):
@@ -97,6 +106,8 @@ def _show(value):
 
 
 class Revolute(Constraint):
+    """``revolute(p1, p2)``: r(p1) − r(p2) = 0, rows x and y."""
+
     kind = "revolute"
     components = ("x", "y")
 
@@ -109,6 +120,8 @@ class Revolute(Constraint):
 
 
 class Translate(Constraint):
+    """``translate(a1, a2)``: u1 × u2 = 0 (parallel), (a2.first − a1.first) × u2 = 0 (offset)."""
+
     kind = "translate"
     components = ("parallel", "offset")
 
@@ -121,6 +134,8 @@ class Translate(Constraint):
 
 
 class PointOnLine(Constraint):
+    """``point_on_line(p, a)``: (a.first − r(p)) × u = 0."""
+
     kind = "point_on_line"
 
     def build(self, p, a):
@@ -131,6 +146,8 @@ class PointOnLine(Constraint):
 
 
 class RelativeDistance(Constraint):
+    """``relative_distance(p1, p2, d)``: ‖r(p1) − r(p2)‖² − d² = 0."""
+
     kind = "relative_distance"
 
     def build(self, p1, p2, d):
@@ -143,6 +160,8 @@ class RelativeDistance(Constraint):
 
 
 class RotationLock(Constraint):
+    """``rotation_lock(b1, b2, angle)``: Th_b1 − Th_b2 − angle = 0; ``(b, angle)``: Th_b − angle."""
+
     kind = "rotation_lock"
 
     def build(self, b1, b2, angle=None):
@@ -159,6 +178,8 @@ class RotationLock(Constraint):
 
 
 class _RelativeAxis(Constraint):
+    """relative_x / relative_y: ``axis`` 0 or 1."""
+
     axis = 0
 
     def build(self, p1, p2, value=None):
@@ -175,16 +196,22 @@ class _RelativeAxis(Constraint):
 
 
 class RelativeX(_RelativeAxis):
+    """``relative_x(p, x)``: x(p) − x = 0; ``(p1, p2, dx)``: x(p2) − x(p1) − dx = 0."""
+
     kind = "relative_x"
     axis = 0
 
 
 class RelativeY(_RelativeAxis):
+    """``relative_y(p, y)``: y(p) − y = 0; ``(p1, p2, dy)``: y(p2) − y(p1) − dy = 0."""
+
     kind = "relative_y"
     axis = 1
 
 
 class Parallel(Constraint):
+    """``parallel(a1, a2)``: u1 × u2 = 0."""
+
     kind = "parallel"
 
     def build(self, a1, a2):
@@ -195,6 +222,8 @@ class Parallel(Constraint):
 
 
 class Orthogonal(Constraint):
+    """``orthogonal(a1, a2)``: u1 · u2 = 0."""
+
     kind = "orthogonal"
 
     def build(self, a1, a2):
@@ -226,6 +255,8 @@ class RelativeAngle(Constraint):
 
 
 class Expression(Constraint):
+    """``constraint(expr)``: expr = 0 (an ``Eq(lhs, rhs)`` reads lhs − rhs = 0)."""
+
     kind = "constraint"
 
     def build(self, expr):

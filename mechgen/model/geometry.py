@@ -36,8 +36,10 @@ def _describe(value) -> str:
 class Body:
     """A rigid body: ground (number 1, fixed) or moving (numbered 2, 3, ...).
 
-    A moving body carries the coordinates ``X<n>, Y<n>, Th<n>``; its points are given in
-    its local frame.
+    A moving body carries the coordinates ``X<n>, Y<n>, Th<n>`` (``body.x``, ``body.y``,
+    ``body.th``: the global position of its local origin and its rotation angle); the
+    ground's are 0. Its points are given in its local frame: ``body[k]`` is the k-th
+    (counted from 1), ``body[0]`` the origin, ``body.at(x, y)`` any local point.
     """
 
     def __init__(self, model, name: str, number: int, points, ground: bool):
@@ -61,6 +63,9 @@ class Body:
         return self.name
 
     def __getitem__(self, k) -> "Point":
+        """``body[k]``: the k-th point of the body's list, counted from 1 (Mech's P1, P2,
+        ...); ``body[0]`` is the origin of the body's local frame (local (0, 0), the point
+        whose global position is (X<n>, Y<n>); for the ground, the global origin)."""
         if isinstance(k, bool) or not isinstance(k, (int, sp.Integer)):
             raise ModelError(f"body '{self.name}': a point index must be an integer, got {k!r}")
         k = int(k)
@@ -86,13 +91,16 @@ class Body:
 
     @property
     def coordinates(self):
+        """(X<n>, Y<n>, Th<n>), or () for the ground."""
         return () if self.is_ground else (self.x, self.y, self.th)
 
     def rotation(self):
+        """The 2×2 rotation matrix of the body's angle (Mech's RotationMatrix)."""
         return sp.Matrix([[sp.cos(self.th), -sp.sin(self.th)],
                           [sp.sin(self.th), sp.cos(self.th)]])
 
     def to_global(self, local) -> sp.Matrix:
+        """The global position (2×1) of the point at local coordinates ``local``."""
         sx, sy = local
         if self.is_ground:
             return sp.Matrix([sx, sy])
@@ -109,7 +117,8 @@ class Body:
 
 
 class Point:
-    """A point fixed in a body, at local coordinates ``local``."""
+    """A point fixed in a body, at local coordinates ``local``; ``label`` is how it is
+    written (``colisa[2]``, ``coupler.at(1.2, 0.8)``) in labels and errors."""
 
     def __init__(self, body: Body, local, label: str):
         self.body = body
@@ -149,6 +158,7 @@ class Line:
 
     @property
     def model(self):
+        """The model the axis' points belong to."""
         return self.first.body.model
 
     def __repr__(self):

@@ -140,12 +140,16 @@ class Model:
         return value
 
     def __getitem__(self, name: str) -> Body:
+        """The body named ``name`` (``m["colisa"]``)."""
         if name not in self.bodies:
             known = ", ".join(self.bodies) or "none yet"
             raise ModelError(f"model '{self.name}' has no body named {name!r} (declared: {known})")
         return self.bodies[name]
 
     # -- constraints --------------------------------------------------------------
+    # Each call returns its Constraint, numbered in declaration order; ``name=`` labels it
+    # (the label names its rows in printed equations, generated code and errors).
+    # docs/constraints.md shows each kind's equations as `mechgen equations` prints them.
     def _add(self, cls, args, name):
         from .geometry import Line, Point
         if isinstance(name, (Body, Point, Line)):
@@ -170,53 +174,83 @@ class Model:
         return con
 
     def revolute(self, p1, p2, name=None):
+        """A pin joint: points ``p1`` and ``p2`` (of two bodies) coincide. Two equations,
+        r(p1) − r(p2) = 0 (x and y rows). ``name=`` labels the constraint."""
         return self._add(Revolute, (p1, p2), name)
 
     def translate(self, a1, a2, name=None):
+        """A sliding joint: axis ``a2`` slides along axis ``a1`` without turning. Two
+        equations: u1 × u2 = 0 (parallel) and (a2.first − a1.first) × u2 = 0 (on one line),
+        u the axes' directions."""
         return self._add(Translate, (a1, a2), name)
 
     def point_on_line(self, p, a, name=None):
+        """Point ``p`` stays on axis ``a`` (a pin in a slot): (a.first − r(p)) × u = 0,
+        one equation; u is the axis' direction, not normalised."""
         return self._add(PointOnLine, (p, a), name)
 
     def relative_distance(self, p1, p2, d, name=None):
+        """Points ``p1`` and ``p2`` stay ``d`` apart (a rod with pins at both ends):
+        ‖r(p1) − r(p2)‖² − d² = 0, one equation. ``d``: a number, parameter or expression
+        of parameters and T."""
         return self._add(RelativeDistance, (p1, p2, d), name)
 
     def rotation_lock(self, b1, b2, angle=None, name=None):
+        """Body ``b1`` turned by ``angle`` relative to body ``b2``: Th_b1 − Th_b2 − angle = 0
+        (the ground's angle is 0). ``rotation_lock(b, angle)`` fixes b's own angle. With
+        T in ``angle`` it is a driver (a crank turning at a given speed)."""
         return self._add(RotationLock, (b1, b2, angle), name)
 
     def relative_x(self, p1, p2, dx=None, name=None):
+        """``relative_x(p, x)``: point p's global x is ``x`` (x(p) − x = 0).
+        ``relative_x(p1, p2, dx)``: p2 lies ``dx`` to the right of p1 (x(p2) − x(p1) − dx = 0).
+        With T in the value it is a driver (a slider pushed along x)."""
         return self._add(RelativeX, (p1, p2, dx), name)
 
     def relative_y(self, p1, p2, dy=None, name=None):
+        """``relative_y(p, y)``: point p's global y is ``y``; ``relative_y(p1, p2, dy)``:
+        p2 lies ``dy`` above p1. As relative_x, in y."""
         return self._add(RelativeY, (p1, p2, dy), name)
 
     def parallel(self, a1, a2, name=None):
+        """Axes ``a1`` and ``a2`` stay parallel (or antiparallel): u1 × u2 = 0."""
         return self._add(Parallel, (a1, a2), name)
 
     def orthogonal(self, a1, a2, name=None):
+        """Axes ``a1`` and ``a2`` stay at a right angle: u1 · u2 = 0."""
         return self._add(Orthogonal, (a1, a2), name)
 
     def relative_angle(self, a1, a2, angle, name=None):
+        """The angle from axis ``a1`` to axis ``a2`` (counter-clockwise, radians) is
+        ``angle``. Between axes fixed in bodies this is the linear equation
+        (Th_b2 + α2) − (Th_b1 + α1) − angle = 0, α an axis' angle in its body; otherwise
+        (u1 × u2) cos(angle) − (u1 · u2) sin(angle) = 0."""
         return self._add(RelativeAngle, (a1, a2, angle), name)
 
     def constraint(self, expr, name=None):
+        """Any equation: ``expr`` = 0 (or a sympy ``Eq(lhs, rhs)``), an expression in the
+        coordinates (``body.x``, ``body.th``, ``m.coordinate`` symbols), parameters and T."""
         return self._add(Expression, (expr,), name)
 
     # -- queries ------------------------------------------------------------------
     @property
     def moving_bodies(self):
+        """The moving bodies, in declaration order (numbers 2, 3, ...)."""
         return [b for b in self.bodies.values() if not b.is_ground]
 
     @property
     def param_symbols(self):
+        """The parameters' sympy Symbols, in declaration order."""
         return [sym for sym, _ in self.params.values()]
 
     @property
     def param_defaults(self):
+        """{parameter name: default value}, in declaration order."""
         return {name: value for name, (_, value) in self.params.items()}
 
     @property
     def drivers(self):
+        """The constraints whose equations hold T (they drive the motion)."""
         return [c for c in self.constraints if c.is_driver]
 
     def guess_vector(self):

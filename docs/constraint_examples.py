@@ -1,0 +1,84 @@
+"""One small model per constraint form, for the constraint reference (docs/constraints.md).
+
+Every model has the same parts: the ground ``base`` with points P1 = (0, 0), P2 = (4, 0),
+P3 = (4, 3), and two moving bodies, ``a`` (body 2: X2, Y2, Th2; P1 = (0, 0), P2 = (2, 0))
+and ``b`` (body 3: X3, Y3, Th3; P1 = (0, 0), P2 = (0, 1)), and a parameter ``L`` (5).
+Each model holds one constraint, so that
+
+    mechgen equations docs/constraint_examples.py --model point_on_line
+
+prints that constraint's rows alone. The reference quotes those rows; a test
+(tests/test_constraint_reference.py) checks that they are what the printer gives today.
+The models are not meant to move (one constraint does not make a mechanism).
+"""
+from mechgen import Line, Model, T, pi, sin
+
+
+def parts(name):
+    """A model ``name`` with the common parts: (model, base, a, b, L)."""
+    m = Model(name)
+    L = m.param("L", 5.0)
+    base = m.ground("base", points=[(0, 0), (4, 0), (4, 3)])
+    a = m.body("a", points=[(0, 0), (2, 0)], guess=(0, 0, 0))
+    b = m.body("b", points=[(0, 0), (0, 1)], guess=(2, 0, 0))
+    return m, base, a, b, L
+
+m1, base, a, b, L = parts("revolute")
+m1.revolute(a[2], b[1])
+
+m2, base, a, b, L = parts("translate")
+m2.translate(base.line(1, 2), a.line(1, 2))
+
+m3, base, a, b, L = parts("point_on_line")
+m3.point_on_line(a[2], b.line(1, 2))
+
+m4, base, a, b, L = parts("relative_distance")
+m4.relative_distance(a[2], b[1], L)
+
+m5, base, a, b, L = parts("rotation_lock")
+m5.rotation_lock(a, b, pi / 2)
+
+m6, base, a, b, L = parts("rotation_lock_driver")
+m6.rotation_lock(a, base, 2 * pi * T)
+
+m7, base, a, b, L = parts("rotation_lock_one")
+m7.rotation_lock(a, pi / 4)
+
+m8, base, a, b, L = parts("relative_x")
+m8.relative_x(a[2], 3)
+
+m9, base, a, b, L = parts("relative_x_two")
+m9.relative_x(a[2], b[1], L)
+
+m10, base, a, b, L = parts("relative_x_driver")
+m10.relative_x(b[1], 4 + sin(2 * pi * T))
+
+m11, base, a, b, L = parts("relative_y")
+m11.relative_y(a[2], 1)
+
+m12, base, a, b, L = parts("relative_y_two")
+m12.relative_y(base[3], b[2], L)
+
+m13, base, a, b, L = parts("parallel")
+m13.parallel(a.line(1, 2), b.line(1, 2))
+
+m14, base, a, b, L = parts("orthogonal")
+m14.orthogonal(a.line(1, 2), b.line(1, 2))
+
+m15, base, a, b, L = parts("relative_angle")
+m15.relative_angle(a.line(1, 2), b.line(1, 2), pi / 3)
+
+m16, base, a, b, L = parts("relative_angle_general")
+m16.relative_angle(base.line(1, 2), Line(a[2], b[1]), pi / 3)
+
+m17, base, a, b, L = parts("constraint")
+m17.constraint(a.x**2 + a.y**2 - L**2)
+
+m18, base, a, b, L = parts("origin")
+m18.revolute(base[3], a[0])
+
+m19, base, a, b, L = parts("at_point")
+m19.point_on_line(b.at(1, 2), Line(base[1], direction=(1, 1)))
+
+m20, base, a, b, L = parts("named")
+m20.revolute(a[2], b[1], name="elbow")
