@@ -1,6 +1,8 @@
 """The picture commands: ``mechgen draw | animate | plot`` (matplotlib, headless)."""
 from __future__ import annotations
 
+import re
+
 from ..errors import MechgenError
 from ..protocol import LEVELS
 from .loading import mechanism
@@ -48,13 +50,21 @@ def _sweep(mech, args, level=LEVELS[0], guess=None):
 def cmd_draw(args):
     plt, plot = _pictures()
     mech = mechanism(args)
-    s = mech.solve(args.t, guess=parse_guess(args.guess))
-    d = plot.draw(mech, s, labels=_bodies(args.labels), axes=_bodies(args.axes),
-                  legend=args.legend, width=args.width)
     path = _output(args, mech, "{name}.png")
+    guess = parse_guess(args.guess)
+    trace = tuple(args.trace or ())
+    for label in trace:                         # an unknown point fails before any solve
+        plot.scene.Scene(mech).locate(label)
+    s = mech.solve(args.t, guess=guess)
+    # the paths over --t0 .. --t1, in the drawn configuration's assembly mode
+    sw = _sweep(mech, args, guess=s.q) if trace else None
+    d = plot.draw(mech, s, sweep=sw, trace=trace, labels=_bodies(args.labels),
+                  axes=_bodies(args.axes), legend=args.legend, width=args.width)
     d.figure.savefig(path, dpi=args.dpi)
     plt.close(d.figure)
-    print(f"wrote {path} ({mech.name} at T = {s.t:g})")
+    paths = f"; the path of {', '.join(trace)} over T = {sw.t[0]:g} .. {sw.t[-1]:g}" \
+        if trace else ""
+    print(f"wrote {path} ({mech.name} at T = {s.t:g}{paths})")
 
 
 def cmd_animate(args):
@@ -84,7 +94,8 @@ def cmd_plot(args):
     sw = _sweep(mech, args, level=level, guess=parse_guess(args.guess))
     lines = plot.plot(sw, *args.names, x=args.x, length=args.length, time=args.time)
     fig = lines[0].figure
-    path = _output(args, mech, "{name}_" + "_".join(args.names) + ".png")
+    words = [re.sub(r"\W+", "_", n).strip("_") for n in args.names]   # foot[3].x: foot_3_x
+    path = _output(args, mech, "{name}_" + "_".join(words) + ".png")
     fig.savefig(path, dpi=args.dpi)
     plt.close(fig)
     print(f"wrote {path} ({', '.join(args.names)} over {len(sw)} points)")
@@ -119,12 +130,22 @@ def add_commands(sub, add_common):
         p.add_argument("--legend", action="store_true", help="name the bodies in a legend")
         p.add_argument("--width", type=float, default=8.0, help="figure width in inches")
 
+    def trace(p, when):
+        p.add_argument("--trace", action="append", metavar="POINT",
+                       help=f"draw the path of a point{when}: body[k] (the k-th point of a "
+                            "body, body[0] its origin), e.g. colisa[2], or body.at(x, y) for "
+                            "a point the model does not name, e.g. coupler.at(1.2, 0.8) "
+                            "(repeatable; an unknown name lists every point of the model)")
+
     p = sub.add_parser("draw", help="draw the mechanism at one time (PNG, SVG, PDF)",
                        description="Draw the mechanism at time T: bodies, joints, slots, "
-                                   "sliders; framed by its motion over one time unit.")
+                                   "sliders; framed by its motion over one time unit, or "
+                                   "with --trace by the paths over --t0 .. --t1.")
     common(p, ".png")
     p.add_argument("-t", type=number_type, default=0.0,
                    help="the time (default 0); a number or an expression")
+    trace(p, " over --t0 .. --t1 (in -n points)")
+    span(p, 101)
     looks(p)
     p.set_defaults(func=cmd_draw)
 
@@ -134,17 +155,18 @@ def add_commands(sub, add_common):
     common(p, ".gif")
     span(p, 100)
     p.add_argument("--fps", type=float, default=25.0, help="frames per second (default 25)")
-    p.add_argument("--trace", action="append", metavar="POINT",
-                   help="draw the path of a point: colisa[2], or body.at(x, y) for a point "
-                        "the model does not name, e.g. coupler.at(1.2, 0.8) (repeatable)")
+    trace(p, "")
     looks(p)
     p.set_defaults(func=cmd_animate)
 
     p = sub.add_parser("plot", help="plot quantities against time (PNG, SVG, PDF)",
-                       description="Plot coordinates (X4), their derivatives (X4d, X4dd) or "
-                                   "declared outputs against T, or against --x NAME.")
+                       description="Plot coordinates (X4), their derivatives (X4d, X4dd), "
+                                   "declared outputs, or a point's global x or y (colisa[2].x, "
+                                   "coupler.at(1.2, 0.8).y) against T, or against --x NAME.")
     common(p, ".png")
-    p.add_argument("names", nargs="+", metavar="NAME", help="quantities to plot")
+    p.add_argument("names", nargs="+", metavar="NAME",
+                   help="quantities to plot: X4, X4d, an output, or POINT.x / POINT.y for a "
+                        "point (body[k] or body.at(x, y)) with nothing declared")
     p.add_argument("--x", metavar="NAME", help="plot against this quantity instead of T")
     p.add_argument("--length", metavar="UNIT", help="the unit of the model's lengths, e.g. mm "
                                                    "(default: none stated)")

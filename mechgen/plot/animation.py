@@ -6,11 +6,10 @@ from __future__ import annotations
 import os
 
 import numpy as np
-from matplotlib.lines import Line2D
 
 from ..errors import MechgenError
 from ..runtime.results import Sweep
-from .drawing import draw
+from .drawing import add_path, draw, trace_paths
 from .scene import Scene
 
 MOVIES = (".mp4", ".m4v", ".mov", ".mkv")
@@ -148,27 +147,20 @@ def animate(mech, sweep, path=None, *, trace=(), fps=25, ax=None, dpi=80, period
         raise MechgenError("animate(): the sweep holds no points")
     if path is not None:
         check_movie_path(path)
-    if isinstance(trace, str):
-        trace = (trace,)
-    st = Scene(mech)
-    found = [st.locate(label) for label in trace]
     P, Q, T = sweep.points(), sweep.Q, sweep.t
+    paths = trace_paths(Scene(mech), trace, P, Q)      # an unknown point fails before drawing
     drop = repeats_first(P) if periodic is None else bool(periodic) and len(T) > 1
     n = len(T) - 1 if drop else len(T)
     kwargs.setdefault("width", 7.0)
-    d = draw(mech, sweep[0], ax=ax, sweep=sweep, **kwargs)
-    d.artists["traces"] = []
-    lines = []
-    for body, where in found:
-        xy = where(P, Q)
-        color = d.structure.by_name[body.name].edge
-        full = Line2D(xy[:, 0], xy[:, 1], color=color, linewidth=0.8, alpha=0.4,
-                      linestyle="--", zorder=4.4)
-        part = Line2D(xy[:1, 0], xy[:1, 1], color=color, linewidth=1.8, zorder=4.5)
-        d.ax.add_line(full)
-        d.ax.add_line(part)
-        d.artists["traces"] += [full, part]
-        lines.append((xy, part))
+    # draw() draws each whole path (and frames it): here faint and dashed, with the part
+    # travelled so far drawn over it frame by frame
+    d = draw(mech, sweep[0], ax=ax, sweep=sweep, trace=trace, **kwargs)
+    fulls = d.artists.get("traces", [])[:len(paths)]     # (then the dots that move)
+    for full in fulls:
+        full.set(linewidth=0.8, alpha=0.4, linestyle="--")
+    lines = [(xy, add_path(d.ax, d.structure, body, xy[:1], linewidth=1.8, alpha=1.0,
+                           zorder=4.5)) for body, xy in paths]
+    d.artists.setdefault("traces", []).extend(part for _, part in lines)
 
     def step(f):
         d.set_state(P[f], Q[f], T[f])

@@ -18,7 +18,7 @@ from ..runtime.results import Solution
 from .glyphs import Builder
 from .scene import Scene
 from .shapes import AUTO
-from .style import INK
+from .style import INK, MARGIN
 
 MOTION_POINTS = 41   # solves of the sweep that frames a single drawing
 
@@ -121,6 +121,57 @@ def motion(mech, solution, span=1.0, n=MOTION_POINTS):
     return np.concatenate([P0, sw.points()]), np.concatenate([q0, sw.Q])
 
 
+def trace_paths(scene, trace, P, Q):
+    """[(scene body, path (F, 2))] of the points named in ``trace`` (a name or a list of
+    them; see Scene.locate) over frames P (F, N, 2), Q (F, n)."""
+    if isinstance(trace, str):
+        trace = (trace,)
+    out = []
+    for label in trace or ():
+        body, where = scene.locate(label)
+        out.append((body, where(P, Q)))
+    return out
+
+
+def add_path(ax, scene, body, xy, **kwargs):
+    """A traced point's path, a line in its body's colour under the bodies' pins."""
+    style = dict(color=scene.by_name[body.name].edge, linewidth=1.3, alpha=0.75, zorder=4.4)
+    style.update(kwargs)
+    line = Line2D(xy[:, 0], xy[:, 1], **style)
+    ax.add_line(line)
+    return line
+
+
+def _trace_marks(d, scene, trace, P0, q0):
+    """A dot on each traced point where the drawing shows it, moved with the drawing."""
+    marks = []
+    for label in ((trace,) if isinstance(trace, str) else trace):
+        body, where = scene.locate(label)
+        xy = where(P0[None], q0[None])[0]
+        mark = Line2D([xy[0]], [xy[1]], linestyle="none", marker="o", markersize=4.5,
+                      color=scene.by_name[body.name].edge, zorder=7.5)
+        d.ax.add_line(mark)
+
+        def move(P, q, t, mark=mark, where=where):
+            xy = where(P[None], np.asarray(q)[None])[0]
+            mark.set_data([xy[0]], [xy[1]])
+        d.on_move(move)
+        marks.append(mark)
+    return marks
+
+
+def _take_in(frame, xy):
+    """The frame (xmin, xmax, ymin, ymax) grown to hold the points xy (k, 2), with the
+    margin a frame keeps."""
+    lo = np.minimum([frame[0], frame[2]], xy.min(axis=0))
+    hi = np.maximum([frame[1], frame[3]], xy.max(axis=0))
+    if np.all(lo >= [frame[0], frame[2]]) and np.all(hi <= [frame[1], frame[3]]):
+        return frame
+    pad = MARGIN * float(max(hi - lo) or 1.0)
+    return (min(frame[0], lo[0] - pad), max(frame[1], hi[0] + pad),
+            min(frame[2], lo[1] - pad), max(frame[3], hi[1] + pad))
+
+
 def _new_axes(frame, width=8.0):
     import matplotlib.pyplot as plt
     dx, dy = frame[1] - frame[0], frame[3] - frame[2]
@@ -149,7 +200,7 @@ def _set_frame(ax, frame, width=None, aside=0.0):
 
 def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=False,
          artists=None, colors=None, title=None, legend=False, grid=True, fontsize=9,
-         width=8.0):
+         width=8.0, trace=()):
     """Draw the mechanism at one instant; returns a :class:`Drawing`.
 
     ``solution``: a Solution (``mech.solve(t)``) or a time. The frame covers the motion:
@@ -161,6 +212,9 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
     function(ax, xy) or a list of them} replaces a body's automatic bar (add ``"auto"`` to
     the list to keep it); for the ground it replaces the automatic guides. ``colors``:
     {body name: colour}. ``title``: text, False for none, None for the model and time.
+    ``trace``: points whose paths over the motion (``sweep``, else the one time unit that
+    frames the drawing) are drawn in their body's colour: ``"colisa[2]"``, ``body[k]``,
+    ``body.at(x, y)`` (a point the model need not name); the frame takes them in.
     """
     solution = _as_solution(mech, solution)
     st = Scene(mech, colors)
@@ -242,6 +296,15 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
     bld.local_axes(chosen(axes), fontsize - 1)
     d = bld.d
     d.frame = tuple(frame) if isinstance(frame, (tuple, list)) else bld.frame()
+    if trace:
+        # the sweep's own points (P begins with this configuration, which need not be on
+        # the sweep's time grid), else the motion that frames the drawing
+        PT, QT = (sweep.points(), sweep.Q) if sweep is not None else (P, Q)
+        paths = trace_paths(st, trace, PT, QT)
+        d.artists["traces"] = [add_path(ax, st, body, xy) for body, xy in paths]
+        d.artists["traces"] += _trace_marks(d, st, trace, P0, q0)
+        if not isinstance(frame, (tuple, list)):
+            d.frame = _take_in(d.frame, np.concatenate([xy for _, xy in paths]))
     outside = legend is True and own
     if outside:
         width += 1.4

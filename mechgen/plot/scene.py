@@ -15,6 +15,17 @@ from .style import GROUND, PALETTE, tints
 
 # body.at(x, y): a point fixed in a body at local (x, y), as in the model language
 _AT = re.compile(r"^\s*(\w+)\s*\.\s*at\s*\(\s*([^,()]+?)\s*,\s*([^,()]+?)\s*\)\s*$")
+# a point's global coordinate: "foot[3].x", "coupler.at(1.2, 0.8).y"
+_COORDINATE = re.compile(r"^\s*(.+?)\s*\.\s*([xy])\s*$")
+
+
+def point_coordinate(name):
+    """(point name, 0 or 1) for a name such as ``foot[3].x`` or ``body.at(1, 2).y`` (a
+    point's global x or y), else None. Coordinates and outputs never hold a dot."""
+    found = _COORDINATE.match(name) if isinstance(name, str) else None
+    if found is None:
+        return None
+    return found.group(1), "xy".index(found.group(2))
 
 
 class Body:
@@ -88,8 +99,21 @@ class Scene:
                 return body.origin
             if 1 <= k <= len(body.pts):
                 return body.pts[k - 1]
-        raise MechgenError(f"'{self.name}' has no point {label!r} (points: "
-                           f"{', '.join(self.labels)}; or body[k] for its k-th point)")
+        raise MechgenError(f"'{self.name}' has no point {label!r}; its points: "
+                           f"{', '.join(self.point_names())}; or body.at(x, y) for any "
+                           f"point fixed in a body (bodies: {', '.join(self.by_name)})")
+
+    def point_names(self) -> list:
+        """Every point name point() and locate() take, in body order: ``body[0]`` (the
+        body's origin; the ground's is the global origin), ``body[1]``, ... (a point that
+        coincides with another is listed under each of its names), then any other label
+        of the module's POINTS."""
+        out = []
+        for b in self.bodies:
+            if b.ground or b.origin >= 0:
+                out.append(f"{b.name}[0]")
+            out += [f"{b.name}[{k}]" for k in range(1, len(b.pts) + 1)]
+        return out + [label for label in self.labels if label not in out]
 
     def locate(self, label):
         """Where a point is over a motion: ``(body, path)``, ``path(P, Q)`` giving its
@@ -98,6 +122,10 @@ class Scene:
         which the model need not name (a coupler point whose curve to trace)."""
         found = _AT.match(label) if isinstance(label, str) else None
         if found is None:
+            ground = next((b for b in self.bodies if b.ground and label == f"{b.name}[0]"
+                           and label not in self.labels), None)
+            if ground is not None:      # the ground's origin: the global one, never moving
+                return ground, lambda P, Q: np.zeros((P.shape[0], 2))
             k = self.point(label)
             return self.by_name[self.owner[k]], lambda P, Q: P[:, k]
         name, xs, ys = found.groups()

@@ -16,14 +16,30 @@ from matplotlib import rcParams
 
 from ..protocol import LEVELS
 from ..runtime.results import Sweep, _lookup
+from .scene import Scene, point_coordinate
 
 SCALE_RATIO = 5.0    # quantities whose sizes differ more than this go on a second y axis
 _ANGLE = re.compile(r"^(th|theta|phi|psi|alpha|beta|ang)", re.I)
 
 
+def quantity(sweep, name):
+    """The values of a quantity along a sweep: ``sweep[name]`` for a coordinate, its
+    derivatives and outputs; for a point's global coordinate (``foot[3].x``,
+    ``coupler.at(1.2, 0.8).y``, see scene.point_coordinate) the module's compiled point
+    positions, so that nothing need be declared to plot it."""
+    found = point_coordinate(name)
+    if found is None:
+        return sweep[name]
+    label, axis = found
+    _, path = Scene(sweep.mechanism).locate(label)
+    return path(sweep.points(), sweep.Q)[:, axis]
+
+
 def _dimension(mech, name):
     """(kind, order) of a quantity: kind "rad", "length", "1" (another coordinate) or ""
     (a declared output: unknown); order the number of time derivatives."""
+    if point_coordinate(name) is not None:
+        return "length", 0
     kind, k, order = _lookup(mech, name)
     if kind != "q":
         return "", order
@@ -126,7 +142,10 @@ def split_axes(mech, names, values):
 def plot(sweep, *names, x=None, ax=None, labels=None, length=None, time="s", title=None,
          equal=None, **line_kwargs):
     """Quantities of a sweep against time, or against quantity ``x``: ``plot(sw, "X4")``,
-    ``plot(sw, "X4", "X4d")``, ``plot(sw, "Th3", x="Th2")``. ``sweep`` may be a list of
+    ``plot(sw, "X4", "X4d")``, ``plot(sw, "Th3", x="Th2")``. A quantity is a coordinate,
+    its derivative (X4d, X4dd), a declared output, or a point's global coordinate
+    (``"colisa[2].x"``, ``"coupler.at(1.2, 0.8).y"``: no output need be declared; ``plot(sw,
+    "colisa[2].y", x="colisa[2].x")`` draws its path). ``sweep`` may be a list of
     sweeps (a family over a parameter), overlaid and labelled by the parameters that
     differ (or ``labels``). Returns the list of Line2D (``line.axes`` is the y axis it is
     drawn on).
@@ -161,7 +180,8 @@ def plot(sweep, *names, x=None, ax=None, labels=None, length=None, time="s", tit
         import matplotlib.pyplot as plt
         _, ax = plt.subplots(figsize=(7.0, 4.2))
     mech = sweeps[0].mechanism
-    values = {n: np.concatenate([np.ravel(sw[n]) for sw in sweeps]) for n in flat}
+    needed_level(mech, flat + ([x] if x is not None else []))   # unknown names fail here
+    values = {n: np.concatenate([np.ravel(quantity(sw, n)) for sw in sweeps]) for n in flat}
     path = is_path(mech, flat, x) if equal is None else bool(equal)
     groups = [flat] if path else split_axes(mech, flat, [values[n] for n in flat])
     axes = [ax] if len(groups) == 1 else [ax, ax.twinx()]
@@ -171,13 +191,13 @@ def plot(sweep, *names, x=None, ax=None, labels=None, length=None, time="s", tit
     recolor = not ({"color", "c"} & set(line_kwargs))
     lines = []
     for sw, lab in zip(sweeps, labels):
-        xs = sw.t if x is None else sw[x]
+        xs = sw.t if x is None else quantity(sw, x)
         for n in flat:
             text = n if lab is None else (lab if len(flat) == 1 else f"{n}, {lab}")
             kw = dict(line_kwargs)
             if recolor:
                 kw["color"] = cycle[len(lines) % len(cycle)]
-            lines += where[n].plot(xs, sw[n], label=text, **kw)
+            lines += where[n].plot(xs, quantity(sw, n), label=text, **kw)
     ax.set_xlabel(f"time T [{time}]" if x is None else _label(mech, x, length, time))
     coloured = 0
     for a, group in zip(axes, groups):
@@ -202,9 +222,14 @@ def plot(sweep, *names, x=None, ax=None, labels=None, length=None, time="s", tit
 
 def needed_level(mech, names) -> str:
     """The lowest sweep level (one of protocol.LEVELS) that yields every named quantity: a
-    derivative's order, plus an output's own order. An unknown name raises KeyError."""
+    derivative's order, plus an output's own order; a point's coordinate (``foot[3].x``)
+    needs positions only. An unknown name raises KeyError (a point: MechgenError)."""
     need = 0
     for name in names:
+        found = point_coordinate(name)
+        if found is not None:
+            Scene(mech).locate(found[0])      # an unknown point fails here, naming them all
+            continue
         kind, k, order = _lookup(mech, name)
         if kind == "out":
             order += mech.output_orders[k]
