@@ -1,6 +1,8 @@
 """The equations as Mech prints them: Φ, Φ_q, ν, γ labelled by constraint (text, LaTeX)."""
 from __future__ import annotations
 
+import os
+
 import sympy as sp
 from sympy.printing.mathematica import MCodePrinter
 
@@ -37,6 +39,16 @@ _LATEX_SPECIAL = {"\\": r"\textbackslash{}", "_": r"\_", "#": r"\#", "%": r"\%",
 def _latex_text(text: str) -> str:
     """Plain text (a constraint label) made safe inside \\text{...}."""
     return "".join(_LATEX_SPECIAL.get(ch, ch) for ch in text)
+
+
+def _shown_path(path: str) -> str:
+    """A model file's path as a user typed it: relative to the current folder when it
+    lies inside it (examples/quick_return.py), else absolute."""
+    try:
+        rel = os.path.relpath(path)
+    except ValueError:          # another drive (Windows)
+        return path
+    return path if rel.startswith("..") else rel
 
 
 COMMENT_COLUMN = 64      # labels start here unless the expression is longer
@@ -80,7 +92,7 @@ def equations_text(model, numeric=False, latex=False, mathematica_style=False) -
         return f"[{i + 1:>{w}}]"
 
     lines = [f"Model {model.name}: {m} equations in {n} coordinates"
-             + (f"  [{model.source}]" if getattr(model, "source", None) else ""),
+             + (f"  [{_shown_path(model.source)}]" if getattr(model, "source", None) else ""),
              "  q   = (" + ", ".join(map(str, eq.q)) + ")",
              "  qd  = (" + ", ".join(map(str, eq.qd)) + ")",
              "  qdd = (" + ", ".join(map(str, eq.qdd)) + ")"]
