@@ -19,7 +19,8 @@ PREAMBLE = ("# -----------------------------------------------------------------
 
 
 def _template_dir() -> str:
-    here = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "templates")
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    here = os.path.join(root, "templates")
     if os.path.isfile(os.path.join(here, "module.py.j2")):
         return here
     return str(resources.files("mechgen.templates"))

@@ -1,0 +1,150 @@
+"""Name mangling: which identifier each model symbol gets in the generated module.
+
+A model may name its parameters and coordinates as it likes (``i``, ``k``, ``t``, ``q``,
+``tol``, ``E``, ...). The generated module keeps those names wherever they are free, and
+only where the module uses the same name for itself (a function argument, a local of the
+numerics, a module global, a builtin) does the model's symbol get a mangled form: ``q``
+becomes ``q_``, with more ``_`` until the name is unique.
+
+The names the module uses are read from its sources, never kept by hand: the template's
+Python tokens, the numeric library's (``mechgen/compiler/library/*.py``), Python's
+builtins, and the code the emitters write (mechgen.compiler.ir.code_words). Names the code
+generator makes up all begin with ``_`` (``_t0``, ``_sin_Th3``); a model name that begins
+with ``_`` is written with its underscores at the end instead (``_a`` as ``a_``), so the
+two never meet. Names made from model names (``_sin_<y>``, ``_d<z>_d<y>``) take the
+mapped names of their parts.
+"""
+from __future__ import annotations
+
+import builtins
+import functools
+import io
+import keyword
+import os
+import re
+import tokenize
+from importlib import resources
+
+from .printer import Alias, Derived
+
+_HERE = os.path.dirname(os.path.abspath(__file__))
+_JINJA_TAG = re.compile(r"\{%.*?%\}|\{#.*?#\}", re.S)
+_JINJA_VALUE = re.compile(r"\{\{.*?\}\}", re.S)
+_WORD = re.compile(r"(?<![\w.])[A-Za-z_]\w*")
+
+
+def identifiers(source: str) -> set[str]:
+    """The names a piece of Python code uses (NAME tokens that are not keywords nor
+    attributes after a dot; strings and comments skipped)."""
+    lines = [x.lstrip() for x in source.splitlines()]    # indentation cannot fail then
+    out, after_dot = set(), False
+    try:
+        for tok in tokenize.generate_tokens(io.StringIO("\n".join(lines) + "\n").readline):
+            if tok.type == tokenize.NAME and not after_dot and not keyword.iskeyword(tok.string):
+                out.add(tok.string)
+            after_dot = tok.type == tokenize.OP and tok.string == "."
+    except (tokenize.TokenError, SyntaxError):
+        # a fragment tokenize cannot finish: words outside comments, as a superset
+        for line in lines:
+            out |= set(_WORD.findall(line.split("#", 1)[0]))
+    return out
+
+
+def _template_dir() -> str:
+    here = os.path.join(os.path.dirname(os.path.dirname(_HERE)), "templates")
+    if os.path.isdir(here):
+        return here
+    return str(resources.files("mechgen.templates"))
+
+
+def _sources():
+    folder = _template_dir()
+    for name in sorted(os.listdir(folder)):
+        if name.endswith(".j2"):
+            with open(os.path.join(folder, name), encoding="utf-8") as fh:
+                text = fh.read()
+            # layout: jinja's tags go, its values become a number (no names of their own)
+            yield _JINJA_VALUE.sub("0", _JINJA_TAG.sub("", text))
+    library = os.path.join(_HERE, "library")
+    if os.path.isdir(library):
+        for name in sorted(os.listdir(library)):
+            if name.endswith(".py"):
+                with open(os.path.join(library, name), encoding="utf-8") as fh:
+                    yield fh.read()
+
+
+@functools.lru_cache(maxsize=1)
+def module_words() -> frozenset:
+    """The names every generated module may use for itself: the template's, the numeric
+    library's, and Python's builtins."""
+    out = set(dir(builtins))
+    for text in _sources():
+        out |= identifiers(text)
+    return frozenset(out)
+
+
+def _free_form(name: str) -> str:
+    """A model name as the module may write it: leading underscores moved to the end."""
+    core = name.lstrip("_")
+    return (core or "u") + "_" * (len(name) - len(core))
+
+
+class Names:
+    """The identifier of every model symbol and every Derived name in one module.
+
+    ``model_symbols``: in declaration order (parameters, coordinates, their derivatives,
+    T); ``used``: the names the module uses for itself; ``derived``: the Derived symbols
+    its code holds."""
+
+    def __init__(self, model_symbols, used, derived=()):
+        used = set(used)
+        own = {s.name for s in model_symbols}
+        self._ident = {}
+        wanted = [(s, _free_form(s.name)) for s in model_symbols]
+        taken = used | own
+        # a name the module leaves free is kept as it is; the others are mangled after
+        for s, name in wanted:
+            if name == s.name and name not in used:
+                self._ident[s] = name
+        for s, name in wanted:
+            if s not in self._ident:
+                while name in taken or name in self._ident.values():
+                    name += "_"
+                self._ident[s] = name
+        taken |= set(self._ident.values())
+        for d in sorted(set(derived), key=lambda x: (x.name, repr(x.parts))):
+            name = "".join(p if isinstance(p, str) else self.ident(p) for p in d.parts)
+            while name in taken:
+                name += "_"
+            taken.add(name)
+            self._ident[d] = name
+
+    def ident(self, sym) -> str:
+        """The identifier of ``sym`` in the module (its own name when not mapped)."""
+        found = self._ident.get(sym)
+        if found is not None:
+            return found
+        if isinstance(sym, Derived):
+            return "".join(p if isinstance(p, str) else self.ident(p) for p in sym.parts)
+        return sym.name
+
+    def mangled(self) -> dict:
+        """{model name: identifier} for the model names that had to change."""
+        return {s.name: v for s, v in self._ident.items()
+                if not isinstance(s, Derived) and s.name != v}
+
+
+def emitter_symbols(symbols):
+    """Split the symbols of a module's code: (Derived symbols, names of the others),
+    looking through Alias symbols to what they print."""
+    derived, plain, stack = set(), set(), list(symbols)
+    while stack:
+        s = stack.pop()
+        if isinstance(s, Alias):
+            stack.extend(getattr(s.target, "free_symbols", ()))
+        elif isinstance(s, Derived):
+            derived.add(s)
+            stack.extend(p for p in s.parts if not isinstance(p, str))
+        else:
+            plain.add(s.name)
+    return derived, plain
