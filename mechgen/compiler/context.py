@@ -13,7 +13,8 @@ from ..model.geometry import T
 from ..model.symbolic import check_square
 from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
-from . import equations_code as eqc
+from .equations_code import (gamma_body, nu_body, outputs_bodies, phi_body, phi_q_body,
+                             point_list, points_body)
 from .ir import Options, code_words, render, symbols
 from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
 from .names import Names, emitter_symbols, identifiers, module_words
@@ -30,7 +31,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     check_square(model, eq)   # fewer equations than coordinates: refuse to build
     plan = make_plan(model, eq, sort=sort, level=level, outputs=outputs, cse=cse,
                      closed_forms=closed_forms)
-    points = eqc.point_list(model)
+    points = point_list(model)
     helpers, bodies = [], {}
 
     def put(key, made):
@@ -38,14 +39,14 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         helpers.extend(parts)
         bodies[key] = body
 
-    (out0, out1, out2), orders = eqc.outputs_bodies(plan, eq, model)
+    (out0, out1, out2), orders = outputs_bodies(plan, eq, model)
     for k, made in enumerate((out0, out1, out2)):
         put(("outputs", k), made)
-    put("phi", eqc.phi_body(plan, eq))
-    put("phi_q", eqc.phi_q_body(plan, eq))
-    put("nu", eqc.nu_body(plan, eq))
-    put("gamma", eqc.gamma_body(plan, eq))
-    put("points_code", eqc.points_body(plan, eq, points))
+    put("phi", phi_body(plan, eq))
+    put("phi_q", phi_q_body(plan, eq))
+    put("nu", nu_body(plan, eq))
+    put("gamma", gamma_body(plan, eq))
+    put("points_code", points_body(plan, eq, points))
     derivatives = None
     if plan.sorted:
         put("position_sorted", position_body(plan, eq))
@@ -126,7 +127,7 @@ def name_map(model, eq, bodies, extra_code=()) -> Names:
     derived, plain = emitter_symbols(symbols(everything))
     used = set(module_words())
     used |= identifiers("\n".join(code_words(everything) + list(extra_code)))
-    used |= plain - {s.name for s in model_symbols}
+    used |= plain
     return Names(model_symbols, used, derived)
 
 

@@ -5,11 +5,12 @@ import sympy as sp
 
 from ..model.geometry import T
 from .ir import Code, load
+from .printer import Local
 
 
 def sym(name):
     """A local of the generated code (real, as every model symbol)."""
-    return sp.Symbol(name, real=True)
+    return Local(name, real=True)
 
 
 def free(exprs) -> set:

@@ -25,7 +25,7 @@ import re
 import tokenize
 from importlib import resources
 
-from .printer import Alias, Derived
+from .printer import Alias, Derived, Local
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 _JINJA_TAG = re.compile(r"\{%.*?%\}|\{#.*?#\}", re.S)
@@ -135,8 +135,8 @@ class Names:
 
 
 def emitter_symbols(symbols):
-    """Split the symbols of a module's code: (Derived symbols, names of the others),
-    looking through Alias symbols to what they print."""
+    """The code generator's symbols in a module's code: (Derived symbols, names of the
+    Local ones), looking through Alias symbols to what they print."""
     derived, plain, stack = set(), set(), list(symbols)
     while stack:
         s = stack.pop()
@@ -145,6 +145,6 @@ def emitter_symbols(symbols):
         elif isinstance(s, Derived):
             derived.add(s)
             stack.extend(p for p in s.parts if not isinstance(p, str))
-        else:
+        elif isinstance(s, Local):
             plain.add(s.name)
     return derived, plain

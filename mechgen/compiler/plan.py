@@ -99,7 +99,8 @@ def make_plan(model, eq, sort=True, level="acceleration", outputs=None, cse=True
         kept = {v for b in blocks for v in b.vars}
         solved = [j in kept for j in range(len(q))]
     plan = Plan(sorted=blocks is not None, blocks=(), solved=tuple(solved), level=lvl,
-                outputs=tuple(outs), cse=cse, closed_forms=closed_forms)
+                outputs=tuple(outs), cse=cse, closed_forms=closed_forms,
+                chunk_stores=CHUNK_STORES, chunk_lines=CHUNK_LINES)
     if blocks is None:
         return plan
     planned, known, rows = [], {}, Rows(eq)

@@ -4,7 +4,9 @@ Symbols print through a name map (mechgen.compiler.names): a model's own names
 (``X2``, ``Th3``, ``longitud``) stay as they are unless the generated module uses the
 same name for itself, when they get a mangled form (``q`` becomes ``q_``).
 
-Two kinds of symbols exist only for printing:
+Three kinds of symbols belong to the code generator, never to a model:
+- ``Local``: a local of the generated code (``_t0``, ``_r0``, ``_iters``); a model symbol
+  of the same name (a parameter called ``_t0``) is a different symbol.
 - ``Derived``: a name the code generator makes from model names (``_sin_Th3``,
   ``_dY4_dX4``); it prints with the mapped names of its parts.
 - ``Alias``: a symbol that takes the place of a CSE temporary. It prints as its
@@ -16,6 +18,14 @@ from __future__ import annotations
 
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
+
+
+class Local(sp.Symbol):
+    """A local variable of the generated code, printed by its name."""
+
+    @classmethod
+    def class_key(cls):     # sorts among plain symbols, by its name
+        return 2, 0, "Symbol"
 
 
 class Derived(sp.Symbol):

@@ -16,7 +16,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .ir import Assign, Guard, Store
-from .printer import Alias
+from .printer import Alias, Local
 
 
 class TempNames:
@@ -33,12 +33,12 @@ class TempNames:
         return self
 
     def __next__(self):
-        sym = sp.Symbol(f"{self.prefix}{self.count}", real=True)
+        sym = Local(f"{self.prefix}{self.count}", real=True)
         self.count += 1
         return sym
 
     def next_final(self):
-        sym = sp.Symbol(f"{self.prefix}{self.final}", real=True)
+        sym = Local(f"{self.prefix}{self.final}", real=True)
         self.final += 1
         return sym
 
