@@ -17,28 +17,37 @@ ARGS = "q, t, p, out"
 OUTPUT_ARGS = "q, qd, qdd, t, p, out"
 
 
-def _sections(inputs, body):
-    """Inputs and outputs of a straight-line function, each under its heading where the
-    function is long enough for headings to help."""
+# what each straight-line function writes (the heading of its outputs)
+TITLES = {"phi": "Φ, a row per constraint equation", "phi_q": "Φ_q, its nonzero entries",
+          "nu": "ν, its nonzero rows", "gamma": "γ, its nonzero rows",
+          "points": "The points, (x, y) each", "outputs": "The outputs",
+          "outputs_d": "Their first time derivatives",
+          "outputs_dd": "Their second time derivatives"}
+
+
+def _sections(name, inputs, body):
+    """A straight-line function's inputs and outputs, each under a heading (SymForce's
+    ``# Input arrays``, ``# Output terms``) where the function is long enough for
+    headings to help; the count of intermediate terms, each assigned before first use."""
     temps = sum(1 for x in body if isinstance(x, Assign))
     if len(inputs) + len(body) < 8:
         return inputs + body
     terms = f" ({temps} intermediate term{'s' if temps != 1 else ''})" if temps else ""
-    return [Comment("Inputs")] + inputs + [Comment(f"Outputs{terms}")] + body
+    return [Comment("Inputs")] + inputs + [Comment(f"{TITLES[name]}{terms}")] + body
 
 
 def straight_line(plan, eq, statements, name, args=ARGS, **kw):
     """(body, helpers) of a straight-line function of ``statements``."""
     if len(statements) <= plan.chunk_stores:
         exprs = [s.expr for s in statements]
-        return _sections(prologue(eq, exprs, **kw), emit(statements, cse=plan.cse)), []
+        return _sections(name, prologue(eq, exprs, **kw), emit(statements, cse=plan.cse)), []
     calls, helpers = [], []
     parts = [statements[i:i + plan.chunk_stores]
              for i in range(0, len(statements), plan.chunk_stores)]
     for i, part in enumerate(parts):
         helper = f"_{name}_part{i}"
         exprs = [s.expr for s in part]
-        body = _sections(prologue(eq, exprs, **kw), emit(part, cse=plan.cse))
+        body = _sections(name, prologue(eq, exprs, **kw), emit(part, cse=plan.cse))
         helpers.append(Helper(helper, args, f"{name}, part {i + 1} of {len(parts)}.",
                               tuple(body)))
         calls.append(Code(f"{helper}({args})"))
