@@ -190,6 +190,17 @@ def count_lines(statements) -> int:
     return n
 
 
+def replaced(st, fn):
+    """A statement with ``fn`` applied to its expression (others as they are)."""
+    if isinstance(st, Assign):
+        return Assign(st.target, fn(st.expr), st.comment)
+    if isinstance(st, Store):
+        return Store(st.lhs, fn(st.expr), st.comment)
+    if isinstance(st, Guard):
+        return Guard(st.value, fn(st.bound), st.status)
+    return st
+
+
 def load(sym, array: str, index) -> Code:
     """``sym = array[index]``: a local from an argument array."""
     return Code(f"{{0}} = {array}[{index}]", (sym,))

@@ -18,7 +18,7 @@ from ..protocol import PIVOT_RTOL, TINY
 from .blocks import CLOSED_FORM_TRIG, EXPLICIT, NEWTON, linear_in
 from .inputs import free, sym, time_local, unpack
 from .ir import (Assign, Break, Code, Comment, Guard, Helper, If, Loop, Return, Store,
-                 TrigPair, count_lines)
+                 TrigPair, count_lines, replaced)
 from .printer import Derived
 from .schedule import TempNames, emit
 
@@ -108,7 +108,7 @@ class _Writer:
 
     def code(self):
         q, phi, pieces = self.q, self.eq.phi, []
-        known_all = dict(self.plan.known)
+        known_all = self.plan.known_values
         for b in self.plan.blocks:
             st = [block_comment(self.eq, b)]
             if b.method == EXPLICIT:
@@ -152,7 +152,7 @@ class _Writer:
                 subs[a] = shared[a]
             return expr.xreplace(subs)
 
-        out = [_replaced(x, swap) for x in st]
+        out = [replaced(x, swap) for x in st]
         head = emit(defs, self.temps, self.cse) if defs else []
         body = emit(out, self.temps, self.cse, variant=variant)
         if variant is None:
@@ -304,7 +304,7 @@ class _Writer:
             subs = {}
             for _, pair in turns:
                 subs[sp.sin(pair.angle)], subs[sp.cos(pair.angle)] = pair.sin, pair.cos
-            st = [_replaced(x, lambda e: sp.sympify(e).xreplace(subs)) for x in st]
+            st = [replaced(x, lambda e: sp.sympify(e).xreplace(subs)) for x in st]
         variant = {q[v] for v in b.vars} | {s for _, p in turns for s in (p.sin, p.cos)}
         before, body = self.shared_emit(st, variant=variant)
         out = [self.pair(pair.angle) for _, pair in turns]
@@ -355,17 +355,6 @@ class _Writer:
                     (y,))]
         out += [Code("{0}, {1} = _turn({0}, {1}, -_s0, {2})", (p.sin, p.cos, y)) for p in turns]
         return out
-
-
-def _replaced(st, fn):
-    """A statement with ``fn`` applied to its expression."""
-    if isinstance(st, Assign):
-        return Assign(st.target, fn(st.expr), st.comment)
-    if isinstance(st, Store):
-        return Store(st.lhs, fn(st.expr), st.comment)
-    if isinstance(st, Guard):
-        return Guard(st.value, fn(st.bound), st.status)
-    return st
 
 
 def position_body(plan, eq):

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from .ir import Assign, Guard, Store
+from .ir import Assign, Guard, Store, replaced
 from .printer import Alias, Local
 
 
@@ -48,11 +48,7 @@ def _expr_of(st):
 
 
 def _with(st, expr):
-    if isinstance(st, Assign):
-        return Assign(st.target, expr, st.comment)
-    if isinstance(st, Store):
-        return Store(st.lhs, expr, st.comment)
-    return Guard(st.value, expr, st.status)
+    return replaced(st, lambda _: expr)
 
 
 def emit(statements, temps: TempNames | None = None, cse: bool = True, variant=None):
@@ -137,15 +133,14 @@ def _moving(statements, slots, reps, reduced, variant):
 
 
 def _trivial(expr):
-    """A bare symbol or number, or the negation of one: (sign, what) or None."""
-    if expr.is_Symbol or (expr.is_Number and not expr.is_negative and expr.is_Integer):
-        return 1, expr
-    if expr.is_Float and not expr.is_negative:
+    """(sign, what) when expr is a bare symbol or number (one that prints as a single
+    token: an integer or a float), or the negation of one; else None."""
+    if expr.is_Symbol:
         return 1, expr
     if expr.is_Mul and len(expr.args) == 2 and expr.args[0] == -1 and expr.args[1].is_Symbol:
         return -1, expr.args[1]
-    if expr.is_Number and expr.is_negative and (expr.is_Integer or expr.is_Float):
-        return -1, -expr
+    if expr.is_Integer or expr.is_Float:
+        return (-1, -expr) if expr.is_negative else (1, expr)
     return None
 
 

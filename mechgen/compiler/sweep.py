@@ -12,7 +12,7 @@ code calls as a pair are turned from the last point instead (ir.Options).
 from __future__ import annotations
 
 from .inputs import free, time_local, unpack
-from .ir import Assign, Code, Comment, Guard, If, Loop, Options, Store
+from .ir import Assign, Code, Comment, Guard, If, Loop, Options, Store, replaced
 from ..model.geometry import T
 from .schedule import TempNames, emit
 
@@ -25,22 +25,12 @@ def options(names) -> Options:
     return Options(names=names, failure="k", turn=True)
 
 
-def _replace(st, subs):
-    if isinstance(st, Assign):
-        return Assign(st.target, st.expr.xreplace(subs), st.comment)
-    if isinstance(st, Store):
-        return Store(st.lhs, st.expr.xreplace(subs), st.comment)
-    if isinstance(st, Guard):
-        return Guard(st.value, st.bound.xreplace(subs), st.status)
-    return st
-
-
 def written_step(plan, eq, position, derivatives):
     """position_sorted() and derivatives_sorted() as one piece: ``position`` the body of
     the one-function position solver, ``derivatives`` linear.derivative_code. The
     derivative code reads the sin and cos (and other calls) the position code shares."""
     shared = plan.position.shared_map
-    st = [_replace(x, shared) for x in derivatives.statements]
+    st = [replaced(x, lambda e: e.xreplace(shared)) for x in derivatives.statements]
     exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
     exprs += [x.bound for x in st if isinstance(x, Guard)]
     used, have = free(exprs), free(list(eq.phi))
