@@ -126,7 +126,7 @@ def name_map(model, eq, bodies, extra_code=()) -> Names:
     everything = [st for body in bodies if body is not None for st in body]
     derived, plain = emitter_symbols(symbols(everything))
     used = set(module_words())
-    used |= identifiers("\n".join(code_words(everything) + list(extra_code)))
+    used |= identifiers("\n".join(sorted(set(code_words(everything)) | set(extra_code))))
     used |= plain
     return Names(model_symbols, used, derived)
 

@@ -160,7 +160,7 @@ def _settle(statements, temporaries, temps, split):
             subs[st.target] = alias
             out.append(Assign(alias, expr))
         elif isinstance(st, (Assign, Store, Guard)):
-            out.append(_with(st, _expr_of(st).xreplace(subs)))
+            out.append(_with(st, _expr_of(st).xreplace(subs)) if subs else st)
         else:
             out.append(st)
         where.append(i < split)
