@@ -65,7 +65,7 @@ def pictures(mech):
     a = plot.animate(mech, frames, path, trace="colisa[2]", fps=25, artists=seed_look,
                      legend=True)
     plt.close(a.figure)
-    print(f"wrote {os.path.relpath(path, ROOT)} ({len(frames)} frames in "
+    print(f"wrote {os.path.relpath(path, ROOT)} ({len(a)} frames in "
           f"{time.perf_counter() - start:.1f} s)")
 
     path = os.path.join(docs, "quick_return_x4.png")

@@ -1,8 +1,13 @@
-"""Evaluate any symbolic quantity on a solved configuration or a whole sweep.
+"""The one bridge between the runtime and sympy: ``mechgen.compile`` and the symbolic side
+it attaches to a Mechanism, to evaluate any symbolic quantity on a solved configuration
+or a whole sweep.
 
-This is the only runtime path that touches sympy, and only for mechanisms built with
-``mechgen.compile(model)``, which keep the model: the expression is lambdified once (numpy
-backend) in the symbols it uses, then called on whole columns of a sweep at once.
+The runtime never imports this module (nor sympy): ``compile_model`` builds and loads a
+module, then ``attach`` sets ``mech.model`` and ``mech.symbolic`` (a :class:`Symbolic`),
+which the runtime calls for ``mech.evaluate(expr, s)`` and for the time derivative and
+level of a symbolic quantity (interpolation, extremes, roots). The expression is
+lambdified once (numpy backend) in the symbols it uses, then called on whole columns of
+a sweep at once.
 
 Symbols are matched by name against the mechanism's coordinates (``X4``), velocities
 (``X4d``), accelerations (``X4dd``), parameters (values from ``mech.p``, so
@@ -10,24 +15,29 @@ Symbols are matched by name against the mechanism's coordinates (``X4``), veloci
 """
 from __future__ import annotations
 
+import os
+
 import numpy as np
 import sympy as sp
 
+from .compiler.build import build
 from .errors import ModelError
+from .model.quantities import dt
+from .protocol import LEVEL, LEVELS
+from .runtime import load
 from .runtime.results import Solution, Sweep
-
-_LEVELS = ("position", "velocity", "acceleration")
 
 
 def _slots(mech):
-    """name -> (kind, index): kind 0/1/2 for q/qd/qdd, 'p' for a parameter, 't' for T."""
+    """name -> (kind, index): kind the level (an index into LEVELS: q, qd, qdd) for a
+    coordinate and its derivatives, 'p' for a parameter, 't' for T."""
     table = {"T": ("t", 0)}
-    for name, k in mech._param_index.items():
+    for k, name in enumerate(mech.parameter_names):
         table[name] = ("p", k)
     for k, c in enumerate(mech.coordinates):
-        table[c] = (0, k)
-        table[c + "d"] = (1, k)
-        table[c + "dd"] = (2, k)
+        table[c] = (LEVEL["position"], k)
+        table[c + "d"] = (LEVEL["velocity"], k)
+        table[c + "dd"] = (LEVEL["acceleration"], k)
     return table
 
 
@@ -68,8 +78,8 @@ def _compiled(mech, expr):
     return hit
 
 
-def _needed_level(slots):
-    return max((kind for kind, _ in slots if isinstance(kind, int)), default=0)
+def _needed_level(slots) -> int:
+    return max((kind for kind, _ in slots if isinstance(kind, int)), default=LEVEL["position"])
 
 
 def evaluate(mech, expr, solution_or_sweep):
@@ -94,14 +104,14 @@ def evaluate(mech, expr, solution_or_sweep):
         t = target.t
         npts = len(target)
     if vectors[need] is None:
-        missing = sorted({mech.coordinates[k] + ("d" if kind == 1 else "dd")
-                          for kind, k in slots if isinstance(kind, int) and kind >= 1
-                          and vectors[kind] is None})
+        missing = sorted({mech.coordinates[k] + "d" * kind
+                          for kind, k in slots if isinstance(kind, int)
+                          and kind >= LEVEL["velocity"] and vectors[kind] is None})
         what = "solution" if npts is None else "sweep"
         raise ValueError(
             f"evaluate(): the expression needs {', '.join(missing)}, but this {what} is at level "
             f"{target.level}: {'solve' if npts is None else 'sweep'} with "
-            f"level={_LEVELS[need]!r} or higher")
+            f"level={LEVELS[need]!r} or higher")
     args = []
     for kind, k in slots:
         if kind == "t":
@@ -126,17 +136,47 @@ def evaluate(mech, expr, solution_or_sweep):
     return out.reshape(out.shape[:-1] + shape)
 
 
+class Symbolic:
+    """The symbolic side of a mechanism built by ``mechgen.compile``: what the runtime
+    calls (through ``mech.symbolic``) for a quantity given as a sympy expression."""
+
+    def __init__(self, model):
+        self.model = model
+
+    def evaluate(self, mech, expr, solution_or_sweep):
+        """The value of ``expr`` on a Solution or along a Sweep (see :func:`evaluate`)."""
+        return evaluate(mech, expr, solution_or_sweep)
+
+    def derivative(self, expr):
+        """The total time derivative of ``expr`` (coordinates move, so do the drivers)."""
+        return dt(expr, model=self.model)
+
+    def level(self, mech, expr) -> int:
+        """The solve level ``expr`` needs (an index into LEVELS): velocity when it holds a
+        velocity symbol (X4d), acceleration when it holds an acceleration (X4dd)."""
+        names = {s.name for s in getattr(expr, "free_symbols", ())}
+        coords = mech.coordinates
+        if any(c + "dd" in names for c in coords):
+            return LEVEL["acceleration"]
+        if any(c + "d" in names for c in coords):
+            return LEVEL["velocity"]
+        return LEVEL["position"]
+
+
+def attach(mech, model):
+    """Give a loaded mechanism its symbolic side: ``mech.model`` and ``mech.symbolic``, so
+    that ``mech.evaluate(expr, s)`` and symbolic quantities in interpolate/extrema/roots
+    work. ``model`` must be the model the mechanism's module was built from."""
+    mech.model = model
+    mech.symbolic = Symbolic(model)
+    return mech
+
+
 def compile_model(model, outdir=None, **kwargs):
     """``mechgen.compile``: build ``model`` into a cache folder (``$MECHGEN_CACHE``, else
     ``~/.cache/mechgen``; ``outdir=`` to choose) and load it, keeping the symbolic model so
     that ``mech.evaluate(expr, solution_or_sweep)`` works."""
-    import os
-
-    from .compiler.build import build
-    from .runtime.mechanism import load
     if outdir is None:
         outdir = os.environ.get("MECHGEN_CACHE") or os.path.join(
             os.path.expanduser("~"), ".cache", "mechgen")
-    mech = load(build(model, outdir, **kwargs))
-    mech.model = model
-    return mech
+    return attach(load(build(model, outdir, **kwargs)), model)

@@ -10,7 +10,7 @@ import hashlib
 import re
 
 MECHGEN_VERSION = "0.1.0"
-FORMAT_VERSION = 1          # the layout of a generated module that this runtime reads
+FORMAT_VERSION = 2          # the layout of a generated module that this runtime reads
 
 # Derivative levels, in order; a module is built up to one of them.
 LEVELS = ("position", "velocity", "acceleration")
@@ -19,7 +19,7 @@ LEVEL = {name: k for k, name in enumerate(LEVELS)}
 # Solving methods (the ``method`` argument of the generated solvers).
 METHODS = ("auto", "sorted", "full")
 METHOD = {name: k for k, name in enumerate(METHODS)}
-AUTO, SORTED, FULL = 0, 1, 2
+METHOD_AUTO, METHOD_SORTED, METHOD_FULL = 0, 1, 2
 
 # Status codes returned by the generated solvers (position solve; a velocity failure is
 # VELOCITY + its status, an acceleration failure ACCELERATION + its status).
@@ -46,6 +46,8 @@ INFO_STATUS = 4             # one of the status codes above
 INFO_SUBSTEPS = 5           # substeps taken (on failure: the time last reached)
 INFO_JUMP = 6               # size of a jump (on failure: the time that failed)
 INFO_COLUMNS = 7
+# solve_position's info vector: the first four columns above
+POSITION_INFO_SIZE = 4
 # solve_point's info vector: [iterations, residual, rank, method, max|Φ|, pivot ratio]
 POINT_RESIDUAL = 4
 POINT_PIVOT = 5
@@ -56,6 +58,41 @@ PIVOT_RTOL = 1e-10          # a pivot below this fraction of its row's size coun
 SING_RTOL = 1e-6            # velocity/acceleration: a pivot below this fraction of its
                             # row's size marks a singular configuration (SingularError)
 TINY = 1e-300
+
+# Step control of the continuation sweep (the generated sweep() and sweep_fast()).
+BRANCH_RATIO = 0.5          # a correction larger than this times the step taken ...
+BRANCH_ATOL = 1e-6          # ... plus this (relative to the size of q) halves the step
+BRANCH_HMIN = 2.0 ** -20    # smallest substep, as a fraction of the sweep's own step
+BRANCH_TURN = 0.5           # largest turn of an angle (radians) in one step of a sweep
+BRANCH_NEAR = 1e-4          # a pivot ratio below this: near a singular configuration
+
+# The constants above that every generated module states in its header, in groups
+# (a comment line, then the names): its solvers use them by name.
+HEADER_CONSTANTS = (
+    ("Methods: sorted blocks with the full Newton as fallback, sorted only, full only",
+     ("METHOD_AUTO", "METHOD_SORTED", "METHOD_FULL")),
+    ("Status codes of the solvers; VELOCITY or ACCELERATION + a status: that solve failed",
+     ("OK", "NO_CONVERGENCE", "SINGULAR", "NOT_FINITE", "GAVE_UP", "JUMP", "THROUGH_SINGULAR",
+      "VELOCITY", "ACCELERATION")),
+    ("Columns of a sweep's INFO rows, and of the solvers' info vectors",
+     ("INFO_ITERATIONS", "INFO_RESIDUAL", "INFO_RANK", "INFO_METHOD", "INFO_STATUS",
+      "INFO_SUBSTEPS", "INFO_JUMP", "INFO_COLUMNS", "POSITION_INFO_SIZE", "POINT_RESIDUAL",
+      "POINT_PIVOT", "POINT_INFO_SIZE")),
+    ("Pivot thresholds (rows of Φ_q scaled to 1) and the smallest size counted as non-zero",
+     ("PIVOT_RTOL", "SING_RTOL", "TINY")),
+    ("Step control of sweep() and sweep_fast()",
+     ("BRANCH_RATIO", "BRANCH_ATOL", "BRANCH_HMIN", "BRANCH_TURN", "BRANCH_NEAR")),
+)
+
+
+def header_constants():
+    """HEADER_CONSTANTS with their values written as Python: [(comment, [(name, text)])].
+    repr() of a float reads back as the same float, so the module computes with exactly
+    the values stated here."""
+    values = globals()
+    return [(comment, [(name, repr(values[name])) for name in names])
+            for comment, names in HEADER_CONSTANTS]
+
 
 _STAMP = re.compile(r"^# content-sha256: ([0-9a-f]{64})\n", re.M)
 STAMP = "# content-sha256: {digest}\n"

@@ -8,6 +8,19 @@ EXAMPLES = os.path.join(ROOT, "examples")
 GENERATED = os.path.join(ROOT, "generated")
 
 
+def pytest_addoption(parser):
+    parser.addoption("--update-golden", action="store_true", default=False,
+                     help="rewrite the committed modules in generated/ that differ from what "
+                          "the generator emits now (also: MECHGEN_UPDATE_GOLDEN=1)")
+
+
+@pytest.fixture(scope="session")
+def update_golden(request):
+    """Whether golden files that differ are rewritten rather than reported."""
+    return bool(request.config.getoption("--update-golden")) or \
+        os.environ.get("MECHGEN_UPDATE_GOLDEN") == "1"
+
+
 def example_model(name, model=None):
     from mechgen.model.loader import load_models, pick_model
     return pick_model(load_models(os.path.join(EXAMPLES, name + ".py")), model)

@@ -1,5 +1,5 @@
 """Interpolation, exact extremes and roots, assembly modes, design tables and exports
-(mechgen.runtime.analysis), on the committed generated modules."""
+(mechgen.runtime: interpolate, events, assembly, design), on the committed generated modules."""
 import math
 import os
 import subprocess
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import mechgen
-from mechgen.runtime.analysis import angle_coordinates
+from mechgen.runtime.assembly import angle_coordinates
 from conftest import ROOT, example_model
 
 T_MIN, X4_MIN = 0.6024163823, -1.257536965      # the stroke (test_output_functions
@@ -308,7 +308,7 @@ def test_analysis_leaves_sympy_unloaded(tmp_path):
 
 
 def test_param_option_of_the_command_line():
-    from mechgen.runtime.analysis import parse_param_option
+    from mechgen.cli.options import parse_param_option
     got = parse_param_option(["longitud=1.5:3:0.75", "velocidad=1,2", "anguloI=0.5"])
     assert np.allclose(got["longitud"], [1.5, 2.25, 3.0])       # {longitud, 1.5, 3., 0.75}
     assert np.allclose(got["velocidad"], [1.0, 2.0]) and got["anguloI"] == 0.5

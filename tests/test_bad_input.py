@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import mechgen
-from mechgen.protocol import _STAMP as _CHECK, content_digest
+from mechgen.protocol import FORMAT_VERSION, _STAMP as _CHECK, content_digest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GENERATED = os.path.join(ROOT, "generated")
@@ -118,8 +118,8 @@ def test_module_without_a_stamp_is_refused(tmp_path):
 
 
 def test_module_of_another_format_is_refused(tmp_path):
-    path = _copy(tmp_path, lambda s: s.replace("FORMAT_VERSION = 1", "FORMAT_VERSION = 99"),
-                 restamp=True)
+    path = _copy(tmp_path, lambda s: s.replace(f"FORMAT_VERSION = {FORMAT_VERSION}",
+                                               "FORMAT_VERSION = 99"), restamp=True)
     with pytest.raises(mechgen.MechgenError, match=r"format 99.*rebuild it"):
         mechgen.load(path)
 
@@ -207,7 +207,8 @@ def test_cli_exit_status_and_message(tmp_path):
 
 
 def test_failed_write_leaves_no_half_module(tmp_path, monkeypatch):
-    from mechgen.compiler import build as build_mod
+    import importlib
+    build_mod = importlib.import_module("mechgen.compiler.build")  # the module, not the function
     from mechgen.model.loader import load_models
     model = load_models(os.path.join(EXAMPLES, "fourbar_loop.py"))[0]
     out = tmp_path / "out"
@@ -256,12 +257,12 @@ def test_cli_runtime_errors(tmp_path, capsys):
     src = os.path.join(EXAMPLES, "quick_return_slider.py")
     out = str(tmp_path / "gen")
     cases = [
-        (["solve", src, "-o", out, "-t", "0.249"], ["ConvergenceError", "t=0.249", "cannot assemble",
+        (["solve", src, "--outdir", out, "-t", "0.249"], ["ConvergenceError", "t=0.249", "cannot assemble",
                                                    "0.2464863829"]),
-        (["solve", src, "-o", out, "-t", "nan"], ["t must be finite"]),
-        (["solve", src, "-o", out, "-t", "0.1", "--guess", "X9=1"], ["'X9'"]),
-        (["solve", src, "-o", out, "-t", "0.1", "--guess", "X4=far"], ["X4=far"]),
-        (["sweep", src, "-o", out, "--t0", "0", "--t1", "1", "-n", "101"],
+        (["solve", src, "--outdir", out, "-t", "nan"], ["t must be finite"]),
+        (["solve", src, "--outdir", out, "-t", "0.1", "--guess", "X9=1"], ["'X9'"]),
+        (["solve", src, "--outdir", out, "-t", "0.1", "--guess", "X4=far"], ["X4=far"]),
+        (["sweep", src, "--outdir", out, "--t0", "0", "--t1", "1", "-n", "101"],
          ["ConvergenceError", "lock (toggle) position at t≈0.2464863829"]),
     ]
     for argv, words in cases:

@@ -1,5 +1,5 @@
 """`mechgen solve` and `mechgen sweep`: readable tables, CSV files, one clear message on
-bad input. Every command builds into a tmp dir (-o), never into generated/."""
+bad input. Every command builds into a tmp dir (--outdir), never into generated/."""
 from __future__ import annotations
 
 import csv
@@ -42,7 +42,7 @@ def run(outdir, capsys):
     def call(*argv, out=True):
         argv = list(argv)
         if out:
-            argv += ["-o", outdir]
+            argv += ["--outdir", outdir]
         try:
             code = main(argv)
         except SystemExit as exc:       # argparse's own errors
@@ -99,10 +99,10 @@ def test_solve_position_default_level_and_guess(run):
 
 
 def test_solve_builds_into_an_empty_folder(run, tmp_path):
-    """-o names where the module goes; it is built there when missing."""
+    """--outdir names where the module goes; it is built there when missing."""
     target = tmp_path / "fresh"
     code, out, err = run("solve", os.path.join(EXAMPLES, "fourbar_loop.py"), "-t", "0",
-                         "--guess", "theta3=-0.9", "--guess", "theta4=-2.4", "-o", str(target),
+                         "--guess", "theta3=-0.9", "--guess", "theta4=-2.4", "--outdir", str(target),
                          out=False)
     assert code == 0, err
     assert os.path.isfile(target / "fourbar_loop.py")
@@ -194,11 +194,11 @@ def _entry():
 
 
 def test_console_script(outdir, tmp_path):
-    proc = subprocess.run(_entry() + ["solve", QR, "-t", "0.5", "-o", outdir],
+    proc = subprocess.run(_entry() + ["solve", QR, "-t", "0.5", "--outdir", outdir],
                           capture_output=True, text=True, cwd=str(tmp_path), timeout=600)
     assert proc.returncode == 0, proc.stderr
     assert close(table(proc.stdout)["X4"], -0.181877)
-    proc = subprocess.run(_entry() + ["solve", SLIDER, "-t", "0.25", "-o", outdir],
+    proc = subprocess.run(_entry() + ["solve", SLIDER, "-t", "0.25", "--outdir", outdir],
                           capture_output=True, text=True, cwd=str(tmp_path), timeout=600)
     assert proc.returncode == 1
     assert one_message(proc.stderr).startswith("mechgen: ")

@@ -24,7 +24,7 @@ NO_SYMPY = {"base", "runtime", "plot"}
 
 def layer(module):
     parts = module.split(".")
-    if module == "mechgen":
+    if module in ("mechgen", "mechgen.__main__"):
         return "api"
     if parts[1] in ("errors", "protocol"):
         return "base"

@@ -157,10 +157,11 @@ def test_the_fast_path_is_taken_with_any_names(built):
 
 def test_the_module_reads_with_the_model_names(built):
     text = render(quick_return("names_params", AS_PARAMETERS))
-    # free names are kept; names the module uses get a trailing underscore
-    for kept in ("E", "I", "S"):
+    # free names are kept; names the generated functions use (their arguments, the fast
+    # sweep's loop variables) get a trailing underscore
+    for kept in ("i", "n", "N", "E", "I", "S", "level"):
         assert re.search(rf"^\s+{kept} = p\[\d+\]$", text, re.M), kept
-    for mangled in ("i", "j", "k", "n", "t", "p", "q", "tol", "level"):
+    for mangled in ("j", "k", "t", "p", "q", "tol"):
         assert re.search(rf"^\s+{mangled}_ = p\[\d+\]$", text, re.M), mangled
         assert not re.search(rf"^\s+{mangled} = p\[\d+\]$", text, re.M), mangled
     text = render(quick_return("names_coords", AS_COORDINATES))
@@ -178,9 +179,12 @@ def test_names_of_the_module_are_read_from_its_sources():
     from mechgen.compiler.names import identifiers, module_words
     words = module_words()
     for name in ("q", "t", "p", "out", "tol", "xtol", "maxit", "info", "piv", "ts", "q0",
-                 "Q", "QD", "QDD", "INFO", "math", "np", "njit", "abs", "range", "i", "j",
-                 "k", "n", "level", "method", "N_COORDS", "_turn", "_gauss", "sweep"):
+                 "Q", "QD", "QDD", "INFO", "math", "np", "njit", "abs", "range", "N_COORDS",
+                 "_turn", "_gauss", "sweep", "SING_RTOL", "GAVE_UP", "BRANCH_RATIO"):
         assert name in words, name
+    # the library's own locals are not: they never share a scope with a model's names
+    for name in ("i", "n", "a", "level", "method"):
+        assert name not in words, name
     # attributes, strings and comments are not names of the module
     assert identifiers("x = math.sin(y)  # a comment\ns = 'word'\n") == {"x", "math", "y", "s"}
 

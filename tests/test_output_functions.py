@@ -12,6 +12,7 @@ import mechgen
 from mechgen import (Line, angle, cross, direction, distance, dt, intersection, location,
                      magnitude, point_to_line_distance, point_to_local, polar_to_xy,
                      project_on_line, rotation, rotation_matrix, unit, xy_to_polar)
+from mechgen.bridge import attach
 from conftest import GENERATED, example_model
 
 
@@ -233,7 +234,7 @@ def test_stroke_of_a_compiled_output_and_an_expression(mech, parts, stroke_refer
 def slider():
     model = example_model("quick_return_slider")
     mech = mechgen.load(os.path.join(GENERATED, "quick_return_slider.py"))
-    mech.model = model
+    attach(mech, model)     # the symbolic side mechgen.compile would attach
     return mech, model.bodies
 
 

@@ -198,7 +198,8 @@ def test_animate_quick_return_gif(qr, tmp_path):
     sw = qr.sweep(0.0, 1.0, 6)
     a = plot.animate(qr, sw, tmp_path / "qr.gif", fps=10)
     im = _image(tmp_path / "qr.gif")
-    assert im.format == "GIF" and im.n_frames == 6
+    # one crank turn: T = 1 repeats T = 0 and is left out of the looping film
+    assert im.format == "GIF" and im.n_frames == 5
     fig, ax = a.figure, a.drawing.ax
     assert _size_ok(im, fig, 80)
     fig.set_dpi(80)
@@ -218,9 +219,9 @@ def test_animate_quick_return_gif(qr, tmp_path):
 def test_animate_fourbar_trace(fourbar, tmp_path):
     sw = fourbar.sweep(0.0, 1.0, 8)
     a = plot.animate(fourbar, sw, None, trace=["crank[2]"])     # the crank pin's circle
-    assert len(a) == 8 and a.path is None
+    assert len(a) == 7 and a.path is None                       # T = 1 repeats T = 0
     frames = list(a.frames(dpi=72))
-    assert len(frames) == 8 and frames[0].shape[2] == 3
+    assert len(frames) == 7 and frames[0].shape[2] == 3
     fig, ax = a.figure, a.drawing.ax
     fig.set_dpi(72)
     ax.apply_aspect()
@@ -233,7 +234,7 @@ def test_animate_fourbar_trace(fourbar, tmp_path):
         return bool(np.any(np.all(np.abs(win - trace) < 40, axis=-1)))
     assert not traced(frames[0]) and traced(frames[-1])
     a.save(tmp_path / "fb.gif", dpi=60)
-    assert _image(tmp_path / "fb.gif").n_frames == 8
+    assert _image(tmp_path / "fb.gif").n_frames == 7
 
 
 # -- plot -------------------------------------------------------------------------------------
@@ -242,7 +243,8 @@ def test_plot_stroke(qr, tmp_path):
     lines = plot.plot(sw, "X4")
     assert len(lines) == 1 and np.allclose(lines[0].get_ydata(), sw["X4"])
     ax = lines[0].axes
-    assert ax.get_xlabel() == "T [s]" and ax.get_ylabel() == "X4 [length]"
+    # T is said to be the time; lengths have no unit unless one is named (never "[length]")
+    assert ax.get_xlabel() == "time T [s]" and ax.get_ylabel() == "X4"
     fig = ax.figure
     fig.savefig(tmp_path / "x4.png", dpi=fig.dpi)
     im = _image(tmp_path / "x4.png")
@@ -295,7 +297,7 @@ def test_cli_pictures(tmp_path, cli_outdir, capsys):
     gif = tmp_path / "qr.gif"
     assert _cli("animate", model, "-o", gif, "--outdir", cli_outdir, "-n", 4,
                 "--trace", "colisa[2]") == 0
-    assert _image(gif).n_frames == 4
+    assert _image(gif).n_frames == 3           # T = 1 repeats T = 0: left out
     plotted = tmp_path / "stroke.png"
     assert _cli("plot", model, "X4", "X4d", "-o", plotted, "--outdir", cli_outdir,
                 "-n", 21) == 0
@@ -343,3 +345,69 @@ def test_drawing_never_imports_sympy():
                          cwd=ROOT, timeout=300)
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip().splitlines()[-1] == "False"
+
+
+# -- the parts of the layer: plane geometry, the scene, the level a plot needs -----------------
+def test_plane_geometry():
+    from mechgen.plot.shapes import hatch, hull, rot, rounded
+    square = np.array([(0, 0), (2, 0), (2, 2), (0, 2), (1, 1), (1, 0)])  # an inner, an edge point
+    h = hull(square)
+    assert len(h) == 4 and set(map(tuple, h)) == {(0, 0), (2, 0), (2, 2), (0, 2)}
+    area = 0.5 * np.sum(h[:, 0] * np.roll(h[:, 1], -1) - np.roll(h[:, 0], -1) * h[:, 1])
+    assert area == pytest.approx(4.0)                  # positive: counter-clockwise
+    assert rot(np.pi / 2) @ (1.0, 0.0) == pytest.approx([0.0, 1.0])
+    bar = rounded([(0, 0), (3, 0)], 0.5)               # a bar of half-width 0.5, round ends
+    assert bar[:, 0].min() == pytest.approx(-0.5) and bar[:, 0].max() == pytest.approx(3.5)
+    assert np.abs(bar[:, 1]).max() == pytest.approx(0.5)
+    ticks = hatch([(0, 0), (4, 0)], 1.0, 0.5)          # every 1.0, 0.5 long, on the right
+    assert [a[0] for a, _ in ticks] == pytest.approx([0.5, 1.5, 2.5, 3.5])
+    for a, b in ticks:
+        assert a[1] == 0 and b[1] < 0 and np.hypot(*(b - a)) == pytest.approx(0.5)
+    left = hatch([(0, 0), (4, 0)], 1.0, 0.5, side=-1.0)
+    assert all(b[1] > 0 for _, b in left)
+
+
+def test_scene_of_quick_return(qr):
+    from mechgen.plot.scene import Scene
+    st = Scene(qr, colors={"colisa": "blue"})
+    assert [b.name for b in st.bodies] == ["base", "manivela", "colisa", "deslizadera"]
+    base, colisa = st.by_name["base"], st.by_name["colisa"]
+    assert base.ground and base.th is None and base.origin == -1
+    assert qr.coordinates[colisa.th] == "Th3"
+    assert colisa.edge == (0.0, 0.0, 1.0) and colisa.fill == pytest.approx((0.55, 0.55, 1.0))
+    assert st.point("colisa[2]") == qr.point_names.index("colisa[2]") == st.point(7)
+    assert st.point("colisa[0]") == colisa.origin
+    sw = qr.sweep(0.0, 1.0, 5)
+    org, ang = st.poses(sw.points(), sw.Q)
+    assert org.shape == (5, 4, 2) and ang.shape == (5, 4)
+    assert np.allclose(org[:, 2], sw.points()[:, colisa.origin])
+    assert np.allclose(ang[:, 2], sw["Th3"]) and not np.any(ang[:, 0]) and not np.any(org[:, 0])
+    with pytest.raises(MechgenError, match="colors: no body named 'crank'"):
+        Scene(qr, colors={"crank": "red"})
+
+
+def test_needed_level(qr):
+    from mechgen.plot.timeplot import needed_level
+    assert needed_level(qr, ["X4", "stroke_x"]) == "position"
+    assert needed_level(qr, ["X4", "Th3d"]) == "velocity"
+    assert needed_level(qr, ["stroke_xd"]) == "velocity"
+    assert needed_level(qr, ["Th3", "X4dd"]) == "acceleration"
+    with pytest.raises(KeyError, match="X9"):
+        needed_level(qr, ["X9"])
+
+
+def test_drawing_moves_all_but_the_ground(qr):
+    d = plot.draw(qr, 0.1, frame="pose")
+    moving = {id(a) for a in d.moving()}
+    assert not moving & {id(a) for a in d.artists["base"]}
+    assert {id(a) for a in d.artists["joints"] + d.artists["colisa"]} <= moving
+    assert id(d.title) in moving
+
+
+def test_public_names():
+    assert sorted(plot.__all__) == sorted(
+        ["draw", "draw_modes", "animate", "plot", "motion", "unit", "Drawing", "Animation",
+         "Shape", "Disk", "Bar", "Edge", "Plate", "AUTO", "check_movie_path"])
+    for name in plot.__all__ + ["BAR", "MARGIN", "MOTION_POINTS", "PALETTE", "INK", "MOVIES"]:
+        assert getattr(plot, name) is not None
+    assert callable(plot.draw) and callable(plot.animate) and callable(plot.plot)

@@ -56,7 +56,7 @@ def printed_values(m, **values):
     """A substitution from the seed's printed numbers (and the seed's parameters)."""
     eq = m.equations()
     table = {str(s): s for s in (*eq.q, *eq.qd, *eq.qdd)}
-    sub = {table[k]: v for k, v in values.items() if k != "T"}
+    sub = {table[k]: v for k, v in values.items() if k in table}   # outputs are no symbols
     sub.update({sym: val for sym, val in m.params.values()})
     sub[T] = values.get("T", 0.0)
     return sub

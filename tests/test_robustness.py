@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import mechgen
-from mechgen.runtime.singular import Singularity
+from mechgen.runtime.locks import Singularity
 
 # -- the slider-driven quick-return of seed 001, section 3B ------------------------------
 # X4 = C + A sin 2πT overshoots the stroke [XMIN, XMAX] the linkage can reach: the crank

@@ -384,6 +384,61 @@ def test_evaluate_rejects_foreign_symbols(qr_compiled):
         qr_compiled.evaluate("not an expression [", s)
 
 
+
+def test_symbolic_side_is_attached_by_compile_and_kept(qr_compiled, qr_model):
+    """mechgen.compile attaches the symbolic side (mechgen.bridge.Symbolic); with_params
+    keeps it; a symbolic quantity in the analysis goes through it (the runtime never
+    imports sympy itself)."""
+    from mechgen import distance, dt
+    from mechgen.bridge import Symbolic
+    assert isinstance(qr_compiled.symbolic, Symbolic) and qr_compiled.symbolic.model is qr_model
+    assert qr_compiled.with_params(longitud=2.0).symbolic is qr_compiled.symbolic
+    d = distance(qr_model["manivela"][1], qr_model["deslizadera"][1])
+    side = qr_compiled.symbolic
+    assert side.level(qr_compiled, d) == 0 and side.level(qr_compiled, dt(d)) == 1
+    assert side.level(qr_compiled, dt(d, 2)) == 2
+    s = qr_compiled.solve(0.15, level="acceleration")
+    assert qr_compiled.evaluate(side.derivative(d), s) == qr_compiled.evaluate(dt(d), s)
+
+
+def test_symbolic_quantities_need_the_symbolic_side(qr, qr_model):
+    """A loaded mechanism (mechgen.load) has no symbolic side: a symbolic quantity says to
+    use mechgen.compile, and with only mech.model set by hand, how to attach it."""
+    from mechgen import distance
+    from mechgen.bridge import attach
+    d = distance(qr_model["manivela"][1], qr_model["deslizadera"][1])
+    mech = qr.with_params()
+    sw = mech.sweep(0.0, 1.0, 11, level="velocity")
+    for call in (lambda: sw.extrema(d), lambda: sw.interpolate(d), lambda: mech.evaluate(d, sw)):
+        with pytest.raises(mechgen.ModelError, match="mechgen.compile"):
+            call()
+    mech.model = qr_model
+    with pytest.raises(mechgen.ModelError, match=r"mechgen.bridge.attach"):
+        sw.roots(d)
+    attach(mech, qr_model)
+    assert np.allclose(sw.interpolate(d)(sw.t), mech.evaluate(d, sw), atol=1e-12)
+
+
+def test_sweep_at_level_solves_the_derivatives_at_its_own_positions(qr):
+    """Sweep.at_level (Mechanism.solve_derivatives): velocities and accelerations solved at
+    a position sweep's own points equal those of solves there; levels held are kept."""
+    sw = qr.sweep(0.0, 1.0, 21)
+    assert sw.level == "position" and sw.QD is None
+    up = sw.at_level("acceleration")
+    assert up.level == "acceleration" and up.Q is sw.Q and np.array_equal(up.t, sw.t)
+    for k in (0, 7, 15, 20):
+        s = qr.solve(sw.t[k], guess=sw.Q[k], level="acceleration")
+        assert np.allclose(up.QD[k], s.qd, rtol=1e-12, atol=1e-12)
+        assert np.allclose(up.QDD[k], s.qdd, rtol=1e-11, atol=1e-11)
+    assert np.allclose(up["X4d"], qr.sweep(0.0, 1.0, 21, level="velocity")["X4d"],
+                       rtol=1e-10, atol=1e-10)
+    vel = sw.at_level("velocity")
+    assert vel.level == "velocity" and vel.QDD is None
+    assert up.at_level("velocity").QDD is up.QDD          # a level held is kept
+    QD, QDD = qr.solve_derivatives(sw.t, sw.Q, level="velocity")
+    assert QDD is None and np.array_equal(QD, vel.QD)
+
+
 def test_sweep_warm_start_follows_the_branch(qr):
     """A sweep started in the second assembly mode stays there (warm starts, predictor)."""
     sw = qr.sweep(0.85, 1.35, 51, guess={"X4": 1.0}, level="acceleration")

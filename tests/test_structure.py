@@ -2,6 +2,7 @@
 split functions for large models, the combined velocity/acceleration pass — each checked
 against the full-Newton reference path of the same module."""
 import os
+import re
 import sys
 
 import numpy as np
@@ -87,7 +88,8 @@ def test_pruned_text_is_smaller_and_names_what_it_left_out():
     full = render(m)
     small = render(m, level="position", outputs=["Th3"])
     assert len(small) < 0.8 * len(full)
-    assert "def velocity_sorted" not in small and "def acceleration_sorted" not in small
+    for fn in ("velocity_sorted", "acceleration_sorted"):   # not built: a stub in their place
+        assert re.search(rf'^def {fn}\(.*\):\n    """Not built in this module', small, re.M)
     assert "SOLVED = (True, True, True, True, True, True, False, False, False, )" in small
 
 

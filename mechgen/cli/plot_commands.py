@@ -1,23 +1,21 @@
 """The picture commands: ``mechgen draw | animate | plot`` (matplotlib, headless)."""
 from __future__ import annotations
 
-import os
-
 from ..errors import MechgenError
+from ..protocol import LEVELS
+from .loading import mechanism
+from .options import number_type, output_file, parse_guess
 
-LEVELS = ("position", "velocity", "acceleration")
 
-
-def _pyplot():
+def _pictures():
+    """pyplot (headless) and mechgen.plot. Imported when a picture command runs, not with
+    the parser: the other commands then start without loading matplotlib."""
     import matplotlib
     matplotlib.use("Agg")  # files only: no window, no display needed
     import matplotlib.pyplot as plt
-    return plt
 
-
-def _guess(items):
-    from .options import parse_guess as _parse_guess
-    return _parse_guess(items)
+    from .. import plot
+    return plt, plot
 
 
 def _bodies(value):
@@ -29,30 +27,11 @@ def _bodies(value):
     return [v.strip() for v in value.split(",") if v.strip()]
 
 
-def _needed_level(mech, names) -> str:
-    """The lowest sweep level that yields every named quantity."""
-    from ..runtime.results import _lookup
-    need = 0
-    for name in names:
-        try:
-            kind, k, order = _lookup(mech, name)
-        except KeyError as exc:
-            raise MechgenError(exc.args[0]) from None
-        if kind == "out":
-            order += mech.output_orders[k]
-        need = max(need, order)
-    return LEVELS[min(need, 2)]
-
-
 def _output(args, mech, default):
-    path = args.output or default.format(name=mech.name)
-    folder = os.path.dirname(os.path.abspath(path))
-    if not os.path.isdir(folder):
-        raise MechgenError(f"cannot write {path}: folder {folder} does not exist")
-    return path
+    return output_file(args.output or default.format(name=mech.name))
 
 
-def _sweep(mech, args, level="position", guess=None):
+def _sweep(mech, args, level=LEVELS[0], guess=None):
     if args.n < 1:
         raise MechgenError(f"-n must be at least 1, got {args.n}")
     try:
@@ -67,10 +46,9 @@ def _sweep(mech, args, level="position", guess=None):
 
 
 def cmd_draw(args):
-    from .. import plot
-    plt = _pyplot()
-    mech = args.load_mechanism(args)
-    s = mech.solve(args.t, guess=_guess(args.guess))
+    plt, plot = _pictures()
+    mech = mechanism(args)
+    s = mech.solve(args.t, guess=parse_guess(args.guess))
     d = plot.draw(mech, s, labels=_bodies(args.labels), axes=_bodies(args.axes),
                   legend=args.legend, width=args.width)
     path = _output(args, mech, "{name}.png")
@@ -80,28 +58,31 @@ def cmd_draw(args):
 
 
 def cmd_animate(args):
-    from .. import plot
-    plt = _pyplot()
-    mech = args.load_mechanism(args)
+    plt, plot = _pictures()
+    mech = mechanism(args)
     path = _output(args, mech, "{name}.gif")
     plot.check_movie_path(path)
-    sw = _sweep(mech, args, guess=_guess(args.guess))
+    sw = _sweep(mech, args, guess=parse_guess(args.guess))
     a = plot.animate(mech, sw, None, trace=tuple(args.trace or ()), fps=args.fps,
                      labels=_bodies(args.labels), axes=_bodies(args.axes), legend=args.legend,
                      width=args.width)
     a.save(path, dpi=args.dpi)
     plt.close(a.figure)
-    print(f"wrote {path} ({len(sw)} frames, T from {sw.t[0]:g} to {sw.t[-1]:g})")
+    last = sw.t[len(a) - 1]
+    same = "" if len(a) == len(sw) else f"; T = {sw.t[-1]:g} repeats T = {sw.t[0]:g}, left out"
+    print(f"wrote {path} ({len(a)} frames, T from {sw.t[0]:g} to {last:g}{same})")
 
 
 def cmd_plot(args):
-    from .. import plot
-    plt = _pyplot()
-    mech = args.load_mechanism(args)
+    plt, plot = _pictures()
+    mech = mechanism(args)
     names = list(args.names) + ([args.x] if args.x else [])
-    level = _needed_level(mech, names)
-    sw = _sweep(mech, args, level=level, guess=_guess(args.guess))
-    lines = plot.plot(sw, *args.names, x=args.x)
+    try:
+        level = plot.timeplot.needed_level(mech, names)
+    except KeyError as exc:
+        raise MechgenError(exc.args[0]) from None
+    sw = _sweep(mech, args, level=level, guess=parse_guess(args.guess))
+    lines = plot.plot(sw, *args.names, x=args.x, length=args.length, time=args.time)
     fig = lines[0].figure
     path = _output(args, mech, "{name}_" + "_".join(args.names) + ".png")
     fig.savefig(path, dpi=args.dpi)
@@ -109,26 +90,24 @@ def cmd_plot(args):
     print(f"wrote {path} ({', '.join(args.names)} over {len(sw)} points)")
 
 
-def add_commands(sub, add_common, mechanism):
+def add_commands(sub, add_common):
     """Add draw, animate and plot to the ``mechgen`` parser. ``-o/--output`` names the
-    picture; ``--outdir`` the folder of generated modules (as ``build -o``)."""
+    picture; ``--outdir`` the folder of generated modules (as on every command)."""
 
     def common(p, image):
-        add_common(p, outdir=False)
+        add_common(p)
         p.add_argument("-o", "--output", metavar="FILE",
                        help=f"the picture to write (default: MODEL_NAME{image} here)")
-        p.add_argument("--outdir", default="generated",
-                       help="folder of generated modules, rebuilt when out of date "
-                            "(default: generated/)")
         p.add_argument("--guess", action="append", metavar="NAME=VALUE",
                        help="start value of a coordinate (repeatable; picks an assembly mode)")
         p.add_argument("--dpi", type=float, default=100 if image == ".png" else 80,
                        help="resolution, dots per inch")
-        p.set_defaults(load_mechanism=mechanism)
 
     def span(p, n):
-        p.add_argument("--t0", type=float, default=0.0, help="first time (default 0)")
-        p.add_argument("--t1", type=float, default=1.0, help="last time (default 1)")
+        p.add_argument("--t0", type=number_type, default=0.0,
+                       help="first time (default 0); a number or an expression such as 2*pi")
+        p.add_argument("--t1", type=number_type, default=1.0,
+                       help="last time (default 1); a number or an expression")
         p.add_argument("-n", type=int, default=n, help=f"number of times, both ends "
                                                        f"included (default {n})")
 
@@ -144,7 +123,8 @@ def add_commands(sub, add_common, mechanism):
                        description="Draw the mechanism at time T: bodies, joints, slots, "
                                    "sliders; framed by its motion over one time unit.")
     common(p, ".png")
-    p.add_argument("-t", type=float, default=0.0, help="the time (default 0)")
+    p.add_argument("-t", type=number_type, default=0.0,
+                   help="the time (default 0); a number or an expression")
     looks(p)
     p.set_defaults(func=cmd_draw)
 
@@ -155,7 +135,8 @@ def add_commands(sub, add_common, mechanism):
     span(p, 100)
     p.add_argument("--fps", type=float, default=25.0, help="frames per second (default 25)")
     p.add_argument("--trace", action="append", metavar="POINT",
-                   help="draw the path of a point, e.g. colisa[2] (repeatable)")
+                   help="draw the path of a point: colisa[2], or body.at(x, y) for a point "
+                        "the model does not name, e.g. coupler.at(1.2, 0.8) (repeatable)")
     looks(p)
     p.set_defaults(func=cmd_animate)
 
@@ -165,5 +146,9 @@ def add_commands(sub, add_common, mechanism):
     common(p, ".png")
     p.add_argument("names", nargs="+", metavar="NAME", help="quantities to plot")
     p.add_argument("--x", metavar="NAME", help="plot against this quantity instead of T")
+    p.add_argument("--length", metavar="UNIT", help="the unit of the model's lengths, e.g. mm "
+                                                   "(default: none stated)")
+    p.add_argument("--time", metavar="UNIT", default="s",
+                   help="the unit of the model's time T (default: s)")
     span(p, 101)
     p.set_defaults(func=cmd_plot)

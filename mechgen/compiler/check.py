@@ -1,111 +1,434 @@
-"""`mechgen check`: Mech's CheckSystem and more (degrees of freedom, rank, structure)."""
+"""`mechgen check`: Mech's CheckSystem and more (degrees of freedom, rank, assembly modes,
+contradictory constraints, structure).
+
+The numbers come from one lambdify of Φ and Φ_q; everything after it is numpy: damped
+Gauss-Newton (least squares, so that non-square systems work too), the SVD for ranks and
+null spaces, quasi-random starts for the assembly modes.
+"""
 from __future__ import annotations
+
+import math
 
 import numpy as np
 import sympy as sp
 
 from ..model.geometry import T
+from ..model.symbolic import rank_analysis
+from .blocks import sort_blocks
+
+TOL = 1e-9          # max |Φ| below which a configuration counts as assembled
+STARTS = 128        # quasi-random starts of the assembly-mode search
 
 
-def _assemble(eq, q0, params, t, maxit=50, tol=1e-12):
-    """Gauss-Newton from the guess (least squares: works for non-square systems too).
+class System:
+    """Φ and Φ_q of a model at fixed parameters and time as numpy functions of q, for one
+    configuration (q of shape (n,)) or a stack of them ((k, n)): one lambdify of Φ and
+    of the nonzero entries of Φ_q."""
 
-    Returns (q, residual, iterations, converged)."""
-    f = sp.lambdify((list(eq.q), list(eq.params), T), eq.phi, modules="numpy")
-    J = sp.lambdify((list(eq.q), list(eq.params), T), eq.phi_q, modules="numpy")
-    q = np.array(q0, dtype=float)
-    m, n = eq.phi_q.shape
+    def __init__(self, eq, params, t):
+        self.m, self.n = eq.phi_q.shape
+        self.t = float(t)
+        self.params = [float(v) for v in params]
+        nonzero = [(i, j) for i in range(self.m) for j in range(self.n) if eq.phi_q[i, j] != 0]
+        self._rows = np.array([i for i, _ in nonzero], dtype=int)
+        self._cols = np.array([j for _, j in nonzero], dtype=int)
+        exprs = list(eq.phi) + [eq.phi_q[i, j] for i, j in nonzero]
+        self._f = sp.lambdify((list(eq.q), list(eq.params), T), exprs, modules="numpy",
+                              cse=True)
 
-    def res(x):
-        return np.array(f(list(x), params, t), dtype=float).reshape(m)
+    def __call__(self, q):
+        """(Φ, Φ_q) at q as float arrays: (m,) and (m, n), or (k, m) and (k, m, n)."""
+        q = np.asarray(q, dtype=float)
+        stack = q.reshape(-1, self.n)
+        vals = np.empty((self.m + self._rows.size, stack.shape[0]))
+        with np.errstate(all="ignore"):
+            for k, v in enumerate(self._f(list(stack.T), self.params, self.t)):
+                vals[k] = v                 # a constant entry comes back as a scalar
+        r = vals[:self.m].T
+        J = np.zeros((stack.shape[0], self.m, self.n))
+        J[:, self._rows, self._cols] = vals[self.m:].T
+        if q.ndim == 1:
+            return r[0], J[0]
+        return r, J
 
-    r = res(q)
-    for it in range(1, maxit + 1):
-        if not np.all(np.isfinite(r)):
-            return q, float("inf"), it, False
-        A = np.array(J(list(q), params, t), dtype=float).reshape(m, n)
-        dq = np.linalg.lstsq(A, -r, rcond=None)[0]
-        q = q + dq
-        r = res(q)
-        if np.max(np.abs(dq), initial=0.0) < tol * (1 + np.max(np.abs(q))) or \
-                np.max(np.abs(r), initial=0.0) < tol:
-            break
-    norm = float(np.max(np.abs(r), initial=0.0))
-    return q, norm, it, norm < 1e-8
+    def solve(self, q0, rows=None, maxit=60):
+        """Damped Gauss-Newton from q0 on the rows given (all by default): it ends at a
+        solution or at a least-squares point of the rows. Returns (q, max |Φ|, steps,
+        converged)."""
+        rows = slice(None) if rows is None else list(rows)
+        q = np.array(q0, dtype=float)
+
+        def at(x):
+            r, J = self(x)
+            return r[rows], J[rows]
+
+        r, J = at(q)
+        it = 0
+        for it in range(1, maxit + 1):
+            if not (np.all(np.isfinite(r)) and np.all(np.isfinite(J))):
+                return q, math.inf, it, False
+            if np.max(np.abs(r), initial=0.0) < 1e-3 * TOL:
+                break
+            dq = np.linalg.lstsq(J, -r, rcond=None)[0]
+            base, lam = float(r @ r), 1.0
+            while True:                 # halve the step until |Φ|² decreases
+                qn = q + lam * dq
+                rn, Jn = at(qn)
+                if np.all(np.isfinite(rn)) and float(rn @ rn) < base or lam < 1e-3:
+                    break
+                lam *= 0.5
+            q, r, J = qn, rn, Jn
+            if np.max(np.abs(lam * dq), initial=0.0) < 1e-14 * (1 + np.max(np.abs(q))):
+                break
+        norm = float(np.max(np.abs(r), initial=0.0)) if np.all(np.isfinite(r)) else math.inf
+        return q, norm, it, norm < TOL
+
+    def solve_many(self, Q, step, maxit=40):
+        """Gauss-Newton from every row of Q at once (steps capped at ``step``); returns
+        the rows that converge."""
+        Q = np.array(Q, dtype=float)
+        for _ in range(maxit):
+            r, J = self(Q)
+            alive = np.all(np.isfinite(r), axis=1) & np.all(np.isfinite(J), axis=(1, 2))
+            Q, r, J = Q[alive], r[alive], J[alive]
+            if not len(Q):
+                break
+            dq = -np.einsum("knm,km->kn", np.linalg.pinv(J), r)
+            big = np.max(np.abs(dq), axis=1, keepdims=True)
+            Q = Q + dq * np.minimum(1.0, step / np.maximum(big, 1e-300))
+        r = self(Q)[0] if len(Q) else np.zeros((0, self.m))
+        good = np.all(np.isfinite(r), axis=1) & (np.max(np.abs(r), axis=1, initial=0.0) < TOL)
+        return Q[good]
 
 
-def check_report(model, t=0.0) -> tuple[str, bool]:
+def halton(count, dim):
+    """Points 1..count of the Halton sequence in [0, 1)^dim: deterministic and even."""
+    primes, p = [], 2
+    while len(primes) < dim:
+        if all(p % d for d in primes if d * d <= p):
+            primes.append(p)
+        p += 1
+    out = np.empty((count, dim))
+    for d, base in enumerate(primes):
+        for k in range(count):
+            f, x, i = 1.0, 0.0, k + 1
+            while i > 0:
+                f /= base
+                x += f * (i % base)
+                i //= base
+            out[k, d] = x
+    return out
+
+
+def angle_coordinates(system, q, names, body_angles) -> tuple[set, set]:
+    """(periodic, shown wrapped): the coordinates in which Φ is 2π-periodic (angles equal
+    modulo 2π are one configuration), and those printed in (−π, π] (these and every
+    body's rotation: a driven Th2 − ωT is not periodic, yet it is an orientation)."""
+    x = np.asarray(q, dtype=float) + np.random.default_rng(7).uniform(-0.5, 0.5, (2, system.n))
+    r0 = system(x)[0]
+    periodic = set()
+    for j in range(system.n):
+        y = x.copy()
+        y[:, j] += 2 * math.pi
+        r1 = system(y)[0]
+        if np.all(np.isfinite(r0)) and np.all(np.isfinite(r1)) and \
+                np.max(np.abs(r1 - r0)) <= 1e-9 * (1 + np.max(np.abs(r0))):
+            periodic.add(j)
+    return periodic, periodic | {j for j, s in enumerate(names) if s in body_angles}
+
+
+def wrap(q, angles):
+    """q with the given angles in (−π, π]."""
+    q = np.array(q, dtype=float)
+    for j in angles:
+        w = math.remainder(q[j], 2 * math.pi)
+        q[j] = math.pi if w == -math.pi else w
+    return q
+
+
+def _differ(a, b, periodic):
+    d = np.array(b, dtype=float) - a
+    for j in periodic:
+        d[j] = math.remainder(d[j], 2 * math.pi)
+    return d
+
+
+def _is_flip(a, b, periodic, same):
+    """b is a turned half a turn in some angles and equal elsewhere: the mirror root of a
+    parallel or point-on-line condition (a slider reversed on its guide), not another
+    assembly of the mechanism (as the runtime's mech.assemblies counts)."""
+    d = _differ(a, b, periodic)
+    flipped = [j for j in periodic if abs(abs(d[j]) - math.pi) <= same]
+    rest = np.delete(d, flipped)
+    return bool(flipped) and np.max(np.abs(rest), initial=0.0) <= same
+
+
+def assembly_modes(system, guess, periodic, starts=STARTS, first=None):
+    """Every distinct assembly found at the system's time from the guess and from
+    ``starts`` quasi-random starts (angles over [−π, π), positions within the model's size
+    of the guess; ``first`` is the solution Newton reaches from the guess, when known), as
+    the runtime's mech.assemblies counts them: angles equal modulo 2π
+    and a body turned half a turn with all else equal (a slider reversed on its guide)
+    count once. Returns (modes, index of the mode the guess reaches or None); the modes
+    come in (−π, π], the guess's first."""
+    guess = np.asarray(guess, dtype=float)
+    others = [j for j in range(system.n) if j not in periodic]
+    size = max([1.0] + [abs(guess[j]) for j in others])
+    same = 1e-7 * (1 + size)
+    found = []
+
+    def add(q):
+        w = wrap(q, periodic)
+        for k, other in enumerate(found):
+            if np.max(np.abs(_differ(other, w, periodic)), initial=0.0) <= same:
+                return k
+        found.append(w)
+        return len(found) - 1
+
+    if first is None:                       # where Newton goes from the guess, if known
+        q, _, _, ok = system.solve(guess)
+        first = q if ok else None
+    reached = None if first is None else add(first)
+    if starts:
+        u = halton(starts, system.n + 1)
+        Q = np.repeat(guess[None, :], starts, axis=0)
+        for j in periodic:
+            Q[:, j] = -math.pi + 2 * math.pi * u[:, j]
+        # half the starts move the positions too, picked by a dimension of their own (the
+        # parity of k would pick the same half of the first coordinate's range each time)
+        moved = u[:, system.n] < 0.5
+        for j in others:
+            Q[moved, j] = guess[j] + size * (2 * u[moved, j] - 1)
+        for q in system.solve_many(Q, step=size):
+            add(q)
+    target = wrap(guess, periodic)
+
+    def turned(w):
+        """w with each angle turned half a turn where that still assembles and lies
+        nearer the guess: the representative of a mode that the runtime keeps."""
+        for j in periodic:
+            v = w.copy()
+            v[j] = wrap([w[j] + math.pi], [0])[0]
+            if abs(math.remainder(v[j] - target[j], 2 * math.pi)) < \
+                    abs(math.remainder(w[j] - target[j], 2 * math.pi)) - same and \
+                    np.max(np.abs(system(v)[0]), initial=0.0) < TOL:
+                w = v
+        return w
+
+    modes, mode = [], None
+    for k, w in enumerate(found):
+        w = w if k == reached else turned(w)
+        for g, kept in enumerate(modes):
+            if np.max(np.abs(_differ(kept, w, periodic)), initial=0.0) <= same or \
+                    _is_flip(kept, w, periodic, same):
+                break
+        else:
+            g = len(modes)
+            modes.append(w)
+        if k == reached:
+            mode = g
+    return modes, mode
+
+
+def disagreeing(system, groups, starts):
+    """A smallest set of constraints that cannot hold together (a deletion filter: drop
+    each constraint in turn while the rest still cannot be assembled from any start).
+    ``groups`` maps constraint number to its rows of Φ. Returns the constraint numbers."""
+    def consistent(numbers):
+        rows = [i for c in numbers for i in groups[c]]
+        return any(system.solve(q, rows)[3] for q in starts)
+
+    keep = list(groups)
+    for c in list(groups):
+        rest = [k for k in keep if k != c]
+        if rest and not consistent(rest):
+            keep = rest
+    return keep
+
+
+def _num(v) -> str:
+    v = float(v)
+    return "0" if abs(v) < 5e-13 else f"{v:.6g}"
+
+
+def _mode_table(modes, reached, nearest, names, periodic):
+    """The modes side by side, on the coordinates in which they differ."""
+    cols = [j for j in range(len(names))
+            if any(abs(_differ(modes[0], w, periodic)[j]) > 1e-7 * (1 + abs(w[j])) for w in modes)]
+    if len(modes) == 1 or reached is None:     # no mode to tell apart: show all of it
+        cols = list(range(len(names)))
+    cells = [[str(k + 1)] + [_num(w[j]) for j in cols] for k, w in enumerate(modes)]
+    header = ["mode"] + [names[j] for j in cols]
+    widths = [max(len(h), *(len(r[c]) for r in cells)) for c, h in enumerate(header)]
+    out = ["    " + "  ".join(h.rjust(w) for h, w in zip(header, widths))]
+    for k, row in enumerate(cells):
+        note = "   <- the guess reaches this one" if k == reached else \
+            "   <- nearest the guess" if k == nearest else ""
+        out.append("    " + "  ".join(c.rjust(w) for c, w in zip(row, widths)) + note)
+    return out
+
+
+def _missing(drivers, driver_rows, missing, free, owner):
+    """What a model with fewer equations than coordinates lacks, in words."""
+    left = f"; left free: {', '.join(f'{c} ({owner[c]})' if c in owner else c for c in free)}" \
+        if free else ""
+    if not drivers:
+        more = f" and {missing - 1} more constraint(s) or driver(s)" if missing > 1 else ""
+        return (f"  MISSING: {missing} equation(s) fewer than coordinates: add a driver "
+                f"(a constraint in T){more}{left}")
+    return (f"  MISSING: {missing} equation(s) fewer than coordinates: the model has "
+            f"{len(drivers)} driver(s) ({driver_rows} equation(s)), so a constraint is "
+            f"missing (a joint left out?), or a driver if the mechanism has more degrees of "
+            f"freedom{left}")
+
+
+class _Check:
+    """One model checked at one time: the counts, the first assembly from the guess, and
+    the lines of the report (``run`` says whether the model passes)."""
+
+    def __init__(self, model, t, starts):
+        self.model, self.t, self.starts = model, float(t), starts
+        self.eq = eq = model.equations()
+        self.names = [str(c) for c in eq.q]
+        self.n, self.m = len(eq.q), eq.phi.rows
+        self.system = System(eq, list(model.param_defaults.values()), t)
+        self.guess = np.array(model.guess_vector(), dtype=float)
+        self.owner = {}
+        for b in model.bodies.values():
+            if not b.is_ground:
+                self.owner.update({str(b.x): b.name, str(b.y): b.name, str(b.th): b.name})
+        self.periodic, self.shown = angle_coordinates(
+            self.system, self.guess, self.names,
+            {str(b.th) for b in model.bodies.values() if not b.is_ground})
+        self.lines = []
+
+    def counts(self):
+        model, n, m = self.model, self.n, self.m
+        drivers = model.drivers
+        driver_rows = sum(len(c.exprs) for c in drivers)
+        bodies = [f"{b.name} = {b.number}" + (" (ground)" if b.is_ground else "")
+                  for b in model.bodies.values()]
+        self.lines += [
+            f"Model {model.name}" + (f"  [{model.source}]" if getattr(model, "source", None)
+                                     else ""),
+            f"  bodies:       {len(model.bodies)}" + (f": {', '.join(bodies)}" if bodies else ""),
+            f"  coordinates:  {n}: {', '.join(self.names)}",
+            f"  equations:    {m} from {len(model.constraints)} constraints",
+            f"  drivers:      {len(drivers)}" +
+            "".join(f"\n    {c.number} {c.label}" for c in drivers),
+            f"  degrees of freedom: {n - (m - driver_rows)} ({n} coordinates - "
+            f"{m - driver_rows} kinematic equations), {driver_rows} driven"]
+        return drivers, driver_rows
+
+    def run(self) -> bool:
+        eq, n, m, t, lines = self.eq, self.n, self.m, self.t, self.lines
+        drivers, driver_rows = self.counts()
+        ok = True
+        q, residual, its, converged = self.first = self.system.solve(self.guess)
+        rank0, rows, cols = rank_analysis(self.system(self.guess)[1])
+        if converged:
+            rank, rows, cols = rank_analysis(self.system(q)[1])
+        free = [self.names[j] for j in cols] if converged and rank < n else []
+        if m < n:
+            ok = False
+            lines.append(_missing(drivers, driver_rows, n - m, free, self.owner))
+        elif m > n:
+            lines.append(f"  over-determined: {m - n} equation(s) more than coordinates "
+                         "(redundant constraints must be consistent)")
+        unused = [self.names[j] for j in range(n) if all(eq.phi_q[i, j] == 0 for i in range(m))]
+        if unused:
+            ok = False
+            lines.append(f"  coordinates in no equation: {', '.join(unused)}")
+        lines.append(f"  Jacobian rank at the guess (t = {t:g}): {rank0} of {n}")
+        if converged:
+            lines.append(f"  Jacobian rank assembled at t = {t:g} ({its} Gauss-Newton steps "
+                         f"from the guess, residual {residual:.1e}): {rank} of {n}")
+            if rows and m > rank:
+                lines.append(f"  redundant: {m - rank} dependent equation(s); the dependency "
+                             "involves:")
+                lines += [f"    [{i + 1}] {eq.labels[i]}" for i in rows]
+            if free:
+                ok = False
+                lines.append(f"  free: {n - rank} coordinate direction(s) not fixed by the "
+                             f"equations; coordinates left free: {', '.join(free)}")
+            else:
+                lines.append("  configuration reached (angles in (-pi, pi]): " + ", ".join(
+                    f"{s} = {_num(v)}" for s, v in zip(self.names, wrap(q, self.shown))))
+        if not free and m >= n:
+            ok = self.modes() and ok
+        lines.append(_structure(eq, self.guess, self.model))
+        lines.append("  check: " + ("True" if ok else "False"))
+        return ok
+
+    def modes(self) -> bool:
+        """The assembly modes at t, or why there is none; False when the guess reaches
+        none."""
+        t, periodic, lines = self.t, self.periodic, self.lines
+        q, residual, its, converged = self.first
+        modes, reached = assembly_modes(self.system, self.guess, periodic, self.starts,
+                                        first=q if converged else None)
+        if not modes:
+            return self.contradiction()
+        target = wrap(self.guess, periodic)
+        nearest = min(range(len(modes)), key=lambda k: np.max(np.abs(
+            _differ(target, modes[k], periodic))))
+        same = "; angles equal modulo 2 pi count once" if periodic else ""
+        lines.append(f"  assembly modes at t = {t:g}: {len(modes)} found (from the guess and "
+                     f"{self.starts} other starts{same})" +
+                     (f"; the guess reaches mode {reached + 1}" if reached is not None else ""))
+        if len(modes) > 1 or reached is None:
+            lines += _mode_table(modes, reached, nearest if nearest != reached else None,
+                                 self.names, periodic)
+        if reached is not None and nearest != reached:
+            lines.append(f"  note: mode {nearest + 1} lies nearer the guess than mode "
+                         f"{reached + 1}, which Newton reaches from it: check the guesses "
+                         "(--guess NAME=VALUE picks a mode at run time)")
+        if converged:
+            return True
+        lines.append(f"  CANNOT ASSEMBLE from the guess at t = {t:g} (residual {residual:.2g} "
+                     f"after {its} steps): start it near one of the modes above")
+        return False
+
+    def contradiction(self) -> bool:
+        """No assembly at all: name a smallest set of constraints that cannot hold
+        together."""
+        groups = {}
+        for i, (number, _) in enumerate(self.eq.rows):
+            groups.setdefault(number, []).append(i)
+        culprits = disagreeing(self.system, groups, [self.guess, self.first[0]])
+        self.lines += [
+            f"  CANNOT ASSEMBLE at t = {self.t:g}: no configuration from the guess (residual "
+            f"{self.first[1]:.2g}) or from {self.starts} other starts.",
+            f"  These {len(culprits)} constraints contradict each other (redundant "
+            "constraints that disagree, or a loop that cannot close); correct or remove one "
+            "of them:"]
+        by_number = {c.number: c for c in self.model.constraints}
+        self.lines += [f"    {c} {by_number[c].label}" for c in culprits]
+        return False
+
+
+def check_report(model, t=0.0, starts=STARTS) -> tuple[str, bool]:
     """Mech's CheckSystem and more. Returns (text, ok).
 
-    ok is False when equations are missing or the Jacobian is rank-deficient (a
-    coordinate left free); redundant but consistent equations are reported, not failed.
+    ok is False when equations are missing, the Jacobian is rank-deficient at the
+    assembled configuration (a coordinate left free), or the model cannot be assembled
+    at t (constraints that contradict each other, or a guess from which no mode is
+    reached); redundant but consistent equations are reported, not failed.
     """
-    from ..model.symbolic import numeric_jacobian, rank_analysis
-    eq = model.equations()
-    q_names = [str(c) for c in eq.q]
-    n, m = len(eq.q), eq.phi.rows
-    drivers = model.drivers
-    driver_rows = sum(len(c.exprs) for c in drivers)
-    params = list(model.param_defaults.values())
-    bodies = [f"{b.name} = {b.number}" + (" (ground)" if b.is_ground else "")
-              for b in model.bodies.values()]
-    lines = [f"Model {model.name}" + (f"  [{model.source}]" if getattr(model, "source", None)
-                                       else ""),
-             f"  bodies:       {len(model.bodies)}: {', '.join(bodies)}",
-             f"  coordinates:  {n}: {', '.join(q_names)}",
-             f"  equations:    {m} from {len(model.constraints)} constraints",
-             f"  drivers:      {len(drivers)}" +
-             "".join(f"\n    {c.number} {c.label}" for c in drivers)]
-    dof = n - (m - driver_rows)
-    lines.append(f"  degrees of freedom: {dof} ({n} coordinates - {m - driver_rows} kinematic "
-                 f"equations), {driver_rows} driven")
-    ok = True
-    if m < n:
-        ok = False
-        lines.append(f"  MISSING: {n - m} equation(s) fewer than coordinates: add "
-                     f"{'a driver' if dof > driver_rows else 'constraints or drivers'}")
-    elif m > n:
-        lines.append(f"  over-determined: {m - n} equation(s) more than coordinates "
-                     "(redundant constraints must be consistent)")
-    unused = [q_names[j] for j in range(n) if all(eq.phi_q[i, j] == 0 for i in range(m))]
-    if unused:
-        ok = False
-        lines.append(f"  coordinates in no equation: {', '.join(unused)}")
+    check = _Check(model, t, starts)
+    ok = check.run()
+    return "\n".join(check.lines) + "\n", ok
 
-    guess = model.guess_vector()
-    J0 = numeric_jacobian(eq, guess, params, t)
-    rank0, rows, cols = rank_analysis(J0)
-    lines.append(f"  Jacobian rank at the guess (t = {t:g}): {rank0} of {n}")
-    q, residual, its, converged = _assemble(eq, guess, params, t)
-    if converged:
-        J = numeric_jacobian(eq, q, params, t)
-        rank, rows, cols = rank_analysis(J)
-        lines.append(f"  Jacobian rank assembled at t = {t:g} ({its} Gauss-Newton steps "
-                     f"from the guess, residual {residual:.1e}): {rank} of {n}")
-    else:
-        rank = rank0
-        lines.append(f"  could not assemble at t = {t:g} from the guess (residual "
-                     f"{residual:.2g} after {its} steps): rank analysis at the guess")
-    if rows and m > rank:
-        lines.append(f"  redundant: {m - rank} dependent equation(s); the dependency involves:")
-        lines += [f"    [{i + 1}] {eq.labels[i]}" for i in rows]
-    if cols and rank < n:
-        ok = False
-        lines.append(f"  free: {n - rank} coordinate direction(s) not fixed by the equations; "
-                     f"coordinates left free: {', '.join(q_names[j] for j in cols)}")
 
-    from .blocks import sort_blocks
+def _structure(eq, guess, model) -> str:
     values = dict(zip(eq.q, guess))
     values.update({sym: val for sym, val in model.params.values()})
     blocks = sort_blocks(eq.phi, eq.q, values)
     if blocks is None:
-        lines.append("  structure: no block sorting (not square or structurally singular); "
-                     "full Newton only")
-    else:
-        kinds = {}
-        for b in blocks:
-            kinds[b.kind] = kinds.get(b.kind, 0) + 1
-        lines.append(f"  structure: {len(blocks)} blocks (" +
-                     ", ".join(f"{v} {k}" for k, v in kinds.items()) + ")")
-    lines.append("  check: " + ("True" if ok else "False"))
-    return "\n".join(lines) + "\n", ok
+        return ("  structure: no block sorting (not square or structurally singular); "
+                "full Newton only")
+    kinds = {}
+    for b in blocks:
+        kinds[b.kind] = kinds.get(b.kind, 0) + 1
+    return (f"  structure: {len(blocks)} blocks (" +
+            ", ".join(f"{v} {k}" for k, v in kinds.items()) + ")")

@@ -7,8 +7,11 @@ numerics, a module global, a builtin) does the model's symbol get a mangled form
 becomes ``q_``, with more ``_`` until the name is unique.
 
 The names the module uses are read from its sources, never kept by hand: the template's
-Python tokens, the numeric library's (``mechgen/compiler/library/*.py``), Python's
-builtins, and the code the emitters write (mechgen.compiler.ir.code_words). Names the code
+Python tokens (the generated functions' arguments among them), the names the numeric
+library binds at module level (mechgen.compiler.library, as a module holds it: its
+functions' own locals never share a scope with the model's names), the header constants
+(mechgen.protocol), Python's builtins, and the code the emitters write
+(mechgen.compiler.ir.code_words). Names the code
 generator makes up all begin with ``_`` (``_t0``, ``_sin_Th3``); a model name that begins
 with ``_`` is written with its underscores at the end instead (``_a`` as ``a_``), so the
 two never meet. Names made from model names (``_sin_<y>``, ``_d<z>_d<y>``) take the
@@ -16,6 +19,7 @@ mapped names of their parts.
 """
 from __future__ import annotations
 
+import ast
 import builtins
 import functools
 import io
@@ -25,6 +29,8 @@ import re
 import tokenize
 from importlib import resources
 
+from ..protocol import header_constants
+from .library import library_text
 from .printer import Alias, Derived, Local
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
@@ -57,7 +63,7 @@ def _template_dir() -> str:
     return str(resources.files("mechgen.templates"))
 
 
-def _sources():
+def _template_sources():
     folder = _template_dir()
     for name in sorted(os.listdir(folder)):
         if name.endswith(".j2"):
@@ -65,22 +71,34 @@ def _sources():
                 text = fh.read()
             # layout: jinja's tags go, its values become a number (no names of their own)
             yield _JINJA_VALUE.sub("0", _JINJA_TAG.sub("", text))
-    library = os.path.join(_HERE, "library")
-    if os.path.isdir(library):
-        for name in sorted(os.listdir(library)):
-            if name.endswith(".py"):
-                with open(os.path.join(library, name), encoding="utf-8") as fh:
-                    yield fh.read()
 
 
 @functools.lru_cache(maxsize=1)
 def module_words() -> frozenset:
     """The names every generated module may use for itself: the template's, the numeric
-    library's, and Python's builtins."""
+    library's (as a module holds it), the header constants' and Python's builtins."""
     out = set(dir(builtins))
-    for text in _sources():
+    for text in _template_sources():
         out |= identifiers(text)
+    out |= module_level_names(library_text())
+    out |= {name for _, names in header_constants() for name, _ in names}
     return frozenset(out)
+
+
+def module_level_names(source: str) -> set[str]:
+    """The names a piece of Python binds at module level (functions, classes, assignments,
+    imports): the library's locals live in its own functions' scopes and never meet the
+    model's names, which live in the generated functions'."""
+    out = set()
+    for node in ast.parse(source).body:
+        if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
+            out.add(node.name)
+        elif isinstance(node, (ast.Assign, ast.AnnAssign, ast.AugAssign)):
+            targets = node.targets if isinstance(node, ast.Assign) else [node.target]
+            out |= {n.id for t in targets for n in ast.walk(t) if isinstance(n, ast.Name)}
+        elif isinstance(node, (ast.Import, ast.ImportFrom)):
+            out |= {(a.asname or a.name).split(".")[0] for a in node.names}
+    return out
 
 
 def _free_form(name: str) -> str:

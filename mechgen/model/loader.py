@@ -13,7 +13,7 @@ def load_models(path: str) -> list[Model]:
     """Every ``Model`` defined at module level of the file, in definition order."""
     path = os.path.abspath(path)
     if not os.path.isfile(path):
-        raise ModelError(f"model file {path} does not exist", where=path)
+        raise ModelError("the model file does not exist", where=path)  # path named once
     try:
         namespace = runpy.run_path(path, run_name="__mechgen_model__")
     except MechgenError:

@@ -1,5 +1,19 @@
 """The runtime: a generated module to numbers (numpy, numba, scipy). Never imports sympy,
-the model language or the compiler."""
+the model language, the compiler or the bridge.
+
+Modules, lowest first (each imports only those above it):
+  guards      checks of user arguments, before any jitted call
+  quantity    what a name means (coordinate, derivative, output) and a quantity's level
+  interpolate interpolants of a sweep (Hermite, spline, Mathematica's Lagrange)
+  events      exact extremes and roots along a sweep
+  results     Solution, Sweep, CSV and pandas export
+  singular    rank analysis of Φ_q, solving helpers that never raise
+  locks       lock positions and crossings along a branch; why a solve failed
+  assembly    assembly modes at one time, angle coordinates
+  design      design tables (sweeps over a grid of parameter values)
+  loader      a module file, its stamp, format and version checked
+  mechanism   Mechanism and load(): the one class users hold
+"""
 from .mechanism import Mechanism, load
 
 __all__ = ["Mechanism", "load"]

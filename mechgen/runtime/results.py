@@ -1,19 +1,18 @@
 """Solutions and sweeps: arrays indexed by coordinate name (``"X4"``, ``"X4d"``, ``"X4dd"``)
-and by declared output name."""
+and by declared output name; CSV and pandas export. A sweep's interpolation, extremes and
+roots are computed by mechgen.runtime.interpolate and mechgen.runtime.events."""
 from __future__ import annotations
 
 import csv
 
 import numpy as np
 
+from ..protocol import LEVEL, LEVELS
+from .events import extrema as _extrema, roots as _roots
+from .interpolate import interpolate as _interpolate
+from .quantity import _lookup, column_names, level_of
 
-def _lookup(mech, name):
-    """(kind, index, order) for a name: a coordinate, its derivative or an output."""
-    kind, k, order = _find(mech, name)
-    if kind == "q" and not mech.solved[k]:
-        raise KeyError(f"{mech.coordinates[k]!r} is not solved by this build of '{mech.name}' "
-                       "(pruned with --outputs): rebuild without --outputs to get it")
-    return kind, k, order
+__all__ = ["Solution", "Sweep", "write_csv", "_lookup"]
 
 
 def write_csv(path, header, data):
@@ -26,31 +25,14 @@ def write_csv(path, header, data):
     return path
 
 
-def _solved_names(mech):
-    return [c for c, ok in zip(mech.coordinates, mech.solved) if ok]
-
-
-def _find(mech, name):
-    if not isinstance(name, str):
-        raise TypeError(f"index with a coordinate or output name, got {name!r}")
-    index = mech._index
-    if name in index:
-        return "q", index[name], 0
-    for suffix, order in (("dd", 2), ("d", 1)):
-        if name.endswith(suffix) and name[: -len(suffix)] in index:
-            return "q", index[name[: -len(suffix)]], order
-    outs = mech.outputs
-    if name in outs:
-        return "out", outs.index(name), 0
-    for suffix, order in (("dd", 2), ("d", 1)):
-        if name.endswith(suffix) and name[: -len(suffix)] in outs:
-            return "out", outs.index(name[: -len(suffix)]), order
-    known = ", ".join(mech.coordinates + mech.outputs)
-    raise KeyError(f"{name!r} is neither a coordinate nor an output of '{mech.name}' "
-                   f"(known: {known}; add d or dd for derivatives)")
-
-
-_LEVEL_NAMES = ("position", "velocity", "acceleration")
+def pandas():
+    """The pandas module, or an ImportError that says what needs it (pandas is optional)."""
+    try:
+        import pandas as pd     # optional: only to_dataframe() needs it
+    except ImportError:
+        raise ImportError("to_dataframe() needs pandas (pip install pandas); "
+                          "to_csv() works without it") from None
+    return pd
 
 
 class Solution:
@@ -70,33 +52,30 @@ class Solution:
 
     @property
     def level(self) -> str:
-        return _LEVEL_NAMES[0 if self.qd is None else 1 if self.qdd is None else 2]
+        return LEVELS[level_of(self.qd, self.qdd)]
 
     def __getitem__(self, name):
         kind, k, order = _lookup(self.mechanism, name)
         if kind == "q":
             vec = (self.q, self.qd, self.qdd)[order]
             if vec is None:
-                raise KeyError(f"{name!r} needs a solve at level {_LEVEL_NAMES[order]} "
+                raise KeyError(f"{name!r} needs a solve at level {LEVELS[order]} "
                                f"(this solution is at level {self.level})")
             return float(vec[k])
         need = self.mechanism.output_orders[k] + order
-        have = 0 if self.qd is None else 1 if self.qdd is None else 2
-        if need > have:
-            raise KeyError(f"output {name!r} needs a solve at level {_LEVEL_NAMES[min(need, 2)]}")
+        if need > level_of(self.qd, self.qdd):
+            raise KeyError(f"output {name!r} needs a solve at level "
+                           f"{LEVELS[min(need, LEVEL['acceleration'])]}")
         return float(self.mechanism.output_values(self.q, self.qd, self.qdd, self.t, order)[k])
 
     def keys(self):
-        coords = _solved_names(self.mechanism)
-        names = list(coords)
-        if self.qd is not None:
-            names += [c + "d" for c in coords]
-        if self.qdd is not None:
-            names += [c + "dd" for c in coords]
-        return names
+        """The names this solution answers, in the order of a sweep's columns: the
+        coordinates, their derivatives up to its level, then the declared outputs (OUTPUTS
+        of the generated module) and those of their derivatives the level allows."""
+        return column_names(self.mechanism, level_of(self.qd, self.qdd))
 
     def as_dict(self) -> dict:
-        """Mech's rule list: {"T": t, "X2": ..., ...}."""
+        """Mech's rule list: {"T": t, "X2": ..., ..., "stroke_x": ...}, outputs included."""
         out = {"T": self.t}
         out.update({k: self[k] for k in self.keys()})
         return out
@@ -106,19 +85,24 @@ class Solution:
         return self.mechanism.points_at(self.q, self.t)
 
     def __repr__(self):
-        items = ", ".join(f"{k} -> {v:.6g}" for k, v in self.as_dict().items())
+        # the outputs too, as a sweep's repr and table show them
+        items = ", ".join(f"{k} -> {v + 0.0:.6g}" for k, v in self.as_dict().items())  # no -0
         flag = ", singular" if self.singular else ""
         return f"<Solution {{{items}}}{flag}>"
 
     def _repr_html_(self):
-        cells = "".join(f"<tr><td>{k}</td><td>{v:.10g}</td></tr>" for k, v in self.as_dict().items())
+        cells = "".join(f"<tr><td>{k}</td><td>{v + 0.0:.10g}</td></tr>"
+                        for k, v in self.as_dict().items())
         flag = " (singular)" if self.singular else ""
         return (f"<p>Solution of <b>{self.mechanism.name}</b>{flag}</p>"
                 f"<table><tbody>{cells}</tbody></table>")
 
 
 class Sweep:
-    """Solutions at many times: ``sw.t`` and ``sw["X4"]`` are numpy arrays."""
+    """Solutions at many times: ``sw.t`` and ``sw["X4"]`` are numpy arrays.
+
+    ``sw.jumps`` and ``sw.crossings`` are the times a sweep reached by a branch jump or
+    at or through a singular configuration (Mechanism.sweep fills them in)."""
 
     def __init__(self, mech, t, Q, QD=None, QDD=None, info=None):
         self.mechanism = mech
@@ -127,16 +111,18 @@ class Sweep:
         self.QD = QD
         self.QDD = QDD
         self.info = info
+        self.jumps = self.crossings = np.empty(0)
 
     @property
     def level(self) -> str:
-        return _LEVEL_NAMES[0 if self.QD is None else 1 if self.QDD is None else 2]
+        return LEVELS[self._have()]
 
     def __len__(self):
         return self.t.shape[0]
 
-    def _have(self):
-        return 0 if self.QD is None else 1 if self.QDD is None else 2
+    def _have(self) -> int:
+        """The level held, as an index into LEVELS."""
+        return level_of(self.QD, self.QDD)
 
     def __getitem__(self, key):
         if isinstance(key, (int, np.integer)):
@@ -152,12 +138,13 @@ class Sweep:
         if kind == "q":
             arr = (self.Q, self.QD, self.QDD)[order]
             if arr is None:
-                raise KeyError(f"{key!r} needs a sweep at level {_LEVEL_NAMES[order]} "
+                raise KeyError(f"{key!r} needs a sweep at level {LEVELS[order]} "
                                f"(this sweep is at level {self.level})")
             return arr[:, k].copy()
         need = self.mechanism.output_orders[k] + order
         if need > self._have():
-            raise KeyError(f"output {key!r} needs a sweep at level {_LEVEL_NAMES[min(need, 2)]}")
+            raise KeyError(f"output {key!r} needs a sweep at level "
+                           f"{LEVELS[min(need, LEVEL['acceleration'])]}")
         return self.outputs(order)[:, k].copy()
 
     def outputs(self, order=0) -> np.ndarray:
@@ -177,17 +164,8 @@ class Sweep:
         return out
 
     def columns(self) -> list:
-        coords = _solved_names(self.mechanism)
-        names = list(coords)
-        if self.QD is not None:
-            names += [c + "d" for c in coords]
-        if self.QDD is not None:
-            names += [c + "dd" for c in coords]
-        have = self._have()
-        for k, o in enumerate(self.mechanism.outputs):
-            order = self.mechanism.output_orders[k]
-            names += [o + s for s, d in (("", 0), ("d", 1), ("dd", 2)) if order + d <= have]
-        return names
+        """The names of the table's columns after T: coordinates, their derivatives, outputs."""
+        return column_names(self.mechanism, self._have())
 
     def table(self) -> tuple[list, np.ndarray]:
         cols = self.columns()
@@ -201,29 +179,34 @@ class Sweep:
 
     def to_dataframe(self):
         """A pandas DataFrame of T and every column (needs pandas)."""
-        from .analysis import _pandas
-        pd = _pandas()
         header, data = self.table()
-        return pd.DataFrame(data, columns=header)
+        return pandas().DataFrame(data, columns=header)
 
-    # -- analysis (mechgen.analysis) ------------------------------------------------------
+    def at_level(self, level) -> "Sweep":
+        """This sweep with the velocity (and, for "acceleration", the acceleration) level
+        solved at its own positions: linear solves, no Newton iteration. Levels it holds
+        already are kept; raises SingularError at a point where they are not determined."""
+        lev = LEVEL[level] if isinstance(level, str) else int(level)
+        QD, QDD = self.mechanism.solve_derivatives(self.t, self.Q, self.QD, self.QDD, lev)
+        out = Sweep(self.mechanism, self.t, self.Q, QD, QDD, self.info)
+        out.jumps, out.crossings = self.jumps, self.crossings
+        return out
+
+    # -- analysis (mechgen.runtime.interpolate, mechgen.runtime.events) ---------------------
     def interpolate(self, name, method="auto", degree=3, extrapolate=False):
         """A callable of t (Mech's TimeInterpolate) using the derivatives the sweep holds:
         quintic Hermite with accelerations, cubic Hermite with velocities, a cubic spline
         on positions; method="lagrange" is Mathematica's default InterpolatingFunction."""
-        from .analysis import interpolate
-        return interpolate(self, name, method=method, degree=degree, extrapolate=extrapolate)
+        return _interpolate(self, name, method=method, degree=degree, extrapolate=extrapolate)
 
     def extrema(self, name, method="auto", xtol=1e-12):
         """Interior maxima and minima of a quantity, bracketed by the sweep and refined on
         exact solves of its time derivative; each also says what the interpolant gives."""
-        from .analysis import extrema
-        return extrema(self, name, method=method, xtol=xtol)
+        return _extrema(self, name, method=method, xtol=xtol)
 
     def roots(self, name, method="auto", xtol=1e-12):
         """Times where a quantity crosses zero, refined on exact solves."""
-        from .analysis import roots
-        return roots(self, name, method=method, xtol=xtol)
+        return _roots(self, name, method=method, xtol=xtol)
 
     def singularities(self):
         """Where Φ_q loses rank between the first and last time of this sweep, along its

@@ -1,0 +1,157 @@
+"""The solving commands: ``mechgen solve | sweep | singularities``."""
+from __future__ import annotations
+
+import argparse
+import sys
+
+import numpy as np
+
+from ..errors import MechgenError
+from .loading import mechanism
+from .options import (number_type, output_file, parse_columns, parse_guess,
+                      parse_param_option)
+from .tables import format_table, needed_level, select, times, write_csv
+
+
+def _emit(args, header, data, keep, what):
+    """Print the table, or write it to the -o/--csv file and say so."""
+    header, data = select(header, data, parse_columns(args.columns), keep)
+    if args.csv:
+        write_csv(args.csv, header, data)
+        print(f"wrote {what} to {args.csv}")
+    else:
+        print(format_table(header, data))
+
+
+def cmd_solve(args):
+    """One time: a column of names and values (or a one-row CSV)."""
+    if args.csv:
+        output_file(args.csv)
+    mech = mechanism(args)
+    columns = parse_columns(args.columns)
+    level = needed_level(mech, columns, args.level)
+    s = mech.solve(args.t, guess=parse_guess(args.guess), level=level, method=args.method)
+    rows = [("T", s.t)] + [(k, s[k]) for k in s.keys()]     # the outputs included
+    if columns:
+        by_name = dict(rows)
+        rows = [("T", s.t)] + [(c, by_name[c]) for c in columns if c != "T"]
+    if args.csv:
+        write_csv(args.csv, [k for k, _ in rows], np.array([[v for _, v in rows]]))
+        print(f"wrote {mech.name} at T = {s.t:g} ({len(rows) - 1} columns) to {args.csv}")
+        return
+    print(f"{mech.name} at T = {s.t:g} ({s.level}; {s.iterations} Newton iterations, "
+          f"residual {s.residual:.2g}, {s.method} solver{', SINGULAR' if s.singular else ''})")
+    width = max(len(k) for k, _ in rows)
+    for k, v in rows:
+        print(f"  {k:<{width}} -> {float(v) + 0.0:.10g}")     # + 0.0: never -0
+
+
+def cmd_sweep(args):
+    """Times from --t0 to --t1: a table, or a CSV file; a design table with --param. On a
+    failure, the points reached before it, then the error."""
+    if args.csv:
+        output_file(args.csv)
+    ts = times(args.t0, args.t1, args.n)
+    mech = mechanism(args)
+    level = needed_level(mech, parse_columns(args.columns), args.level)
+    params = parse_param_option(args.param)
+    if any(not isinstance(v, float) for v in params.values()):   # a design table
+        progress = sys.stderr.isatty() if args.progress is None else args.progress
+        tab = mech.design_sweep(ts[0], ts[-1], len(ts), params, level=level, times=ts,
+                                guess=parse_guess(args.guess), method=args.method,
+                                progress=progress or None)
+        header, data = tab.table()
+        _emit(args, header, data, len(tab.names) + 1,
+              f"{data.shape[0]} rows ({len(tab)} designs)")
+        return
+    if params:
+        mech = mech.with_params(**params)
+    try:
+        sw = mech.sweep(ts[0], ts[-1], len(ts), level=level, guess=parse_guess(args.guess),
+                        method=args.method, times=ts)
+    except MechgenError as exc:
+        partial = getattr(exc, "sweep", None)
+        if partial is not None and len(partial):
+            header, data = partial.table()
+            _emit(args, header, data, 1, f"the {len(partial)} of {len(ts)} rows reached "
+                                          "before the failure")
+            sys.stdout.flush()
+        raise
+    header, data = sw.table()
+    _emit(args, header, data, 1, f"{len(sw)} rows")
+
+
+def cmd_singularities(args):
+    """Times where the Jacobian loses rank along the branch the guess starts on."""
+    mech = mechanism(args)
+    found = mech.singularities(args.t0, args.t1, n=args.n, guess=parse_guess(args.guess))
+    span = f"T from {args.t0:g} to {args.t1:g}"
+    if not found:
+        print(f"{mech.name}: no singular configuration for {span} (the branch the guess "
+              f"starts on, {args.n} samples)")
+        return
+    print(f"{mech.name}: {len(found)} singular configuration(s) for {span} (the branch the "
+          f"guess starts on, {args.n} samples)")
+    for s in found:
+        kind = {"lock": "lock (toggle) position: the driven motion cannot pass",
+                "crossing": "crossing: the branch passes a dead centre or branch point"}
+        print(f"  T = {s.t:.10g}  {kind.get(s.kind, s.kind)}")
+        null = getattr(s, "null", None)
+        if s.coordinates:
+            who = " and ".join(s.lock) if s.lock else "the constraints"
+            print(f"      {who} cannot fix {', '.join(s.coordinates)}")
+        grouped = getattr(null, "grouped", None) or s.constraints
+        print(f"      constraints losing rank: {'; '.join(grouped)}")
+
+
+def add_commands(sub, common, solve_options):
+    """Add solve, sweep and singularities to the ``mechgen`` parser."""
+    def table_options(p):
+        p.add_argument("-o", "--csv", metavar="FILE", dest="csv",
+                       help="write the table to this CSV file instead of printing it")
+        p.add_argument("--columns", action="append", metavar="NAMES",
+                       help="only these columns after T, comma-separated (e.g. X4,X4d; "
+                            "repeatable); the level follows from them unless --level says")
+
+    def span(p, n):
+        p.add_argument("--t0", type=number_type, default=0.0,
+                       help="first time (default 0); a number or an expression such as "
+                            "2*pi (write --t0=-pi for a negative one)")
+        p.add_argument("--t1", type=number_type, default=1.0,
+                       help="last time (default 1); a number or an expression")
+        p.add_argument("-n", type=int, default=n,
+                       help=f"number of times, both ends included (default {n})")
+
+    p = sub.add_parser("solve", help="solve at one time",
+                       description="Solve the model at time T and print every coordinate "
+                                   "(and derivative, and output) at the level asked for.")
+    common(p)
+    p.add_argument("-t", type=number_type, required=True,
+                   help="the time: a number or an expression such as 0.5/pi")
+    table_options(p)
+    solve_options(p)
+    p.set_defaults(func=cmd_solve)
+
+    p = sub.add_parser("sweep", help="solve over a range of times",
+                       description="Solve at -n times from --t0 to --t1 (both ends "
+                                   "included), each started from the one before.")
+    common(p)
+    span(p, 21)
+    table_options(p)
+    p.add_argument("--param", action="append", metavar="NAME=VALUES",
+                   help="a design table: NAME=V1,V2,... or NAME=START:STOP:STEP varies a "
+                        "parameter, NAME=V fixes it (repeatable)")
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                   help="progress line on stderr for design tables (default: on a terminal)")
+    solve_options(p)
+    p.set_defaults(func=cmd_sweep)
+
+    p = sub.add_parser("singularities", help="times where the Jacobian loses rank",
+                       description="Lock (toggle) positions and dead-centre crossings "
+                                   "between --t0 and --t1 along the branch the guess starts "
+                                   "on, each with the constraints that lose rank.")
+    common(p)
+    span(p, 201)
+    p.add_argument("--guess", action="append", metavar="NAME=VALUE",
+                   help="start value of a coordinate (repeatable; picks the branch)")
+    p.set_defaults(func=cmd_singularities)

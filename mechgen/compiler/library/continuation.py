@@ -1,0 +1,329 @@
+"""The continuation sweep (a whole time series along one assembly mode, with step control
+that halves its way past hard stretches and reports jumps and singular crossings), the
+evaluation of points and outputs along a sweep, and a sweep per design.
+
+Everything below the marker line goes verbatim into every generated module; the imports
+above it stand for what a generated module defines (the toy model's here).
+"""
+import math
+
+import numpy as np
+
+from .solve import _fin, pivot_ratio, solve_position, solve_velocity, solve_acceleration
+from .toy import (ACCELERATION, BRANCH_ATOL, BRANCH_HMIN, BRANCH_NEAR, BRANCH_RATIO,
+                  BRANCH_TURN, INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP, INFO_STATUS,
+                  INFO_SUBSTEPS, JUMP, LEVEL, METHOD_FULL, N_COORDS, N_EQS, OK,
+                  POSITION_INFO_SIZE, SORTED, THROUGH_SINGULAR, TINY, VELOCITY,
+                  derivatives_sorted, jacobian_det, outputs, outputs_d, outputs_dd, phi,
+                  points, sweep_fast, njit)
+
+# -- module body: below this line, the text as a generated module holds it --
+# ---------------------------------------------------------------------------------------
+# Sweeps
+# ---------------------------------------------------------------------------------------
+@njit(cache=True, error_model="numpy")
+def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, INFO):
+    """Solve at every time of ts by continuation along the assembly mode of the first point.
+
+    Each point starts from a predictor: Taylor with velocity and acceleration (level 2), a
+    quadratic through the velocity at the last point and the point before (level 1), or
+    through the last three points (level 0); the tangent at the last point when they
+    crowd together (after the smallest substeps) or are too few. A step is accepted
+    when its solve succeeds and (1) corrects the predictor by at most BRANCH_RATIO times
+    the smaller of the predicted and the actual move, (2) at level >= 1, moves as the
+    trapezoidal rule on the velocities at both ends says to the same fraction (both plus
+    BRANCH_ATOL times the size of q), (3) turns no angle (a coordinate Φ does not see
+    turned by 2π) by more than BRANCH_TURN, and (4) changes det Φ_q by at most half of
+    itself (its sign never, and in small steps near a singular configuration). A jump
+    towards another assembly mode, or across a stretch where the mechanism does not
+    assemble, fails them: the step is then halved, down to BRANCH_HMIN of the sweep's
+    step, and the way is taken in substeps (not recorded) that grow again as they pass.
+
+    Rows of Q, QD, QDD, INFO are filled up to the returned count, INFO[k] = [iterations,
+    residual, rank, method, status] and, when INFO has INFO_COLUMNS columns, [substeps,
+    jump]. Status JUMP marks a point reached by a jump the step control could not avoid
+    (its size in INFO[k, INFO_JUMP]), THROUGH_SINGULAR a point reached at or through a
+    singular configuration (det Φ_q changed sign, or the tests failed next to one, even at
+    the smallest step: a dead centre, lock or branch point). A count below len(ts) means
+    the solve at ts[count] failed with status INFO[count, INFO_STATUS]; Q[count] (QD, QDD)
+    then hold the last configuration reached on the way and, with INFO_COLUMNS columns,
+    INFO[count, INFO_SUBSTEPS] its time and INFO[count, INFO_JUMP] the time that failed."""
+    n = N_COORDS
+    wide = INFO.shape[1] >= INFO_COLUMNS
+    q = q0.copy()
+    qd = np.zeros(n)
+    qdd = np.zeros(n)
+    qp = np.zeros(n)
+    qa = q0.copy()              # the last configuration reached, at time ta
+    qda = np.zeros(n)
+    qdda = np.zeros(n)
+    qb = q0.copy()              # the two before it, at times tb and tc0
+    qc = q0.copy()
+    ta = 0.0
+    tb = 0.0
+    tc0 = 0.0
+    da = 0.0                    # det Φ_q at td, the last time it was evaluated, and
+    td = 0.0                    # how fast it changes: it is evaluated again only where
+    rate = 0.0                  # it could have changed sign, after a hard solve (more than
+    skipped = 0                 # two Newton iterations) and every 16th point
+    have = 0                    # configurations reached so far
+    va = False                  # qda holds the velocity at ta
+    fresh = False               # ta was reached by a jump: predict no motion from it
+    info = np.zeros(POSITION_INFO_SIZE)
+    piv = np.zeros(1)
+    # the angles: coordinates Φ does not see turned by a full turn
+    angle = np.zeros(n, dtype=np.bool_)
+    if ts.shape[0] > 1:
+        r0 = np.empty(N_EQS)
+        r1 = np.empty(N_EQS)
+        phi(q0, ts[0], p, r0)
+        for j in range(n):
+            q[j] += 2.0 * math.pi
+            phi(q, ts[0], p, r1)
+            q[j] = q0[j]
+            angle[j] = True
+            for i in range(N_EQS):
+                if not abs(r1[i] - r0[i]) <= 1e-9 * (1.0 + abs(r0[i])):
+                    angle[j] = False
+    for k in range(ts.shape[0]):
+        target = ts[k]
+        h = target - ta
+        hmin = abs(h) * BRANCH_HMIN
+        full = True
+        substeps = 0
+        jump = 0.0
+        crossed = False
+        leaping = False
+        wild = False
+        while True:
+            tc = target if full or have == 0 else ta + h
+            dt = tc - ta
+            # the history spreads enough for a quadratic (after the smallest substeps it
+            # does not, and the tangent at ta predicts instead)
+            far_b = have >= 2 and abs(ta - tb) >= 0.25 * abs(dt)
+            far_c = far_b and have >= 3 and abs(tb - tc0) >= 0.25 * abs(dt)
+            if have > 0 and not va and not far_c and not fresh:
+                va = solve_velocity(qa, ta, p, method, qda) == OK
+            if have == 0:
+                for j in range(n):
+                    q[j] = qa[j]
+            elif va and level >= 2:
+                for j in range(n):
+                    q[j] = qa[j] + dt * (_fin(qda[j]) + 0.5 * dt * _fin(qdda[j]))
+            elif va and far_b:
+                e = tb - ta             # the quadratic with the velocity at ta through qb
+                for j in range(n):
+                    v = _fin(qda[j])
+                    q[j] = qa[j] + dt * (v + dt * (qb[j] - qa[j] - e * v) / (e * e))
+            elif va:
+                for j in range(n):
+                    q[j] = qa[j] + dt * _fin(qda[j])
+            elif far_c:
+                wa = (tc - tb) * (tc - tc0) / ((ta - tb) * (ta - tc0))
+                wb = (tc - ta) * (tc - tc0) / ((tb - ta) * (tb - tc0))
+                wc = (tc - ta) * (tc - tb) / ((tc0 - ta) * (tc0 - tb))
+                for j in range(n):
+                    q[j] = wa * qa[j] + wb * qb[j] + wc * qc[j]
+            elif far_b:
+                f = dt / (ta - tb)
+                for j in range(n):
+                    q[j] = qa[j] + f * (qa[j] - qb[j])
+            else:
+                for j in range(n):
+                    q[j] = qa[j]
+            turn = 0.0
+            for j in range(n):
+                qp[j] = q[j]
+                if angle[j]:
+                    turn = max(turn, abs(q[j] - qa[j]))
+            if have > 0 and turn > BRANCH_TURN and abs(h) > hmin and not leaping:
+                h *= 0.5                # the predictor turns an angle too far: halve first
+                full = False
+                continue
+            # position, velocity, acceleration (written out: a call costs here)
+            status = solve_position(q, tc, p, tol, xtol, maxit, method, info)
+            if SORTED and LEVEL >= 2 and status == OK and level >= 2 and \
+                    method != METHOD_FULL and derivatives_sorted(q, tc, p, qd, qdd, piv) == OK:
+                pass                    # both in one pass; else one by one, with fallbacks
+            elif status == OK and level >= 1:
+                status = solve_velocity(q, tc, p, method, qd)
+                if status != OK:
+                    status += VELOCITY
+                elif level >= 2:
+                    status = solve_acceleration(q, qd, tc, p, method, qdd)
+                    if status != OK:
+                        status += ACCELERATION
+            corr = 0.0
+            flip = False
+            dc = da
+            ok = status == OK
+            checked = False
+            if ok and have > 0 and (skipped >= 15 or rate == 0.0 or info[INFO_ITERATIONS] > 2 or
+                                    abs(da) <= 8.0 * rate * abs(tc - td)):
+                if td != ta:            # compare with det Φ_q at the last point reached
+                    d0 = jacobian_det(qa, ta, p)
+                    rate = abs(d0 - da) / abs(ta - td)
+                    da = d0
+                    td = ta
+                dc = jacobian_det(q, tc, p)
+                # det Φ_q may change by half of itself in a step at most: near a singular
+                # configuration the steps shrink, and a sign change is never stepped over
+                flip = (dc > 0.0 and da < 0.0) or (dc < 0.0 and da > 0.0) or \
+                    abs(dc - da) > 0.5 * min(abs(da), abs(dc))
+                checked = True
+            if ok and have > 0 and jump == 0.0:
+                for j in range(n):
+                    if angle[j]:
+                        turn = max(turn, abs(q[j] - qa[j]))
+                if turn > BRANCH_TURN:
+                    ok = False
+                    corr = turn
+            # (a Newton that converged within two iterations started within ~1e-5 of the
+            # solution: the predictor was right, nothing more to test)
+            if ok and jump == 0.0 and have > 0 and (va or far_b) and info[INFO_ITERATIONS] > 2:
+                move = 0.0
+                went = 0.0
+                trap = 0.0
+                size = 0.0
+                for j in range(n):
+                    corr = max(corr, abs(q[j] - qp[j]))
+                    move = max(move, abs(qp[j] - qa[j]))
+                    went = max(went, abs(q[j] - qa[j]))
+                    size = max(size, abs(qa[j]))
+                    if va and level >= 1:
+                        trap = max(trap, abs(q[j] - qa[j] - 0.5 * dt * (qda[j] + qd[j])))
+                atol = BRANCH_ATOL * (1.0 + size)
+                ok = corr <= BRANCH_RATIO * min(move, went) + atol and \
+                    trap <= BRANCH_RATIO * went + atol
+                corr = max(corr, trap)
+            if ok and flip and not crossed:
+                ok = False
+            if leaping and status == OK:
+                ok = False              # accepted below, as through a singular configuration
+            if not ok:
+                if leaping:
+                    if status >= VELOCITY and not full:
+                        # still on the singular configuration: leap further
+                        if 2.0 * abs(h) >= abs(target - ta):
+                            h = target - ta
+                            full = True
+                        else:
+                            h *= 2.0
+                        continue
+                elif have > 0 and abs(h) > hmin:
+                    h *= 0.5
+                    full = False
+                    continue
+                elif status >= VELOCITY and not full:
+                    # a singular configuration (the velocities undetermined) between ta and
+                    # the target, whose position solves: leap over it
+                    leaping = True
+                    h *= 2.0
+                    continue
+                if status != OK:
+                    for j in range(POSITION_INFO_SIZE):
+                        INFO[k, j] = info[j]
+                    INFO[k, INFO_STATUS] = status
+                    if wide:
+                        INFO[k, INFO_SUBSTEPS] = ta
+                        INFO[k, INFO_JUMP] = tc
+                    for j in range(n):
+                        Q[k, j] = qa[j]
+                        QD[k, j] = qda[j] if level >= 1 else 0.0
+                        QDD[k, j] = qdda[j] if level >= 2 else 0.0
+                    return k
+                if leaping or pivot_ratio(q, tc, p) < BRANCH_NEAR or \
+                        pivot_ratio(qa, ta, p) < BRANCH_NEAR:
+                    crossed = True      # at or through a singular configuration
+                else:
+                    jump = max(jump, corr, TINY)  # a jump the smallest step could not avoid
+                    wild = True
+            tc0 = tb
+            tb = ta
+            ta = tc
+            # the configuration reached becomes qa, the older ones move down (no copies)
+            qc, qb, qa, q = qb, qa, q, qc
+            qda, qd = qd, qda
+            qdda, qdd = qdd, qdda
+            if checked:
+                if dc != 0.0:
+                    if tc != td:
+                        rate = abs(dc - da) / abs(tc - td)
+                    da = dc
+                    td = tc
+                skipped = 0
+            else:
+                skipped += 1
+            va = level >= 1 and not wild   # at level 0 the tangent is solved when needed
+            leaping = False
+            have += 1
+            fresh = wild
+            if wild:                    # after a jump the history predicts nothing: the next
+                have = 1                # step starts from the configuration reached
+                wild = False
+            if have == 1:
+                da = jacobian_det(qa, ta, p)
+                td = ta
+            if full:
+                break
+            substeps += 1
+            rest = target - ta
+            if 2.0 * abs(h) >= abs(rest):
+                h = rest
+                full = True
+            else:
+                h *= 2.0
+        for j in range(POSITION_INFO_SIZE):
+            INFO[k, j] = info[j]
+        INFO[k, INFO_STATUS] = JUMP if jump > 0.0 else THROUGH_SINGULAR if crossed else OK
+        if wide:
+            INFO[k, INFO_SUBSTEPS] = substeps
+            INFO[k, INFO_JUMP] = jump
+        for j in range(n):
+            Q[k, j] = qa[j]
+            QD[k, j] = qda[j] if level >= 1 else 0.0
+            QDD[k, j] = qdda[j] if level >= 2 else 0.0
+    return ts.shape[0]
+
+
+@njit(cache=True)
+def eval_points(Q, ts, p, OUT):
+    """points() at every row of a sweep."""
+    for k in range(Q.shape[0]):
+        points(Q[k], ts[k], p, OUT[k])
+
+
+@njit(cache=True)
+def eval_outputs(Q, QD, QDD, ts, p, order, OUT):
+    """outputs() (order 0), outputs_d() (1) or outputs_dd() (2) at every row of a sweep."""
+    for k in range(Q.shape[0]):
+        if order == 0:
+            outputs(Q[k], QD[k], QDD[k], ts[k], p, OUT[k])
+        elif order == 1:
+            outputs_d(Q[k], QD[k], QDD[k], ts[k], p, OUT[k])
+        else:
+            outputs_dd(Q[k], QD[k], QDD[k], ts[k], p, OUT[k])
+
+
+@njit(cache=True)
+def sweep_designs(ts, q0, P, level, tol, xtol, maxit, method, Q, QD, QDD, INFO):
+    """sweep() for every design: row d of P is a parameter vector, and Q[d], QD[d], QDD[d],
+    INFO[d] receive its sweep. Every design starts from q0 (Mech's Table[SetGuess[];
+    SolveMech[...], {param, ...}]). Each design goes as a single sweep does in mechgen:
+    sweep_fast() while nothing is hard, then sweep() from its last accepted point.
+    Returns the count of solved times of each design."""
+    done = np.zeros(P.shape[0], dtype=np.int64)
+    for d in range(P.shape[0]):
+        start = 0
+        q_start = q0
+        if SORTED and LEVEL >= 2 and method != METHOD_FULL:
+            start = sweep_fast(ts, q0, P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d], INFO[d])
+            if start == ts.shape[0]:
+                done[d] = start
+                continue
+            start = max(start - 1, 0)
+            if start > 0:
+                q_start = Q[d, start].copy()
+        done[d] = start + sweep(ts[start:], q_start, P[d], level, tol, xtol, maxit, method,
+                                Q[d, start:], QD[d, start:], QDD[d, start:], INFO[d, start:])
+    return done

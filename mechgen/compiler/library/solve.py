@@ -1,0 +1,233 @@
+"""The solvers of one configuration: the full Newton and the full velocity/acceleration
+solves (rank-revealing, for any model), and the entry points that try the model's sorted
+block solvers first (solve_position, solve_velocity, solve_acceleration, solve_point,
+solve_point_derivatives).
+
+Everything below the marker line goes verbatim into every generated module; the imports
+above it stand for what a generated module defines (the toy model's here). The sorted
+solvers are used only where the module built them: SORTED and LEVEL are constants of the
+module, which numba compiles in, so the branches of a module without them cost nothing.
+"""
+import math
+
+import numpy as np
+
+from .linalg import _det, _fp_eliminate, _fp_solve, _consistent, _max_abs
+from .toy import (ACCELERATION, ALL_SOLVED, INFO_ITERATIONS, INFO_METHOD, INFO_RANK,
+                  INFO_RESIDUAL, METHOD_FULL, METHOD_SORTED, LEVEL, N_COORDS, N_EQS,
+                  NO_CONVERGENCE, NOT_FINITE, OK, PIVOT_RTOL, POINT_PIVOT, POINT_RESIDUAL,
+                  SING_RTOL, SINGULAR, SORTED, VELOCITY, acceleration_sorted, gamma, nu, phi,
+                  phi_q, position_sorted, velocity_sorted, njit)
+
+# -- module body: below this line, the text as a generated module holds it --
+# ---------------------------------------------------------------------------------------
+# Solvers
+# ---------------------------------------------------------------------------------------
+@njit(cache=True)
+def pivot_ratio(q, t, p):
+    """How far Φ_q(q, t) is from losing rank: the smallest pivot of the full-pivoting
+    elimination of the row-equilibrated Φ_q (each row scaled to 1), 0.0 when its rank is
+    below N_COORDS. Below SING_RTOL the configuration is singular (toggle, dead centre):
+    velocities and accelerations are then not determined by the constraints."""
+    J = np.empty((N_EQS, N_COORDS))
+    b = np.zeros(N_EQS)
+    phi_q(q, t, p, J)
+    rank, small = _fp_eliminate(J, b, np.arange(N_COORDS), 0.0)
+    if rank < N_COORDS:
+        return 0.0
+    return small
+
+
+@njit(cache=True)
+def newton_full(q, t, p, tol, xtol, maxit, info):
+    """Newton on all coordinates with a rank-revealing solve and step halving.
+    info = [iterations, residual, rank, method]."""
+    r = np.empty(N_EQS)
+    rt = np.empty(N_EQS)
+    J = np.empty((N_EQS, N_COORDS))
+    dx = np.empty(N_COORDS)
+    qt = np.empty(N_COORDS)
+    phi(q, t, p, r)
+    res = _max_abs(r)
+    rank = N_COORDS
+    for it in range(maxit):
+        if not res < np.inf:
+            info[INFO_ITERATIONS] = it
+            info[INFO_RESIDUAL] = res
+            return NOT_FINITE
+        phi_q(q, t, p, J)
+        rank = _fp_solve(J, r.copy(), dx, PIVOT_RTOL)
+        step = 0.0
+        for j in range(N_COORDS):
+            step = max(step, abs(dx[j]) / (1.0 + abs(q[j])))
+        if res <= tol and step > xtol:
+            # At a singular configuration (a toggle reached exactly) the residual is within
+            # tol but the step along the lost direction is noise: judge the step on the
+            # directions Φ_q still determines (pivots above SING_RTOL).
+            phi_q(q, t, p, J)
+            srank = _fp_solve(J, r.copy(), dx, SING_RTOL)
+            if srank < N_COORDS:
+                rank = srank
+                step = 0.0
+                for j in range(N_COORDS):
+                    step = max(step, abs(dx[j]) / (1.0 + abs(q[j])))
+        if res <= tol and step <= xtol:
+            for j in range(N_COORDS):
+                q[j] -= dx[j]
+            info[INFO_ITERATIONS] = it + 1
+            info[INFO_RESIDUAL] = res
+            info[INFO_RANK] = rank
+            return OK
+        lam = 1.0
+        for _half in range(12):
+            for j in range(N_COORDS):
+                qt[j] = q[j] - lam * dx[j]
+            phi(qt, t, p, rt)
+            rest = _max_abs(rt)
+            if rest < res or res <= tol or lam < 1.0 / 1000.0:
+                break
+            lam *= 0.5
+        for j in range(N_COORDS):
+            q[j] = qt[j]
+        for i in range(N_EQS):
+            r[i] = rt[i]
+        res = rest
+    info[INFO_ITERATIONS] = maxit
+    info[INFO_RESIDUAL] = res
+    info[INFO_RANK] = rank
+    return NO_CONVERGENCE
+
+
+@njit(cache=True)
+def velocity_full(q, t, p, out):
+    """Φ_q q̇ = ν by the rank-revealing solve; SINGULAR when Φ_q has lost rank (a pivot
+    below SING_RTOL) or redundant equations disagree: the constraints do not determine q̇."""
+    J = np.empty((N_EQS, N_COORDS))
+    b = np.empty(N_EQS)
+    phi_q(q, t, p, J)
+    nu(q, t, p, b)
+    rank = _fp_solve(J, b, out, SING_RTOL)
+    if rank < N_COORDS or not _consistent(b, rank, out):
+        return SINGULAR
+    return OK
+
+
+@njit(cache=True)
+def acceleration_full(q, qd, t, p, out):
+    """Φ_q q̈ = γ by the rank-revealing solve; SINGULAR when Φ_q has lost rank (a pivot
+    below SING_RTOL) or redundant equations disagree: the constraints do not determine q̈."""
+    J = np.empty((N_EQS, N_COORDS))
+    b = np.empty(N_EQS)
+    phi_q(q, t, p, J)
+    gamma(q, qd, t, p, b)
+    rank = _fp_solve(J, b, out, SING_RTOL)
+    if rank < N_COORDS or not _consistent(b, rank, out):
+        return SINGULAR
+    return OK
+
+
+@njit(cache=True, inline="always")
+def derivatives_in_turn(q, t, p, qd, qdd, piv):
+    """velocity_sorted(), then acceleration_sorted(): the combined pass of a model whose
+    solvers are too large for one function. piv[0] = NaN (no det Φ_q on the way)."""
+    piv[0] = math.nan
+    status = velocity_sorted(q, t, p, qd)
+    if status != OK:
+        return status
+    return acceleration_sorted(q, qd, t, p, qdd)
+
+
+@njit(cache=True, inline="always")
+def jacobian_det_full(q, t, p):
+    """det Φ_q by elimination of the whole Jacobian (a module without block structure);
+    1.0 when Φ_q is not square."""
+    if N_EQS != N_COORDS:
+        return 1.0
+    J = np.empty((N_EQS, N_COORDS))
+    phi_q(q, t, p, J)
+    return _det(J)
+
+
+@njit(cache=True)
+def solve_position(q, t, p, tol, xtol, maxit, method, info):
+    """Position solve in place. method METHOD_AUTO: sorted blocks, full Newton if they fail;
+    METHOD_SORTED: sorted only; METHOD_FULL: full Newton only (a module without block
+    structure always solves by the full Newton). info = [iterations, residual, rank,
+    method]."""
+    info[INFO_ITERATIONS] = 0.0
+    info[INFO_RESIDUAL] = 0.0
+    info[INFO_RANK] = N_COORDS
+    info[INFO_METHOD] = 0.0
+    if SORTED and method != METHOD_FULL:
+        status = position_sorted(q, t, p, tol, xtol, maxit, info)
+        if status == OK and not _max_abs(q) < np.inf:
+            status = NOT_FINITE  # an explicit block gave NaN (no real configuration)
+        if status == OK or method == METHOD_SORTED:
+            return status
+    info[INFO_METHOD] = 1.0
+    return newton_full(q, t, p, tol, xtol, maxit, info)
+
+
+@njit(cache=True)
+def solve_velocity(q, t, p, method, out):
+    """Velocities q̇ at a solved position."""
+    if SORTED and LEVEL >= 1 and method != METHOD_FULL:
+        status = velocity_sorted(q, t, p, out)
+        if status == OK or method == METHOD_SORTED:
+            return status
+    return velocity_full(q, t, p, out)
+
+
+@njit(cache=True)
+def solve_acceleration(q, qd, t, p, method, out):
+    """Accelerations q̈ at a solved position and velocity."""
+    if SORTED and LEVEL >= 2 and method != METHOD_FULL:
+        status = acceleration_sorted(q, qd, t, p, out)
+        if status == OK or method == METHOD_SORTED:
+            return status
+    return acceleration_full(q, qd, t, p, out)
+
+
+@njit(cache=True)
+def solve_point(q, t, p, tol, xtol, maxit, method, info):
+    """One position solve as Mechanism.solve() makes it, in one call: the position in
+    place (solve_position; info[0:4] as there), then info[POINT_RESIDUAL] = max|Φ| and
+    info[POINT_PIVOT] = pivot_ratio. Returns the position status (OK: 0)."""
+    status = solve_position(q, t, p, tol, xtol, maxit, method, info)
+    if status != OK:
+        return status
+    r = np.empty(N_EQS)
+    phi(q, t, p, r)
+    info[POINT_RESIDUAL] = _max_abs(r)
+    info[POINT_PIVOT] = pivot_ratio(q, t, p)
+    return OK
+
+
+@njit(cache=True)
+def solve_point_derivatives(q, t, p, tol, xtol, maxit, method, level, qd, qdd, info):
+    """solve_point(), then the velocities into qd (not tried at a singular position) and,
+    with level >= 2, the accelerations into qdd. Returns the position status (OK: 0), or
+    VELOCITY + the velocity status, or ACCELERATION + the acceleration status. (A function
+    of its own, so that position-only use never compiles the derivative solvers.)"""
+    status = solve_point(q, t, p, tol, xtol, maxit, method, info)
+    if status != OK:
+        return status
+    if level >= 1:
+        if info[INFO_RANK] < N_COORDS or not info[POINT_PIVOT] >= SING_RTOL:
+            return VELOCITY + SINGULAR
+        status = solve_velocity(q, t, p, method, qd)
+        if status != OK:
+            return VELOCITY + status
+    if level >= 2:
+        status = solve_acceleration(q, qd, t, p, method, qdd)
+        if status != OK:
+            return ACCELERATION + status
+    return OK
+
+
+@njit(cache=True)
+def _fin(x):
+    """x, or 0.0 when it is not finite (a derivative a pruned build does not solve)."""
+    if ALL_SOLVED:
+        return x
+    return x if abs(x) < np.inf else 0.0

@@ -1,0 +1,246 @@
+"""A tiny hand-written model that stands for a generated module, so that the library can
+be imported, linted and tested on its own: a crank-slider.
+
+    coordinates q = (th, ph, x): crank angle, rod angle, slider position
+    parameters  p = (a, b, w):   crank length, rod length, crank speed
+    Φ = (a cos th + b cos ph − x,  a sin th + b sin ph,  th − w t)
+
+It defines every module-level name a generated module gives the library (``__all__``):
+the header constants (from mechgen.protocol, as the renderer writes them), the model
+constants (N_COORDS, SORTED, LEVEL, ...) and the model functions (phi, phi_q, ...,
+position_sorted, derivatives_sorted, jacobian_det, sweep_fast). Its sorted solver takes
+th from the driver, ph by Newton on the second row and x from the first: with a < b the
+crank turns fully (cos ph > 0 throughout), with a > b the mechanism locks where
+|sin th| = b / a (det Φ_q = b cos ph = 0).
+
+``njit`` here, which the library files import too, is numba's without the on-disk cache:
+numba's cache of a library function would not notice a change to these constants, which
+live in another file. (A generated module has all of them in one file, and caches.)
+"""
+import math
+
+import numba
+import numpy as np
+
+from ...protocol import (ACCELERATION, BRANCH_ATOL, BRANCH_HMIN, BRANCH_NEAR, BRANCH_RATIO,
+                         BRANCH_TURN, GAVE_UP, INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP,
+                         INFO_METHOD, INFO_RANK, INFO_RESIDUAL, INFO_STATUS, INFO_SUBSTEPS,
+                         JUMP, METHOD_AUTO, METHOD_FULL, METHOD_SORTED, NO_CONVERGENCE,
+                         NOT_FINITE, OK, PIVOT_RTOL, POINT_INFO_SIZE, POINT_PIVOT,
+                         POINT_RESIDUAL, POSITION_INFO_SIZE, SING_RTOL, SINGULAR,
+                         THROUGH_SINGULAR, TINY, VELOCITY)
+
+__all__ = [
+    # the header constants
+    "ACCELERATION", "BRANCH_ATOL", "BRANCH_HMIN", "BRANCH_NEAR", "BRANCH_RATIO", "BRANCH_TURN",
+    "GAVE_UP", "INFO_COLUMNS", "INFO_ITERATIONS", "INFO_JUMP", "INFO_METHOD", "INFO_RANK",
+    "INFO_RESIDUAL", "INFO_STATUS", "INFO_SUBSTEPS", "JUMP", "METHOD_AUTO", "METHOD_FULL",
+    "METHOD_SORTED", "NO_CONVERGENCE", "NOT_FINITE", "OK", "PIVOT_RTOL", "POINT_INFO_SIZE",
+    "POINT_PIVOT", "POINT_RESIDUAL", "POSITION_INFO_SIZE", "SING_RTOL", "SINGULAR",
+    "THROUGH_SINGULAR", "TINY", "VELOCITY",
+    # the model constants
+    "N_COORDS", "N_EQS", "SORTED", "LEVEL", "ALL_SOLVED", "INLINE",
+    # the model functions
+    "njit", "phi", "phi_q", "nu", "gamma", "points", "outputs", "outputs_d", "outputs_dd",
+    "position_sorted", "velocity_sorted", "acceleration_sorted", "derivatives_sorted",
+    "jacobian_det", "sweep_fast",
+]
+
+
+def njit(*args, **options):
+    """numba.njit, less the on-disk cache (see the module docstring)."""
+    options.pop("cache", None)
+    return numba.njit(*args, **options)
+
+
+# -- module body: below this line, the text as a generated module holds it --
+N_COORDS = 3
+N_EQS = 3
+COORDINATES = ("th", "ph", "x")
+PARAMETERS = ("a", "b", "w")
+PARAMETER_DEFAULTS = (1.0, 2.0, 1.0)
+GUESS = (0.0, 0.1, 2.5)
+SORTED = True
+LEVEL = 2
+ALL_SOLVED = True
+INLINE = "never"
+
+
+@njit(cache=True)
+def phi(q, t, p, out):
+    """Constraint residuals Φ(q, t)."""
+    a, b, w = p[0], p[1], p[2]
+    out[0] = a * math.cos(q[0]) + b * math.cos(q[1]) - q[2]
+    out[1] = a * math.sin(q[0]) + b * math.sin(q[1])
+    out[2] = q[0] - w * t
+
+
+@njit(cache=True)
+def phi_q(q, t, p, out):
+    """Jacobian Φ_q."""
+    a, b = p[0], p[1]
+    for i in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            out[i, j] = 0.0
+    out[0, 0] = -a * math.sin(q[0])
+    out[0, 1] = -b * math.sin(q[1])
+    out[0, 2] = -1.0
+    out[1, 0] = a * math.cos(q[0])
+    out[1, 1] = b * math.cos(q[1])
+    out[2, 0] = 1.0
+
+
+@njit(cache=True)
+def nu(q, t, p, out):
+    """Velocity right side ν = −Φ_t."""
+    out[0] = 0.0
+    out[1] = 0.0
+    out[2] = p[2]
+
+
+@njit(cache=True)
+def gamma(q, qd, t, p, out):
+    """Acceleration right side γ = −(Φ_q q̇)_q q̇ (Φ_qt = Φ_tt = 0)."""
+    a, b = p[0], p[1]
+    out[0] = a * math.cos(q[0]) * qd[0] ** 2 + b * math.cos(q[1]) * qd[1] ** 2
+    out[1] = a * math.sin(q[0]) * qd[0] ** 2 + b * math.sin(q[1]) * qd[1] ** 2
+    out[2] = 0.0
+
+
+@njit(cache=True)
+def points(q, t, p, out):
+    """The crank's pivot, the crank pin, the slider."""
+    out[0, 0] = 0.0
+    out[0, 1] = 0.0
+    out[1, 0] = p[0] * math.cos(q[0])
+    out[1, 1] = p[0] * math.sin(q[0])
+    out[2, 0] = q[2]
+    out[2, 1] = 0.0
+
+
+@njit(cache=True)
+def outputs(q, qd, qdd, t, p, out):
+    """The slider position."""
+    out[0] = q[2]
+
+
+@njit(cache=True)
+def outputs_d(q, qd, qdd, t, p, out):
+    """Its velocity."""
+    out[0] = qd[2]
+
+
+@njit(cache=True)
+def outputs_dd(q, qd, qdd, t, p, out):
+    """Its acceleration."""
+    out[0] = qdd[2]
+
+
+@njit(cache=True, inline=INLINE)
+def position_sorted(q, t, p, tol, xtol, maxit, info):
+    """th from the driver, ph by Newton on row 1, x from row 0; q written on success."""
+    a, b, w = p[0], p[1], p[2]
+    th = w * t
+    ph = q[1]
+    for it in range(maxit):
+        r = a * math.sin(th) + b * math.sin(ph)
+        d = b * math.cos(ph)
+        if not abs(d) > PIVOT_RTOL * abs(b):
+            return GAVE_UP
+        s = r / d
+        ph -= s
+        if abs(r) <= tol and abs(s) <= xtol * (1.0 + abs(ph)):
+            break
+    else:
+        return NO_CONVERGENCE
+    q[0] = th
+    q[1] = ph
+    q[2] = a * math.cos(th) + b * math.cos(ph)
+    info[INFO_ITERATIONS] = it + 1
+    return OK
+
+
+@njit(cache=True)
+def velocity_sorted(q, t, p, out):
+    """Φ_q q̇ = ν block by block."""
+    a, b, w = p[0], p[1], p[2]
+    d = b * math.cos(q[1])
+    if not abs(d) > SING_RTOL * abs(b):
+        return SINGULAR
+    out[0] = w
+    out[1] = -a * math.cos(q[0]) * out[0] / d
+    out[2] = -a * math.sin(q[0]) * out[0] - b * math.sin(q[1]) * out[1]
+    return OK
+
+
+@njit(cache=True)
+def acceleration_sorted(q, qd, t, p, out):
+    """Φ_q q̈ = γ block by block."""
+    a, b = p[0], p[1]
+    d = b * math.cos(q[1])
+    if not abs(d) > SING_RTOL * abs(b):
+        return SINGULAR
+    s0, c0, s1, c1 = math.sin(q[0]), math.cos(q[0]), math.sin(q[1]), math.cos(q[1])
+    out[0] = 0.0
+    out[1] = (a * s0 * qd[0] ** 2 + b * s1 * qd[1] ** 2 - a * c0 * out[0]) / d
+    out[2] = -a * s0 * out[0] - b * s1 * out[1] - a * c0 * qd[0] ** 2 - b * c1 * qd[1] ** 2
+    return OK
+
+
+@njit(cache=True)
+def jacobian_det(q, t, p):
+    """det Φ_q = b cos ph."""
+    return p[1] * math.cos(q[1])
+
+
+@njit(cache=True, inline=INLINE)
+def derivatives_sorted(q, t, p, qd, qdd, piv):
+    """Velocities and accelerations; piv[0] = det Φ_q."""
+    piv[0] = jacobian_det(q, t, p)
+    status = velocity_sorted(q, t, p, qd)
+    if status != OK:
+        return status
+    return acceleration_sorted(q, qd, t, p, qdd)
+
+
+@njit(cache=True)
+def sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, INFO):
+    """The quick path: a Taylor predictor, the sorted solvers; the count of points
+    accepted before the first that fails, corrects its predictor too much or changes
+    the sign of det Φ_q."""
+    q = q0.copy()
+    qd = np.zeros(N_COORDS)
+    qdd = np.zeros(N_COORDS)
+    qp = q0.copy()
+    piv = np.zeros(1)
+    info = np.zeros(POSITION_INFO_SIZE)
+    det = 0.0
+    for k in range(ts.shape[0]):
+        move = 0.0
+        size = 0.0
+        if k > 0:
+            h = ts[k] - ts[k - 1]
+            for j in range(N_COORDS):
+                dq = h * (qd[j] + 0.5 * h * qdd[j])
+                move = max(move, abs(dq))
+                size = max(size, abs(q[j]))
+                q[j] += dq
+                qp[j] = q[j]
+        if position_sorted(q, ts[k], p, tol, xtol, maxit, info) != OK:
+            return k
+        if derivatives_sorted(q, ts[k], p, qd, qdd, piv) != OK:
+            return k
+        corr = 0.0
+        for j in range(N_COORDS):
+            corr = max(corr, abs(q[j] - qp[j]))
+        if k > 0 and (corr > BRANCH_RATIO * move + BRANCH_ATOL * (1.0 + size) or
+                      piv[0] * det <= 0.0):
+            return k
+        det = piv[0]
+        for j in range(N_COORDS):
+            Q[k, j] = q[j]
+            QD[k, j] = qd[j]
+            QDD[k, j] = qdd[j]
+        INFO[k, INFO_ITERATIONS] = info[INFO_ITERATIONS]
+        INFO[k, INFO_RANK] = N_COORDS
+    return ts.shape[0]

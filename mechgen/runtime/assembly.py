@@ -1,0 +1,168 @@
+"""Assembly modes: every distinct real configuration of a mechanism at one time (Mech's
+SolveMech from several guesses), and which coordinates are angles (equal modulo 2π).
+
+numpy on the generated module's functions; never sympy.
+"""
+from __future__ import annotations
+
+import math
+import weakref
+
+import numpy as np
+
+from ..protocol import OK, POINT_INFO_SIZE
+
+# angle_coordinates() of each mechanism, with the module and parameters it was found for
+_ANGLES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+
+_PRIMES = (2, 3, 5, 7, 11, 13, 17, 19, 23, 29, 31, 37, 41, 43, 47, 53, 59, 61, 67, 71, 73,
+           79, 83, 89, 97, 101, 103, 107, 109, 113)
+
+
+def _halton(k, dim):
+    """Point k (k >= 1) of the Halton sequence in [0, 1)^dim: deterministic and even."""
+    out = np.empty(dim)
+    for d in range(dim):
+        base = _PRIMES[d % len(_PRIMES)]
+        f, r, i = 1.0, 0.0, k + d // len(_PRIMES) * 7919
+        while i > 0:
+            f /= base
+            r += f * (i % base)
+            i //= base
+        out[d] = r
+    return out
+
+
+def angle_coordinates(mech) -> tuple:
+    """Indices of the coordinates in which Φ is 2π-periodic (angles equal modulo 2π are
+    the same configuration). A driven angle (Th2 − ωT) is not: its value is fixed."""
+    cached = _ANGLES.get(mech)
+    if cached is not None and cached[0] is mech.module and np.array_equal(cached[1], mech.p):
+        return cached[2]
+    n, m = mech.n, mech.m
+    base = np.asarray(mech.guess, dtype=np.float64)
+    r0, r1 = np.empty(m), np.empty(m)
+    found = []
+    for j in range(n):
+        periodic = True
+        for trial in range(3):
+            q = base + 0.37 * (trial + 1) * np.cos(np.arange(n) * 1.7 + trial)
+            t = 0.1234 + 0.31 * trial
+            mech.module.phi(q, t, mech.p, r0)
+            q2 = q.copy()
+            q2[j] += 2 * math.pi
+            mech.module.phi(q2, t, mech.p, r1)
+            if not (np.all(np.isfinite(r0)) and np.all(np.isfinite(r1))):
+                periodic = False
+                break
+            if np.max(np.abs(r1 - r0)) > 1e-9 * (1.0 + np.max(np.abs(r0))):
+                periodic = False
+                break
+        if periodic:
+            found.append(j)
+    result = tuple(found)
+    _ANGLES[mech] = (mech.module, mech.p.copy(), result)
+    return result
+
+
+def _wrap(q, angles):
+    q = q.copy()
+    for j in angles:
+        w = math.remainder(q[j], 2 * math.pi)   # in [-π, π]
+        q[j] = math.pi if w == -math.pi else w
+    return q
+
+
+def _flip_of(a, b, angles, same):
+    """True when b is a turned half a turn in some angle coordinates and equal elsewhere:
+    the mirror root of a parallel or point-on-line condition (a slider reversed on its
+    guide), not a different assembly of the mechanism."""
+    flipped = False
+    for j in range(a.shape[0]):
+        d = b[j] - a[j]
+        if j in angles:
+            d = math.remainder(d, 2 * math.pi)
+            if abs(abs(d) - math.pi) <= same:
+                flipped = True
+                continue
+        if abs(d) > same:
+            return False
+    return flipped
+
+
+def assemblies(mech, t, q_guess, starts, level, tol, method, flips=False):
+    """Every distinct real assembly mode at time t (a list of Solution, each solved at
+    ``level``): the compiled solver run from the guess q_guess
+    and from ``starts`` quasi-random starts (angles over [−π, π), positions within the
+    mechanism's size of the guess). Angles equal modulo 2π count once and come back in
+    (−π, π]; the mode the plain guess reaches comes first.
+
+    A body turned half a turn with every other coordinate unchanged (a slider reversed on
+    its guide: u1 × u2 = 0 holds for opposite directions too) is the same mode unless
+    ``flips=True``; the representative kept is the one nearest the guess's angles.
+
+    The arguments come checked (Mechanism.assemblies): t a float, starts a count, tol
+    and method (an index into protocol.METHODS) as the solvers take them.
+    """
+    mod = mech.module
+    angles = angle_coordinates(mech)
+    others = [j for j in range(mech.n) if j not in angles]
+    pts = mech.points_at(q_guess, t)
+    finite = pts[np.isfinite(pts)]
+    size = max([1.0] + [abs(float(q_guess[j])) for j in others] +
+               ([float(np.max(np.abs(finite)))] if finite.size else []))
+    same = 1e-7 * (1.0 + size)
+    info = np.zeros(POINT_INFO_SIZE)
+    found = []
+
+    def attempt(q):
+        status = mod.solve_position(q, t, mech.p, tol, mech.xtol, mech.maxit, method, info)
+        if status != OK or not np.all(np.isfinite(q)) or mech.residual(q, t) > tol:
+            return
+        w = _wrap(q, angles)
+        for other in found:
+            d = w - other
+            for j in angles:
+                d[j] = math.remainder(d[j], 2 * math.pi)
+            if np.max(np.abs(d)) <= same:
+                return
+        found.append(w)
+
+    attempt(q_guess.copy())
+    guess_mode = found[0] if found else None
+    for k in range(1, int(starts) + 1):
+        u = _halton(k, mech.n)
+        q = q_guess.copy()
+        for j in angles:
+            q[j] = -math.pi + 2 * math.pi * u[j]
+        if k % 2 == 0:  # every other start also moves the positions
+            for j in others:
+                q[j] = q_guess[j] + size * (2 * u[j] - 1)
+        attempt(q)
+    if not flips and found:
+        target = _wrap(q_guess, angles)
+
+        def distance(w):   # to the guess, over the angles
+            return sum(abs(math.remainder(w[j] - target[j], 2 * math.pi)) for j in angles)
+
+        groups = []
+        for w in found:
+            for g in groups:
+                if _flip_of(g[0], w, angles, same):
+                    g.append(w)
+                    break
+            else:
+                groups.append([w])
+        found = [g[0] if g[0] is guess_mode else min(g, key=distance) for g in groups]
+    last = mech.last
+    try:
+        sols = []
+        for q in found:
+            s = mech.solve(t, guess=q, level=level, tol=tol)
+            s.q[:] = _wrap(s.q, angles)  # Newton's last step may leave the range by an ulp
+            sols.append(s)
+    finally:
+        mech.last = last
+    return sols
+
+
