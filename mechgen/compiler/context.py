@@ -96,7 +96,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         points_code=text("points_code"),
         outputs_code=[text(("outputs", k)) for k in range(3)],
         sorted=plan.sorted,
-        blocks=[dict(kind=b.kind, method=b.method, summary=summary(plan, b, eq.q),
+        blocks=[dict(kind=b.kind, method=b.method, summary=summary(b, eq.q),
                      vars=[eq.q[v].name for v in b.vars], rows=list(b.rows),
                      tears=[eq.q[v].name for v in b.tears]) for b in plan.blocks],
         position_sorted=text("position_sorted") or [],

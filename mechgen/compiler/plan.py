@@ -54,7 +54,7 @@ class BlockPlan:
 
 
 @dataclass(frozen=True)
-class Plan:
+class SolverPlan:
     """The solver plan of one module (see the module docstring)."""
     sorted: bool
     blocks: tuple                 # BlockPlan, solving order, after pruning
@@ -76,7 +76,7 @@ class Plan:
 
 
 def make_plan(model, eq, sort=True, level="acceleration", outputs=None, cse=True,
-              closed_forms="cheap") -> Plan:
+              closed_forms="cheap") -> SolverPlan:
     """The plan of ``model`` (its expanded equations ``eq``) for the given build options."""
     # "all": every block of a standard form is solved in closed form; "cheap": only where
     # that removes all run-time trigonometry (a warm-started Newton is faster than atan2
@@ -98,7 +98,7 @@ def make_plan(model, eq, sort=True, level="acceleration", outputs=None, cse=True
         blocks = _prune(eq, blocks, need)
         kept = {v for b in blocks for v in b.vars}
         solved = [j in kept for j in range(len(q))]
-    plan = Plan(sorted=blocks is not None, blocks=(), solved=tuple(solved), level=lvl,
+    plan = SolverPlan(sorted=blocks is not None, blocks=(), solved=tuple(solved), level=lvl,
                 outputs=tuple(outs), cse=cse, closed_forms=closed_forms,
                 chunk_stores=CHUNK_STORES, chunk_lines=CHUNK_LINES)
     if blocks is None:
@@ -244,7 +244,7 @@ def _collect_form(expr, terms):
     return parts
 
 
-def summary(plan: Plan, block: BlockPlan, q) -> str:
+def summary(block: BlockPlan, q) -> str:
     """How a block is solved, in words (the module docstring's solving order)."""
     names = [str(q[v]) for v in block.tears]
     rest = [str(q[v]) for _, v in block.explicit]
