@@ -1,4 +1,5 @@
-"""The render context of a generated module: everything the template lays out.
+"""The render context of a generated module: everything the template lays out about the
+model and its solvers (mechgen.compiler.render adds the header constants and the library).
 
 ``module_context`` is the compiler's one entry point from a model to that dict: it plans
 the solver once (mechgen.compiler.plan), has the emitters write each function body as
@@ -39,8 +40,8 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         helpers.extend(parts)
         bodies[key] = body
 
-    (out0, out1, out2), orders = outputs_bodies(plan, eq, model)
-    for k, made in enumerate((out0, out1, out2)):
+    made_outputs, orders = outputs_bodies(plan, eq, model)
+    for k, made in enumerate(made_outputs):
         put(("outputs", k), made)
     put("phi", phi_body(plan, eq))
     put("phi_q", phi_q_body(plan, eq))

@@ -12,7 +12,7 @@ code calls as a pair are turned from the last point instead (ir.Options).
 from __future__ import annotations
 
 from .inputs import free, time_local, unpack
-from .ir import Assign, Code, Comment, Guard, If, Loop, Options, Store, replaced
+from .ir import Assign, Code, Comment, Guard, If, Loop, Options, Return, Store, replaced
 from ..model.geometry import T
 from .schedule import TempNames, emit
 
@@ -34,6 +34,8 @@ def written_step(plan, eq, position, derivatives):
     exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
     exprs += [x.bound for x in st if isinstance(x, Guard)]
     used, have = free(exprs), free(list(eq.phi))
+    if position[-1] != Return(0):
+        raise ValueError("a position solver in parts cannot be written out in the sweep")
     out = list(position[:-1])                   # all but its "return 0"
     out += unpack(used - have, eq.params, "p")
     if T in used and T not in have:
