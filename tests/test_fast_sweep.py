@@ -116,7 +116,8 @@ def test_solve_point_equals_the_call_by_call_solve(qr, qr_slider):
     the same position, velocities and accelerations bit for bit, the same flags, and an
     error of the right kind where a step fails."""
     from test_robustness import NEAR_T1, T1
-    from mechgen.protocol import METHOD_AUTO as AUTO, INFO_ITERATIONS, INFO_RANK, LEVEL, LEVELS, OK, \
+    from mechgen.protocol import METHOD_AUTO as AUTO
+    from mechgen.protocol import INFO_ITERATIONS, INFO_RANK, LEVEL, LEVELS, OK, \
         POINT_INFO_SIZE, SING_RTOL
     for mech, cases in ((qr, [(0.15, None), (0.85, {"X4": 1.0}), (0.6, None)]),
                         (qr_slider, [(0.0, None), (T1, NEAR_T1), (0.25, NEAR_T1)])):
