@@ -103,7 +103,7 @@ def test_pruning_rejects_unknown_names():
 def chain6(build_dir):
     """A chain of 4 four-bar loops, built with small parts so that every solver is split
     (as a 10-loop chain is with the default sizes)."""
-    import mechgen.compiler.codegen as cg
+    import mechgen.compiler.plan as cg
     sizes = cg.CHUNK_LINES, cg.CHUNK_STORES
     cg.CHUNK_LINES, cg.CHUNK_STORES = 60, 16
     try:

@@ -12,6 +12,15 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+# How a block is solved (decided by mechgen.compiler.plan): its unknown follows from its row
+# explicitly; in closed form (one tear, a sin y + b cos y + c = 0 or A y² + B y + C = 0);
+# or by Newton on its tears.
+EXPLICIT = "explicit"
+CLOSED_FORM_TRIG = "closed_form_trig"
+CLOSED_FORM_QUADRATIC = "closed_form_quadratic"
+NEWTON = "newton"
+METHODS = (EXPLICIT, CLOSED_FORM_TRIG, CLOSED_FORM_QUADRATIC, NEWTON)
+
 
 @dataclass
 class Block:

@@ -1,20 +1,90 @@
-"""Printing sympy expressions as numba-friendly Python, and scheduling shared subexpressions.
+"""Printing sympy expressions as numba-friendly Python.
 
-Expressions use the model's own names (``X2``, ``Th3``, ``longitud``) as local variables;
-common subexpressions become ``_t0, _t1, ...`` and are emitted just before first use, so
-that a CSE pass over a whole function stays valid when some statements define symbols that
-later ones read (a block solve, say).
+Symbols print through a name map (mechgen.compiler.names): a model's own names
+(``X2``, ``Th3``, ``longitud``) stay as they are unless the generated module uses the
+same name for itself, when they get a mangled form (``q`` becomes ``q_``).
+
+Three kinds of symbols belong to the code generator, never to a model:
+- ``Local``: a local of the generated code (``_t0``, ``_r0``, ``_iters``); a model symbol
+  of the same name (a parameter called ``_t0``) is a different symbol.
+- ``Derived``: a name the code generator makes from model names (``_sin_Th3``,
+  ``_dY4_dX4``); it prints with the mapped names of its parts.
+- ``Alias``: a symbol that takes the place of a CSE temporary. It prints as its
+  ``target`` (a renumbered temporary, or the symbol or number a trivial temporary stood
+  for) but sorts in sums and products exactly as the temporary did, so that the printed
+  order of operations, and with it every floating-point result, stays the same.
 """
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
 
+class Local(sp.Symbol):
+    """A local variable of the generated code, printed by its name."""
+
+    @classmethod
+    def class_key(cls):     # sorts among plain symbols, by its name
+        return 2, 0, "Symbol"
+
+
+class Derived(sp.Symbol):
+    """A name made of fixed text and model symbols, e.g. ``("_sin_", Th3)``; as a sympy
+    symbol it is named by the plain concatenation (the sort order of earlier releases),
+    and two different part lists are two different symbols even where those agree."""
+
+    def __new__(cls, *parts):
+        name = "".join(p if isinstance(p, str) else p.name for p in parts)
+        obj = sp.Symbol.__xnew__(cls, name, real=True)   # not cached by name alone
+        obj.parts = tuple(parts)
+        return obj
+
+    def __getnewargs_ex__(self):
+        return self.parts, {}
+
+    def _hashable_content(self):
+        return super()._hashable_content() + (self.parts,)
+
+    @classmethod
+    def class_key(cls):     # sorts among plain symbols, by its name
+        return 2, 0, "Symbol"
+
+
+class Alias(sp.Symbol):
+    """Prints as ``target``; sorts as the symbol named ``key`` (see the module docstring)."""
+
+    def __new__(cls, target, key: str):
+        obj = sp.Symbol.__xnew__(cls, f"{key}->{target}", real=True)
+        obj.target, obj.key = target, key
+        return obj
+
+    def __getnewargs_ex__(self):
+        return (self.target, self.key), {}
+
+    def _hashable_content(self):
+        return super()._hashable_content() + (self.target, self.key)
+
+    @classmethod
+    def class_key(cls):
+        return 2, 0, "Symbol"
+
+    def sort_key(self, order=None):
+        return self.class_key(), (1, (self.key,)), sp.S.One.sort_key(), sp.S.One
+
+
 class NumbaPrinter(PythonCodePrinter):
-    """Python code with ``math`` functions and floats printed to full precision."""
+    """Python code with ``math`` functions, floats to full precision and symbols by name."""
+
+    def __init__(self, names=None):
+        super().__init__({"fully_qualified_modules": True, "standard": "python3"})
+        self.names = names
+
+    def _print_Symbol(self, expr):
+        if isinstance(expr, Alias):
+            return self._print(expr.target)
+        if self.names is not None:
+            return self.names.ident(expr)
+        return expr.name
 
     def _print_Float(self, expr):
         return repr(float(expr))
@@ -39,143 +109,14 @@ class NumbaPrinter(PythonCodePrinter):
         return super()._print_Pow(expr, rational=rational)
 
 
-_PRINTER = NumbaPrinter({"fully_qualified_modules": True, "standard": "python3"})
+_PLAIN = NumbaPrinter()
 
 
-def pycode(expr) -> str:
-    return _PRINTER.doprint(sp.sympify(expr))
+def printer_for(names=None) -> NumbaPrinter:
+    """The printer of a name map (None: every symbol by its own name)."""
+    return _PLAIN if names is None else NumbaPrinter(names)
 
 
-@dataclass
-class Assign:
-    """``target = expr`` (target a Symbol; its name becomes the local variable)."""
-    target: sp.Symbol
-    expr: object
-    comment: str = ""
-
-
-@dataclass
-class Store:
-    """``out[index] = expr``: writes into an output array."""
-    lhs: str
-    expr: object
-    comment: str = ""
-
-
-@dataclass
-class Guard:
-    """``if not (abs(value) > bound): return status`` — a pivot check before a division.
-
-    ``value`` must be a Symbol assigned earlier; ``bound`` an expression."""
-    value: sp.Symbol
-    bound: object
-    status: str
-
-
-@dataclass
-class Line:
-    """A literal line (a comment or control flow)."""
-    text: str
-
-
-class TempNames:
-    """A shared counter so temporaries are unique within a generated function."""
-
-    def __init__(self, prefix="_t"):
-        self.prefix = prefix
-        self.count = 0
-
-    def __iter__(self):
-        return self
-
-    def __next__(self):
-        sym = sp.Symbol(f"{self.prefix}{self.count}", real=True)
-        self.count += 1
-        return sym
-
-
-def emit(statements, temps: TempNames | None = None, cse: bool = True, variant=None):
-    """Lines of code for statements, with one CSE pass over all their expressions and each
-    temporary emitted just before its first use.
-
-    With ``variant`` (the symbols a loop around the statements changes), returns
-    ``(before, inside)``: temporaries that depend on none of them are hoisted before the loop."""
-    temps = temps or TempNames()
-    exprs = []
-    slots = []
-    for st in statements:
-        if isinstance(st, (Assign, Store)):
-            slots.append((st, len(exprs)))
-            exprs.append(sp.sympify(st.expr))
-        elif isinstance(st, Guard):
-            slots.append((st, len(exprs)))
-            exprs.append(sp.sympify(st.bound))
-        else:
-            slots.append((st, None))
-    if cse and exprs:
-        reps, reduced = sp.cse(exprs, symbols=temps, order="none")
-    else:
-        reps, reduced = [], exprs
-    rep_index = {sym: k for k, (sym, _) in enumerate(reps)}
-    emitted = set()
-    lines = []
-    hoisted = []
-    # what the loop changes: its variables, and every temporary or assignment that reads
-    # one of them (to a fixed point, as assignments and temporaries read each other);
-    # assignments and guards that read none of them are hoisted with their temporaries
-    moving = set(variant or ())
-    if variant is not None:
-        seen = set()
-        for st in statements:
-            if isinstance(st, Assign):
-                if st.target in seen:       # assigned twice: its value changes in the loop
-                    moving.add(st.target)
-                seen.add(st.target)
-        changed = True
-        while changed:
-            changed = False
-            for sym, expr in reps:
-                if sym not in moving and expr.free_symbols & moving:
-                    moving.add(sym)
-                    changed = True
-            for st, k in slots:
-                if isinstance(st, Assign) and st.target not in moving \
-                        and reduced[k].free_symbols & moving:
-                    moving.add(st.target)
-                    changed = True
-
-    def need(expr):
-        todo = set()
-        stack = [s for s in sp.sympify(expr).free_symbols if s in rep_index]
-        while stack:
-            s = stack.pop()
-            if s in todo or s in emitted:
-                continue
-            todo.add(s)
-            stack.extend(x for x in reps[rep_index[s]][1].free_symbols if x in rep_index)
-        for s in sorted(todo, key=lambda x: rep_index[x]):
-            target = lines if variant is None or s in moving else hoisted
-            target.append(f"{s.name} = {pycode(reps[rep_index[s]][1])}")
-            emitted.add(s)
-
-    for st, k in slots:
-        if isinstance(st, Line):
-            lines.append(st.text)
-            continue
-        expr = reduced[k]
-        need(expr)
-        out = lines
-        if variant is not None and isinstance(st, (Assign, Guard)):
-            free = expr.free_symbols | ({st.value} if isinstance(st, Guard) else set())
-            if not free & moving and not (isinstance(st, Assign) and st.target in moving):
-                out = hoisted
-        if isinstance(st, Assign):
-            tail = f"  # {st.comment}" if st.comment else ""
-            out.append(f"{st.target.name} = {pycode(expr)}{tail}")
-        elif isinstance(st, Store):
-            tail = f"  # {st.comment}" if st.comment else ""
-            out.append(f"{st.lhs} = {pycode(expr)}{tail}")
-        else:
-            out.append(f"if not abs({st.value.name}) > {pycode(expr)}:")
-            out.append(f"    return {st.status}")
-    return lines if variant is None else (hoisted, lines)
+def pycode(expr, names=None) -> str:
+    """``expr`` as Python code, its symbols named by ``names`` (a Names, or None)."""
+    return printer_for(names).doprint(sp.sympify(expr))

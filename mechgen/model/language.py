@@ -5,6 +5,7 @@ import keyword
 import math
 import numbers
 import re
+import unicodedata
 
 import sympy as sp
 
@@ -15,14 +16,28 @@ from ..errors import ModelError, _user_frame
 from .geometry import Body, T
 from .quantities import register_coordinates
 
-_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")
-# Names the generated module uses for itself; a model name may not take them.
-RESERVED = {"T", "t", "q", "qd", "qdd", "p", "out", "math", "np", "numba", "njit", "I", "E",
-            "pi", "oo", "nan", "S", "N", "sin", "cos", "tan", "sqrt", "atan2", "exp", "log",
-            "status", "n", "i", "j", "k",
-            # arguments of the generated solvers, in which parameters are local names too
-            "tol", "xtol", "maxit", "info", "piv", "ts", "q0", "Q", "QD", "QDD", "INFO",
-            "method", "level"} | set(keyword.kwlist)
+_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")      # a model's own name (its module's)
+# The names a model may not give a parameter, coordinate, body or output: Python's keywords,
+# the time symbol T, and what ``from mechgen import *`` brings into a model file (sympy's
+# constant E excepted, as sympy's other one-letter names I, S and N are not exported).
+# Names the generated module uses for itself (i, k, t, q, p, tol, ...) are free: the
+# compiler writes a model's symbols under other identifiers where they collide.
+API_NAMES = frozenset({
+    "ModelError", "ConvergenceError", "SingularError", "MechgenError", "SolveError",
+    "BranchJumpWarning", "RedundancyWarning", "load", "compile", "__version__",
+    "sin", "cos", "tan", "sqrt", "atan2", "atan", "asin", "acos", "exp", "log", "pi",
+    "Abs", "sign", "sinh", "cosh", "tanh", "Rational", "Piecewise", "Symbol", "Matrix",
+    "location", "distance", "point_to_line_distance", "angle", "rotation", "intersection",
+    "project_on_line", "direction", "magnitude", "unit", "cross", "rotation_matrix",
+    "point_to_local", "polar_to_xy", "xy_to_polar", "velocity", "acceleration", "dt",
+    "Model", "T", "Line", "load_model", "Mechanism", "Solution", "Sweep", "Equations"})
+REFUSED = API_NAMES | {"T"} | set(keyword.kwlist)
+
+
+def _is_identifier(name) -> bool:
+    """A Python identifier that Python reads back unchanged (NFKC-normalised)."""
+    return isinstance(name, str) and name.isidentifier() and \
+        unicodedata.normalize("NFKC", name) == name
 
 
 class Model:
@@ -55,16 +70,28 @@ class Model:
         self._names[name] = what
         self._equations = None
 
-    def _check_name(self, name: str, what: str):
-        if not isinstance(name, str) or not _NAME.match(name):
+    def _check_name(self, name: str, what: str, coordinate=False):
+        if not _is_identifier(name):
             raise ModelError(f"{what} name {name!r} must be an identifier (letters, digits, _; "
-                             "starting with a letter)")
-        if name in RESERVED:
-            raise ModelError(f"{what} name {name!r} is reserved (the generated module or "
-                             "sympy uses it); choose another")
+                             "not starting with a digit)")
+        if name in REFUSED:
+            raise ModelError(f"{what} name {name!r} is reserved (Python or mechgen's own "
+                             "API uses it); choose another")
         if name in self._names:
             raise ModelError(f"{what} name {name!r} clashes with the {self._names[name]} "
                              f"of the same name")
+        # a coordinate's velocity and acceleration are named <name>d and <name>dd
+        for c in self.coords:
+            for suffix, which in (("d", "velocity"), ("dd", "acceleration")):
+                if name == c.name + suffix:
+                    raise ModelError(f"{what} name {name!r} clashes with the {which} of "
+                                     f"coordinate '{c.name}'")
+        if coordinate:
+            for suffix, which in (("d", "velocity"), ("dd", "acceleration")):
+                if name + suffix in self._names:
+                    raise ModelError(f"{what} name {name!r}: its {which} {name + suffix} "
+                                     f"clashes with the {self._names[name + suffix]} of the "
+                                     "same name")
 
     def param(self, name: str, default) -> sp.Symbol:
         """A parameter: a sympy Symbol with a numeric default, changeable at run time."""
@@ -95,7 +122,7 @@ class Model:
         number = 2 + sum(1 for b in self.bodies.values() if not b.is_ground)
         body = Body(self, name, number, _points(points, name), ground=False)
         for sym in body.coordinates:
-            self._check_name(sym.name, f"coordinate of body '{name}'")
+            self._check_name(sym.name, f"coordinate of body '{name}'", coordinate=True)
         self._check_local(body)
         if isinstance(guess, (str, bytes)) or isinstance(guess, sp.MatrixBase):
             guess = list(guess) if isinstance(guess, sp.MatrixBase) else guess
@@ -116,7 +143,7 @@ class Model:
 
     def coordinate(self, name: str, guess=0.0) -> sp.Symbol:
         """An extra scalar coordinate (a joint angle of a loop-closure model, say)."""
-        self._check_name(name, "coordinate")
+        self._check_name(name, "coordinate", coordinate=True)
         value = self._guess_value(guess, f"coordinate '{name}': guess")
         self._claim(name, "coordinate")
         sym = sp.Symbol(name, real=True)

@@ -1,0 +1,163 @@
+"""The render context of a generated module: everything the template lays out about the
+model and its solvers (mechgen.compiler.render adds the header constants and the library).
+
+``module_context`` is the compiler's one entry point from a model to that dict: it plans
+the solver once (mechgen.compiler.plan), has the emitters write each function body as
+statements (mechgen.compiler.ir), chooses the identifiers of the model's symbols against
+every name the module uses (mechgen.compiler.names) and prints the bodies as lines.
+"""
+from __future__ import annotations
+
+import hashlib
+
+from ..model.geometry import T
+from ..model.symbolic import check_square
+from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
+from ..protocol import MECHGEN_VERSION as __version__
+from .equations_code import (gamma_body, nu_body, outputs_bodies, phi_body, phi_q_body,
+                             point_list, points_body)
+from .ir import Options, code_words, render, symbols
+from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
+from .names import Names, emitter_symbols, identifiers, module_words
+from .plan import SHARE_MAX, make_plan, summary
+from .position import position_body, trig_pair
+from .sweep import options as sweep_options
+from .sweep import sweep_fast_body, written_step
+
+
+def module_context(model, sort=True, level="acceleration", outputs=None, cse=True,
+                   closed_forms="cheap") -> dict:
+    """The render context of ``model``'s module for the given build options."""
+    eq = model.equations()
+    check_square(model, eq)   # fewer equations than coordinates: refuse to build
+    plan = make_plan(model, eq, sort=sort, level=level, outputs=outputs, cse=cse,
+                     closed_forms=closed_forms)
+    points = point_list(model)
+    helpers, bodies = [], {}
+
+    def put(key, made):
+        body, parts = made
+        helpers.extend(parts)
+        bodies[key] = body
+
+    made_outputs, orders = outputs_bodies(plan, eq, model)
+    for k, made in enumerate(made_outputs):
+        put(("outputs", k), made)
+    put("phi", phi_body(plan, eq))
+    put("phi_q", phi_q_body(plan, eq))
+    put("nu", nu_body(plan, eq))
+    put("gamma", gamma_body(plan, eq))
+    put("points_code", points_body(plan, eq, points))
+    derivatives = None
+    if plan.sorted:
+        put("position_sorted", position_body(plan, eq))
+        put("jacobian_det", (jacobian_det_body(plan, eq), []))
+        if plan.level >= 1:
+            put("velocity_sorted", linear_sorted_body(plan, eq, 1))
+        if plan.level >= 2:
+            put("acceleration_sorted", linear_sorted_body(plan, eq, 2))
+            derivatives = derivative_code(plan, eq)
+            bodies["derivatives_sorted"] = derivatives_sorted_body(plan, eq, derivatives)
+    # a small model's hot solvers are inlined into their callers (numba IR inlining): a
+    # call between jitted functions passing arrays costs about as much as their work
+    inline = plan.sorted and not helpers and len(eq.q) <= SHARE_MAX
+    if plan.sorted and plan.level >= 2:
+        step = None
+        if inline and plan.share and not plan.position_parts and derivatives is not None:
+            step = written_step(plan, eq, bodies["position_sorted"], derivatives)
+        pairs = [trig_pair(y) for y in plan.position.trig_pairs]
+        bodies["sweep_fast"] = sweep_fast_body(step, pairs)
+
+    names = name_map(model, eq, list(bodies.values()) + [h.body for h in helpers],
+                     [h.args for h in helpers])
+    plain = Options(names=names)
+
+    def text(key):
+        body = bodies.get(key)
+        if body is None:
+            return None
+        return render(body, sweep_options(names) if key == "sweep_fast" else plain)
+
+    ctx = dict(
+        name=model.name,
+        doc=(model.doc or "").strip(),
+        mechgen_version=__version__,
+        format_version=FORMAT_VERSION,
+        n=len(eq.q), m=eq.phi.rows,
+        coordinates=[s.name for s in eq.q],
+        guess=[repr(float(x)) for x in model.guess_vector()],
+        parameters=[(name, repr(float(v))) for name, v in model.param_defaults.items()],
+        labels=list(eq.labels),
+        constraints=[dict(number=c.number, kind=c.kind, label=c.label, rows=len(c.exprs),
+                          driver=c.is_driver) for c in model.constraints],
+        points=[(label, body) for label, body, _ in points],
+        bodies=[(b.name, b.number, b.is_ground) for b in model.bodies.values()],
+        outputs=list(plan.outputs), output_orders=orders,
+        phi=text("phi"), phi_q=text("phi_q"), nu=text("nu"), gamma=text("gamma"),
+        points_code=text("points_code"),
+        outputs_code=[text(("outputs", k)) for k in range(3)],
+        sorted=plan.sorted,
+        blocks=[dict(kind=b.kind, method=b.method, summary=summary(b, eq.q),
+                     vars=[eq.q[v].name for v in b.vars], rows=list(b.rows),
+                     tears=[eq.q[v].name for v in b.tears]) for b in plan.blocks],
+        position_sorted=text("position_sorted") or [],
+        velocity_sorted=text("velocity_sorted") or [],
+        acceleration_sorted=text("acceleration_sorted") or [],
+        derivatives_sorted=text("derivatives_sorted"),
+        jacobian_det=text("jacobian_det") or [],
+        sweep_fast=text("sweep_fast"),
+        helpers=[dict(name=h.name, args=h.args, doc=h.doc, lines=render(h.body, plain))
+                 for h in helpers],
+        inline=inline,
+        pivot_rtol=repr(PIVOT_RTOL),
+        sing_rtol=repr(SING_RTOL),
+        level=plan.level,
+        solved=list(plan.solved),
+        pruned=not all(plan.solved) or plan.level < 2,
+    )
+    ctx.update(drawing_context(model, points))
+    ctx["hash"] = model_hash(ctx)
+    return ctx
+
+
+def name_map(model, eq, bodies, extra_code=()) -> Names:
+    """The identifiers of the model's symbols in a module whose function bodies are
+    ``bodies`` (statement lists), against every name the module uses itself."""
+    model_symbols = [*eq.params, *eq.q, *eq.qd, *eq.qdd, T]
+    everything = [st for body in bodies if body is not None for st in body]
+    derived, plain = emitter_symbols(symbols(everything))
+    used = set(module_words())
+    used |= identifiers("\n".join(sorted(set(code_words(everything)) | set(extra_code))))
+    used |= plain
+    return Names(model_symbols, used, derived)
+
+
+def model_hash(ctx) -> str:
+    """A stable digest of what the module computes (no timestamps: the same model, the
+    same bytes)."""
+    h = hashlib.sha256()
+    for key in ("name", "coordinates", "guess", "parameters", "labels", "points", "outputs",
+                "phi", "phi_q", "nu", "gamma", "points_code", "outputs_code", "position_sorted",
+                "velocity_sorted", "acceleration_sorted", "mechgen_version", "format_version",
+                "level", "solved", "helpers", "derivatives_sorted", "inline", "jacobian_det",
+                "sweep_fast", "blocks"):
+        h.update(repr(ctx[key]).encode())
+    return h.hexdigest()[:16]
+
+
+def drawing_context(model, points):
+    """What pictures need (mechgen.plot), as indices into POINTS: the points each
+    constraint names, in argument order (an axis gives its first and second point), and
+    for every body its origin (-1 for the ground, whose origin is the global one) and its
+    points P1, P2, ..."""
+    index = {(body, pt.local): k for k, (_, body, pt) in enumerate(points)}
+
+    def at(pt):
+        return index[(pt.body.name, pt.local)]
+
+    joints = [(c.number, c.kind, [at(pt) for pt in getattr(c, "points", ())])
+              for c in model.constraints]
+    body_points = [(b.name, -1 if b.is_ground else at(b[0]),
+                    [at(b[k]) for k in range(1, len(b.points) + 1)])
+                   for b in model.bodies.values()]
+    return dict(joints=joints, body_points=body_points)
