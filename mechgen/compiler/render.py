@@ -10,7 +10,7 @@ from importlib import resources
 import jinja2
 import sympy
 
-from .codegen import ModuleBuilder
+from .context import module_context as solver_context
 from .library import library_text
 from ..protocol import STAMP, content_digest, header_constants
 
@@ -43,11 +43,11 @@ def environment() -> jinja2.Environment:
 
 def module_context(model, *, sort=True, level="acceleration", outputs=None, cse=True,
                    closed_forms="cheap") -> dict:
-    """Everything the template reads: the solver context of ModuleBuilder, plus the header
+    """Everything the template reads: the solver context (context.module_context), plus the header
     constants (``constants``), the library text (``library``), ``all_solved`` and
     ``inline_mode`` (the numba inline option of the hot solvers)."""
-    ctx = ModuleBuilder(model, sort=sort, level=level, outputs=outputs, cse=cse,
-                        closed_forms=closed_forms).context()
+    ctx = solver_context(model, sort=sort, level=level, outputs=outputs, cse=cse,
+                         closed_forms=closed_forms)
     ctx.update(constants=header_constants(), library=library_text(),
                all_solved=all(ctx["solved"]),
                inline_mode="always" if ctx["inline"] else "never")
