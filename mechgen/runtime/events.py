@@ -202,30 +202,38 @@ def extrema(sw, what, method="auto", xtol=1e-12) -> Events:
         else:
             coarse_d = interpolate(sw, qty.what, method=method).derivative()
         coarse_v = interpolate(sw, qty.what, method=method)
-        events = Events()
-        for k, node, sign in _sign_changes(t, dy, tol):
-            calls = exact_d.calls + exact_v.calls
-            kind = "max" if sign > 0 else "min"
-            if t[-1] < t[0]:
-                kind = "min" if kind == "max" else "max"
-            if node is not None:
-                t_star = float(t[node])
-                value = float(y[node])
-            else:
-                a, b = float(t[k]), float(t[k + 1])
-                lo, hi = min(a, b), max(a, b)
-                fa, fb = (dy[k], dy[k + 1]) if a < b else (dy[k + 1], dy[k])
-                t_star = _brent(exact_d, lo, hi, float(fa), float(fb), xtol)
-                value = float(exact_v(t_star))
-            a, b = float(min(t[k], t[k + 1])), float(max(t[k], t[k + 1]))
-            ti = _nearest(coarse_d.roots(a, b), t_star, a, b)
-            vi = float(coarse_v(ti)) if math.isfinite(ti) else math.nan
-            events.append(Event(qty.label, kind, t_star, value, ti, vi, coarse_v.method,
-                                exact_d.calls + exact_v.calls - calls))
-        events.sort(key=lambda e: e.t)
-        return events
+        calls = lambda: exact_d.calls + exact_v.calls  # noqa: E731 - a counter to read
+        return _refined(qty, t, y, dy, tol, ("max", "min"), exact_d, exact_v, calls,
+                        coarse_d.roots, coarse_v, xtol)
     finally:
         mech.last = last
+
+
+def _refined(qty, t, y, f, tol, kinds, exact_f, exact_y, calls, coarse_roots, coarse_y,
+             xtol) -> Events:
+    """The Events of the sign changes of f (sampled at the sweep's times t): each bracket
+    refined by Brent's method on exact_f, its value y from exact_y; beside it the root of
+    the interpolant (coarse_roots) and coarse_y there. kinds names a change from positive
+    to negative and the other way, for time running forwards."""
+    events = Events()
+    for k, node, sign in _sign_changes(t, f, tol):
+        before = calls()
+        kind = kinds[0] if (sign > 0) == (t[-1] >= t[0]) else kinds[1]
+        if node is not None:
+            t_star, value = float(t[node]), float(y[node])
+        else:
+            a, b = float(t[k]), float(t[k + 1])
+            lo, hi = min(a, b), max(a, b)
+            fa, fb = (f[k], f[k + 1]) if a < b else (f[k + 1], f[k])
+            t_star = _brent(exact_f, lo, hi, float(fa), float(fb), xtol)
+            value = float(exact_y(t_star))
+        a, b = float(min(t[k], t[k + 1])), float(max(t[k], t[k + 1]))
+        ti = _nearest(coarse_roots(a, b), t_star, a, b)
+        vi = float(coarse_y(ti)) if math.isfinite(ti) else math.nan
+        events.append(Event(qty.label, kind, t_star, value, ti, vi, coarse_y.method,
+                            calls() - before))
+    events.sort(key=lambda e: e.t)
+    return events
 
 
 def roots(sw, what, method="auto", xtol=1e-12) -> Events:
@@ -243,26 +251,7 @@ def roots(sw, what, method="auto", xtol=1e-12) -> Events:
         y = qty.on_sweep(sw)
         tol = _zero_tol(y)
         coarse = interpolate(sw, qty.what, method=method)
-        events = Events()
-        for k, node, sign in _sign_changes(t, y, tol):
-            calls = exact.calls
-            kind = "falling" if sign > 0 else "rising"
-            if t[-1] < t[0]:
-                kind = "rising" if kind == "falling" else "falling"
-            if node is not None:
-                t_star, value = float(t[node]), float(y[node])
-            else:
-                a, b = float(t[k]), float(t[k + 1])
-                lo, hi = min(a, b), max(a, b)
-                fa, fb = (y[k], y[k + 1]) if a < b else (y[k + 1], y[k])
-                t_star = _brent(exact, lo, hi, float(fa), float(fb), xtol)
-                value = float(exact(t_star))
-            a, b = float(min(t[k], t[k + 1])), float(max(t[k], t[k + 1]))
-            ti = _nearest(coarse.roots(a, b), t_star, a, b)
-            vi = float(coarse(ti)) if math.isfinite(ti) else math.nan
-            events.append(Event(qty.label, kind, t_star, value, ti, vi, coarse.method,
-                                exact.calls - calls))
-        events.sort(key=lambda e: e.t)
-        return events
+        return _refined(qty, t, y, y, tol, ("falling", "rising"), exact, exact,
+                        lambda: exact.calls, coarse.roots, coarse, xtol)
     finally:
         mech.last = last
