@@ -169,9 +169,16 @@ def _top_level(text):
     """{name: value} of a module's top-level constant assignments, and the set of every
     name it defines at top level (assignments, functions, imports)."""
     values, defined = {}, set()
+    nodes = []
     for node in ast.parse(text).body:
+        nodes.append(node)
+        if isinstance(node, ast.Try):      # the header's numba import (or the Python tier's)
+            nodes += node.body + [x for h in node.handlers for x in h.body]
+    for node in nodes:
         if isinstance(node, ast.Assign):
             for target in node.targets:
+                if isinstance(target, ast.Tuple):
+                    defined.update(x.id for x in target.elts if isinstance(x, ast.Name))
                 if isinstance(target, ast.Name):
                     defined.add(target.id)
                     try:

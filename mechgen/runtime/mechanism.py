@@ -24,7 +24,7 @@ from .design import (ON_FAIL, DesignTable, design_grid, report_failures, run_des
                      split_params)
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
                      sweep_times)
-from .loader import open_module
+from .tiers import Tiers
 from .locks import convergence_error, singular_error
 from .locks import singularities as find_singularities
 from .quantity import symbolic_side
@@ -32,17 +32,23 @@ from .results import Solution, Sweep
 from .singular import null_space, solve_q
 
 
-def load(path_or_module, **kwargs) -> "Mechanism":
+def load(path_or_module, tier=None, **kwargs) -> "Mechanism":
     """A :class:`Mechanism` from a generated module: a path or an imported module
-    (checked by mechgen.runtime.loader: content stamp, format, mechgen version)."""
-    return Mechanism(open_module(path_or_module), **kwargs)
+    (checked by mechgen.runtime.loader: content stamp, format, mechgen version).
+
+    tier: "auto" (default, or $MECHGEN_TIER): plain Python at once, numba's compiled
+    code once a background process has compiled it; "python"; "compiled" (numba at once;
+    an imported module is always compiled). See mechgen.runtime.tiers; ``mech.tier``
+    says which answers now. The numbers are the same."""
+    return Mechanism(Tiers.open(path_or_module, tier), **kwargs)
 
 
 class Mechanism:
     """A loaded kinematic solver: positions, velocities, accelerations, sweeps."""
 
     def __init__(self, module, params=None, tol=1e-10, xtol=1e-10, maxit=50, method="auto"):
-        self.module = module
+        self._tiers = Tiers.of(module)      # the module answering now (mechgen.runtime.tiers)
+        module = self._tiers.module
         self.name = module.MODEL_NAME
         self.coordinates = tuple(module.COORDINATES)
         self.outputs = tuple(module.OUTPUTS)
@@ -71,6 +77,16 @@ class Mechanism:
         self._info = np.zeros(POINT_INFO_SIZE)
         self._none = np.empty(0)    # qd, qdd of a solve that does not ask for them
 
+    @property
+    def module(self):
+        """The generated module answering now: plain Python or numba's (``tier``)."""
+        return self._tiers.module
+
+    @property
+    def tier(self) -> str:
+        """"python" or "compiled": which tier answers this mechanism's calls now."""
+        return self._tiers.tier
+
     def __repr__(self):
         return (f"<Mechanism {self.name!r}: {self.n} coordinates, {self.m} equations, "
                 f"parameters {self.parameters}>")
@@ -91,7 +107,7 @@ class Mechanism:
 
     def with_params(self, **values) -> "Mechanism":
         """A copy with some parameters changed (``mech.with_params(longitud=1.5)``)."""
-        other = Mechanism(self.module, tol=self.tol, xtol=self.xtol, maxit=self.maxit,
+        other = Mechanism(self._tiers, tol=self.tol, xtol=self.xtol, maxit=self.maxit,
                           method=self.method)
         other.p = self._params_array(values)
         other.model, other.symbolic = self.model, self.symbolic
@@ -282,6 +298,7 @@ class Mechanism:
         N = ts.shape[0]
         Q, QD, QDD = np.zeros((N, self.n)), np.zeros((N, self.n)), np.zeros((N, self.n))
         INFO = np.zeros((N, INFO_COLUMNS))
+        self._tiers.expect(self, N)
         done = self._compiled_sweep(ts, q0, lev, tol, maxit, meth, Q, QD, QDD, INFO)
         sw = Sweep(self, ts[:done], Q[:done], QD[:done] if lev >= LEVEL["velocity"] else None,
                    QDD[:done] if lev >= LEVEL["acceleration"] else None, INFO[:done])
@@ -384,6 +401,7 @@ class Mechanism:
         maxit = self._maxit(maxit)
         q0 = self._start(guess)
         P = design_grid(base, self._param_index, names, axes)
+        self._tiers.expect(self, P.shape[0] * ts.shape[0], "design")
         Q, QD, QDD, INFO, done = run_designs(self.module, ts, q0, P, lev, tol, self.xtol,
                                              maxit, meth, progress)
         table = DesignTable(self, names, axes, ts, P, Q, QD, QDD, INFO, done, LEVELS[lev])

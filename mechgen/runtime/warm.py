@@ -1,0 +1,84 @@
+"""Calling a compiled module's entry points once each, through a Mechanism, so that numba
+compiles them (and writes its on-disk cache) with exactly the argument types the runtime
+passes later. Used by the background worker (mechgen.runtime.warmup) and by a large call
+that cannot wait for it (mechgen.runtime.tiers).
+
+A stage that raises (a model that does not assemble at the times tried, a singular
+configuration) has still compiled what it called; the error is ignored.
+"""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ..errors import MechgenError
+
+# in the order users need them: a position, its derivatives, a sweep (the quick path,
+# then the careful continuation), what pictures and diagnostics call, a design table
+STAGES = ("position", "derivatives", "sweep", "careful", "diagnostics", "design")
+STAGES_FOR = {"sweep": ("sweep", "careful"), "design": ("design",)}
+
+
+def _position(mech, t):
+    mech.solve(t)
+
+
+def _derivatives(mech, t):
+    if mech.built_level >= 1:
+        mech.solve(t, level=int(mech.built_level))
+
+
+def _sweep(mech, t):
+    mech.sweep(t, t + 0.01, 3, level=int(mech.built_level))
+    mech.sweep(t, t + 0.01, 3, level="position")
+
+
+def _careful(mech, t):
+    mech.sweep(t, t + 0.01, 3, level=int(mech.built_level), method="full")
+    mech.sweep(t, t + 0.01, 3, level="position", method="full")
+
+
+def _diagnostics(mech, t):
+    q = mech.guess.copy()
+    try:
+        q = mech.solve(t).q
+    except MechgenError:
+        pass
+    mech.residual(q, t)
+    mech.jacobian(q, t)
+    mech.pivot_ratio(q, t)
+    mech.points_at(q, t)
+    z = np.zeros(mech.n)
+    for order in range(3):
+        mech.output_values(q, z, z, t, order)
+    mech.module.solve_position(q.copy(), float(t), mech.p, mech.tol, mech.xtol, mech.maxit, 0,
+                               np.zeros(4))
+    mech.module.nu(q, float(t), mech.p, np.empty(mech.m))
+    mech.solve_derivatives(np.array([t]), q[None, :].copy(), level=int(mech.built_level))
+
+
+def _design(mech, t):
+    if mech.parameter_names:
+        value = float(mech.p[0])
+        mech.design_sweep(t, t + 0.01, 3, {mech.parameter_names[0]: [value, value]},
+                          level=int(mech.built_level), on_fail="ignore")
+
+
+_RUN = {"position": _position, "derivatives": _derivatives, "sweep": _sweep,
+        "careful": _careful, "diagnostics": _diagnostics, "design": _design}
+
+
+def warm(mech, stages=STAGES, t=0.0) -> list:
+    """Run ``stages`` (names from STAGES) on ``mech`` (a Mechanism on a compiled module);
+    the names of those that ran without error."""
+    done = []
+    for stage in stages:
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                _RUN[stage](mech, t)
+        except (MechgenError, ValueError, ArithmeticError):
+            continue
+        done.append(stage)
+    return done
