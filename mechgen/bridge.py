@@ -15,17 +15,20 @@ Symbols are matched by name against the mechanism's coordinates (``X4``), veloci
 """
 from __future__ import annotations
 
+import hashlib
+import json
 import os
+import sys
 
 import numpy as np
-import sympy as sp
 
-from .compiler.build import render, write_module
-from .errors import ModelError
-from .model.quantities import dt
-from .protocol import LEVEL, LEVELS
+from .errors import MechgenError, ModelError
+from .protocol import LEVEL, LEVELS, MECHGEN_VERSION
 from .runtime import load
 from .runtime.results import Solution, Sweep
+
+# sympy, the model and the compiler are imported where they are used: a model file whose
+# module is already built loads without them (compile_file)
 
 
 def _slots(mech):
@@ -43,6 +46,7 @@ def _slots(mech):
 
 def _compiled(mech, expr):
     """(function, symbols, shape) for ``expr``, cached on the mechanism."""
+    import sympy as sp
     cache = mech.__dict__.setdefault("_evaluate_cache", {})
     if isinstance(expr, (list, tuple)):
         expr = sp.Matrix(expr)
@@ -136,6 +140,42 @@ def evaluate(mech, expr, solution_or_sweep):
     return out.reshape(out.shape[:-1] + shape)
 
 
+class LazySymbolic:
+    """The symbolic side of a mechanism loaded from a model file without sympy: it runs
+    the model file (sympy) when first asked, then answers as :class:`Symbolic`."""
+
+    def __init__(self, path, name=None, mech=None):
+        self.path, self.name = path, name
+        self._mech = mech
+        self._real = None
+
+    @property
+    def model(self):
+        """The model, loaded from its file on first use."""
+        return self._side().model
+
+    def _side(self):
+        if self._real is None:
+            from .model.loader import load_model
+            model = load_model(self.path, self.name)
+            self._real = Symbolic(model)
+            if self._mech is not None and self._mech.model is None:
+                self._mech.model = model
+        return self._real
+
+    def evaluate(self, mech, expr, solution_or_sweep):
+        """As Symbolic.evaluate."""
+        return self._side().evaluate(mech, expr, solution_or_sweep)
+
+    def derivative(self, expr):
+        """As Symbolic.derivative."""
+        return self._side().derivative(expr)
+
+    def level(self, mech, expr) -> int:
+        """As Symbolic.level."""
+        return self._side().level(mech, expr)
+
+
 class Symbolic:
     """The symbolic side of a mechanism built by ``mechgen.compile``: what the runtime
     calls (through ``mech.symbolic``) for a quantity given as a sympy expression."""
@@ -149,6 +189,7 @@ class Symbolic:
 
     def derivative(self, expr):
         """The total time derivative of ``expr`` (coordinates move, so do the drivers)."""
+        from .model.quantities import dt
         return dt(expr, model=self.model)
 
     def level(self, mech, expr) -> int:
@@ -182,6 +223,7 @@ def cache_folder() -> str:
 def build_if_changed(model, outdir, **kwargs) -> str:
     """Write ``outdir/<name>.py`` unless it already holds exactly this text: a rewrite
     would change the file's time stamp and throw away numba's compiled cache beside it."""
+    from .compiler.build import render, write_module
     text = render(model, **kwargs)
     path = os.path.join(outdir, f"{model.name}.py")
     try:
@@ -193,10 +235,111 @@ def build_if_changed(model, outdir, **kwargs) -> str:
     return write_module(text, path)
 
 
-def compile_model(model, outdir=None, **kwargs):
+def compile_model(model, outdir=None, tier=None, name=None, **kwargs):
     """``mechgen.compile``: build ``model`` into a folder (``outdir``, default
     :func:`cache_folder`; rewritten only when its text changed) and load it, keeping the
-    symbolic model so that ``mech.evaluate(expr, solution_or_sweep)`` works."""
+    symbolic model so that ``mech.evaluate(expr, solution_or_sweep)`` works.
+
+    ``model`` is a Model, or the path of a model file (``name=`` picks one of several):
+    a file whose module was built before, unchanged (its text, the local files it
+    imports, mechgen's and sympy's versions), loads without sympy (compile_file);
+    its symbolic side loads the model when first used. ``tier`` as for mechgen.load."""
     if outdir is None:
         outdir = cache_folder()
-    return attach(load(build_if_changed(model, outdir, **kwargs)), model)
+    if isinstance(model, (str, os.PathLike)):
+        return compile_file(os.fspath(model), outdir, name=name, tier=tier, **kwargs)
+    if name is not None:
+        raise TypeError("compile(): name= picks a model of a model file; pass the file's path")
+    return attach(load(build_if_changed(model, outdir, **kwargs), tier=tier), model)
+
+
+# -- a model file to a loaded mechanism, without sympy when its module is up to date -------
+def _sympy_version() -> str:
+    """sympy's version, read from its release file (importing sympy takes 0.4 s)."""
+    import importlib.util
+    spec = importlib.util.find_spec("sympy")
+    if spec is None or not spec.origin:
+        return "none"
+    try:
+        with open(os.path.join(os.path.dirname(spec.origin), "release.py"), encoding="utf-8") as fh:
+            for line in fh:
+                if line.startswith("__version__"):
+                    return line.split("=", 1)[1].strip().strip("\"'")
+    except OSError:
+        pass
+    return "unknown"
+
+
+def _digest(path) -> str | None:
+    try:
+        with open(path, "rb") as fh:
+            return hashlib.sha256(fh.read()).hexdigest()
+    except OSError:
+        return None
+
+
+def _manifest_path(path, outdir, name, options) -> str:
+    """The manifest of building model file ``path`` into ``outdir``: named by everything
+    its module depends on but the local files the model file imports (listed inside)."""
+    with open(path, "rb") as fh:
+        text = fh.read()
+    key = json.dumps([os.path.abspath(path), hashlib.sha256(text).hexdigest(), name,
+                      os.path.abspath(outdir), sorted((k, repr(v)) for k, v in options.items()),
+                      MECHGEN_VERSION, _sympy_version(), sys.version], sort_keys=True)
+    return os.path.join(outdir, ".manifests", hashlib.sha256(key.encode()).hexdigest()[:24] + ".json")
+
+
+def _local_imports(path, outdir) -> dict:
+    """{file: sha256} of the modules loaded from the model file's folder (its own local
+    imports: a module of shapes, of dimensions), not mechgen's nor the generated ones."""
+    here = os.path.dirname(os.path.abspath(path)) + os.sep
+    skip = (os.path.dirname(os.path.abspath(__file__)) + os.sep, os.path.abspath(outdir) + os.sep)
+    found = {}
+    for module in list(sys.modules.values()):
+        f = getattr(module, "__file__", None)
+        if not f:
+            continue
+        f = os.path.abspath(f)
+        if f.startswith(here) and not f.startswith(skip) and f != os.path.abspath(path):
+            found[f] = _digest(f)
+    return found
+
+
+def compile_file(path, outdir=None, name=None, tier=None, **kwargs):
+    """``mechgen.compile("model.py")``: the mechanism of a model file. When a manifest
+    says this file (same text, same local imports, same mechgen and sympy, same build
+    options) was built into ``outdir`` and the module is there, it is loaded at once,
+    without sympy or the compiler, and its symbolic side (``mech.evaluate``) loads the
+    model on first use; otherwise the model is built as ``compile(model)`` does and the
+    manifest written."""
+    from .runtime.loader import verify
+    if outdir is None:
+        outdir = cache_folder()
+    path = os.path.abspath(path)
+    if not os.path.isfile(path):
+        raise ModelError("the model file does not exist", where=path)
+    manifest = _manifest_path(path, outdir, name, kwargs)
+    fresh = False
+    try:
+        with open(manifest, encoding="utf-8") as fh:
+            entry = json.load(fh)
+        module = entry["module"]
+        fresh = all(_digest(f) == d for f, d in entry["imports"].items()) and \
+            verify(module) == entry["digest"]
+    except (OSError, ValueError, KeyError, TypeError, MechgenError):
+        fresh = False     # no manifest, or a module gone or changed: build
+    if fresh:
+        mech = load(module, tier=tier)
+        mech.symbolic = LazySymbolic(path, name, mech)
+        return mech
+    from .model.loader import load_model
+    model = load_model(path, name)
+    module = build_if_changed(model, outdir, **kwargs)
+    entry = {"model_file": path, "name": name, "module": module, "digest": verify(module),
+             "imports": _local_imports(path, outdir)}
+    os.makedirs(os.path.dirname(manifest), exist_ok=True)
+    tmp = f"{manifest}.{os.getpid()}.tmp"
+    with open(tmp, "w", encoding="utf-8") as fh:
+        json.dump(entry, fh, indent=1)
+    os.replace(tmp, manifest)
+    return attach(load(module, tier=tier), model)

@@ -25,7 +25,7 @@ import sys
 
 from ..protocol import MECHGEN_VERSION
 from .loader import import_path, open_module, check_version
-from .plain import Clock, python_module
+from .plain import Clock, python_module, state_dir
 
 TIERS = ("auto", "python", "compiled")
 SWITCH_AFTER = 0.2     # seconds of plain-Python calls after which a ready cache is loaded
@@ -41,21 +41,6 @@ def tier_choice(tier=None) -> str:
     return chosen
 
 
-def _state_dir(path: str) -> str:
-    """Where the marks and the lock of ``path``'s cache live: beside numba's cache."""
-    cache = os.environ.get("NUMBA_CACHE_DIR")
-    if cache:
-        return os.path.join(cache, "mechgen-tiers")
-    here = os.path.join(os.path.dirname(path), "__pycache__")
-    try:
-        os.makedirs(here, exist_ok=True)
-        if os.access(here, os.W_OK):
-            return here
-    except OSError:
-        pass
-    return os.path.join(os.path.expanduser("~"), ".cache", "mechgen", "tiers")
-
-
 def state_paths(path: str) -> tuple[str, str]:
     """(mark, lock) of the module file at ``path``: the mark exists when numba's cache
     holds every entry point of exactly this file (its time stamp included, which numba's
@@ -66,7 +51,7 @@ def state_paths(path: str) -> tuple[str, str]:
     where = f"{path}\0{os.environ.get('NUMBA_CACHE_DIR', '')}"
     key = f"{where}\0{st.st_mtime_ns}\0{st.st_size}\0{sys.version}\0{MECHGEN_VERSION}"
     name = os.path.splitext(os.path.basename(path))[0]
-    folder = _state_dir(path)
+    folder = state_dir(path)
     return (os.path.join(folder, f"{name}-{hashlib.sha1(key.encode()).hexdigest()[:16]}.compiled"),
             os.path.join(folder, f"{name}-{hashlib.sha1(where.encode()).hexdigest()[:16]}.lock"))
 
@@ -152,6 +137,7 @@ class Tiers:
         env["PYTHONPATH"] = os.pathsep.join(x for x in (root, env.get("PYTHONPATH")) if x)
         log = os.path.splitext(state_paths(self.path)[1])[0] + ".log"
         try:
+            os.makedirs(os.path.dirname(log), exist_ok=True)
             with open(log, "ab") as err:
                 self.worker = subprocess.Popen(
                     [sys.executable, "-m", "mechgen.runtime.warmup", self.path], env=env,

@@ -3,21 +3,28 @@ compiles them (and writes its on-disk cache) with exactly the argument types the
 passes later. Used by the background worker (mechgen.runtime.warmup) and by a large call
 that cannot wait for it (mechgen.runtime.tiers).
 
-A stage that raises (a model that does not assemble at the times tried, a singular
-configuration) has still compiled what it called; the error is ignored.
+A stage whose solve fails (a model that does not assemble at the times tried, a singular
+configuration) has still compiled what it called.
 """
 from __future__ import annotations
 
+import sys
+import traceback
 import warnings
 
 import numpy as np
 
 from ..errors import MechgenError
+from ..protocol import LEVEL, LEVELS
 
 # in the order users need them: a position, its derivatives, a sweep (the quick path,
 # then the careful continuation), what pictures and diagnostics call, a design table
 STAGES = ("position", "derivatives", "sweep", "careful", "diagnostics", "design")
-STAGES_FOR = {"sweep": ("sweep", "careful"), "design": ("design",)}
+STAGES_FOR = {"sweep": ("sweep",), "design": ("design",)}
+
+
+def _top(mech):
+    return LEVELS[int(mech.built_level)]
 
 
 def _position(mech, t):
@@ -25,17 +32,17 @@ def _position(mech, t):
 
 
 def _derivatives(mech, t):
-    if mech.built_level >= 1:
-        mech.solve(t, level=int(mech.built_level))
+    if mech.built_level >= LEVEL["velocity"]:
+        mech.solve(t, level=_top(mech))
 
 
 def _sweep(mech, t):
-    mech.sweep(t, t + 0.01, 3, level=int(mech.built_level))
+    mech.sweep(t, t + 0.01, 3, level=_top(mech))
     mech.sweep(t, t + 0.01, 3, level="position")
 
 
 def _careful(mech, t):
-    mech.sweep(t, t + 0.01, 3, level=int(mech.built_level), method="full")
+    mech.sweep(t, t + 0.01, 3, level=_top(mech), method="full")
     mech.sweep(t, t + 0.01, 3, level="position", method="full")
 
 
@@ -62,7 +69,7 @@ def _design(mech, t):
     if mech.parameter_names:
         value = float(mech.p[0])
         mech.design_sweep(t, t + 0.01, 3, {mech.parameter_names[0]: [value, value]},
-                          level=int(mech.built_level), on_fail="ignore")
+                          level=_top(mech), on_fail="ignore")
 
 
 _RUN = {"position": _position, "derivatives": _derivatives, "sweep": _sweep,
@@ -71,14 +78,18 @@ _RUN = {"position": _position, "derivatives": _derivatives, "sweep": _sweep,
 
 def warm(mech, stages=STAGES, t=0.0) -> list:
     """Run ``stages`` (names from STAGES) on ``mech`` (a Mechanism on a compiled module);
-    the names of those that ran without error."""
+    the names of those that ran through (a solve failing on the way counts: what it
+    called is compiled). Any other error is written to stderr and the stage skipped."""
     done = []
     for stage in stages:
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore")
                 _RUN[stage](mech, t)
-        except (MechgenError, ValueError, ArithmeticError):
+        except MechgenError:
+            pass
+        except Exception:       # noqa: BLE001 - reported, the other stages still run
+            traceback.print_exc(file=sys.stderr)
             continue
         done.append(stage)
     return done

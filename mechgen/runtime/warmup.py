@@ -35,8 +35,8 @@ def main(argv=None) -> int:
             return 0
         module = import_path(path)
         check_version(module)
-        warm(Mechanism(module), stages)
-        if stages == STAGES:
+        done = warm(Mechanism(module), stages)
+        if tuple(done) == STAGES:
             dump_mark(path, stages)
     finally:
         lock.release()
