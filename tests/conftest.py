@@ -3,6 +3,10 @@ import sys
 
 import pytest
 
+# the suite runs numba's compiled tier, as before there were tiers (tests/test_tiers.py
+# chooses each tier itself); a mechanism loaded in "auto" would start background workers
+os.environ.setdefault("MECHGEN_TIER", "compiled")
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXAMPLES = os.path.join(ROOT, "examples")
 GENERATED = os.path.join(ROOT, "generated")

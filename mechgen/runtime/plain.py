@@ -54,6 +54,17 @@ def _floor(x):
         return x       # nan or ±inf, as a float (numba's floor of them is no number either)
 
 
+def _log(fn):
+    """A logarithm as numba's: -inf at 0, NaN below."""
+    def call(*args):
+        try:
+            return fn(*args)
+        except ValueError:
+            return -_INF if args[0] == 0 else _NAN
+    call.__name__ = fn.__name__
+    return call
+
+
 def _sinh(x):
     try:
         return _math.sinh(x)
@@ -72,12 +83,13 @@ def _pow(x, y):
 
 def _make_math():
     ns = {name: getattr(_math, name) for name in dir(_math) if not name.startswith("_")}
-    for name in ("sqrt", "log", "log2", "log10", "log1p", "acos", "asin", "acosh", "atanh",
+    for name in ("sqrt", "acos", "asin", "acosh", "atanh",
                  "sin", "cos", "tan", "fmod", "remainder", "gamma", "lgamma"):
         if name in ns:
             ns[name] = _safe(getattr(_math, name))
     for name in ("exp", "expm1", "cosh"):
         ns[name] = _safe(getattr(_math, name), overflow=_INF)
+    ns.update({name: _log(getattr(_math, name)) for name in ("log", "log2", "log10")})
     ns.update(floor=_floor, ceil=_safe(_math.ceil), sinh=_sinh, pow=_pow)
     return types.SimpleNamespace(**ns)
 
