@@ -2,7 +2,7 @@
 ``auto`` tier (mechgen.runtime.tiers). Imports the generated module at PATH with numba,
 calls its entry points once each (mechgen.runtime.warm, all stages unless named), so
 that numba's on-disk cache holds them, then leaves the mark that says the cache is
-complete. Runs at a lowered priority; exits at once when another process holds the
+ready (a stage not in it is compiled where it is first called, as without the worker). Runs at a lowered priority; exits at once when another process holds the
 module's lock (it is doing the same) or the mark is already there.
 """
 from __future__ import annotations
@@ -36,7 +36,7 @@ def main(argv=None) -> int:
         module = import_path(path)
         check_version(module)
         done = warm(Mechanism(module), stages)
-        if tuple(done) == STAGES:
+        if tuple(done) == stages:
             dump_mark(path, stages)
     finally:
         lock.release()
