@@ -286,7 +286,8 @@ def _manifest_path(path, outdir, name, options) -> str:
     key = json.dumps([os.path.abspath(path), hashlib.sha256(text).hexdigest(), name,
                       os.path.abspath(outdir), sorted((k, repr(v)) for k, v in options.items()),
                       MECHGEN_VERSION, _sympy_version(), sys.version], sort_keys=True)
-    return os.path.join(outdir, ".manifests", hashlib.sha256(key.encode()).hexdigest()[:24] + ".json")
+    return os.path.join(cache_folder(), "manifests",
+                        hashlib.sha256(key.encode()).hexdigest()[:24] + ".json")
 
 
 def _local_imports(path, outdir) -> dict:

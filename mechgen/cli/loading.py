@@ -27,6 +27,8 @@ def build_if_needed(model, outdir, **kwargs) -> str:
 
 
 def mechanism(args):
-    """Build (when out of date) and load the model the arguments name."""
-    from ..runtime import load
-    return load(build_if_needed(models(args)[0], args.outdir))
+    """Build (when out of date) and load the model the arguments name: a model file whose
+    module is up to date loads without sympy (mechgen.bridge.compile_file)."""
+    from ..bridge import compile_file
+    return compile_file(model_file(args.model_file), module_folder(args.outdir),
+                        name=args.model)

@@ -82,6 +82,10 @@ class Mechanism:
         """The generated module answering now: plain Python or numba's (``tier``)."""
         return self._tiers.module
 
+    @module.setter
+    def module(self, module):
+        self._tiers = Tiers.of(module)      # this mechanism alone: no tier switch
+
     @property
     def tier(self) -> str:
         """"python" or "compiled": which tier answers this mechanism's calls now."""
