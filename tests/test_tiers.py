@@ -87,6 +87,9 @@ def compare(rp, rc):
         same(rp.info, rc.info, "info (statuses, iterations, methods)")
         same(rp.jumps, rc.jumps)
         same(rp.crossings, rc.crossings)
+    elif type(rc).__name__ == "DesignTable":
+        for x in ("t", "P", "Q", "QD", "QDD", "INFO", "done"):
+            same(getattr(rp, x), getattr(rc, x), x)
     elif isinstance(rc, str):
         assert rp == rc
     elif isinstance(rc, (list, tuple)):
@@ -128,6 +131,9 @@ def test_tiers_agree_on_the_seeds(twins, name):
         for method in ("auto", "full"):
             agree(py, comp, lambda m: m.sweep(0.0, 1.0, 41, level=lev, method=method))
     agree(py, comp, lambda m: m.assemblies(0.3, starts=8))
+    name, value = comp.parameter_names[0], float(comp.p[0])
+    agree(py, comp, lambda m: m.design_sweep(0.0, 1.0, 11, {name: [value, 1.1 * value]},
+                                             level=level, on_fail="ignore"))
 
 
 # -- the hard cases of tests/test_robustness.py ----------------------------------------------

@@ -12,7 +12,11 @@ Modules, lowest first (each imports only those above it):
   assembly    assembly modes at one time, angle coordinates
   design      design tables (sweeps over a grid of parameter values)
   loader      a module file, its stamp, format and version checked
+  plain       the module run as plain Python (no numba): the tier that answers at once
+  warm        a compiled module's entry points called once each (numba compiles, caches)
+  tiers       which tier answers (auto, python, compiled), the background compile, the switch
   mechanism   Mechanism and load(): the one class users hold
+  warmup      ``python -m mechgen.runtime.warmup PATH``: the background worker
 """
 from .mechanism import Mechanism, load
 

@@ -69,7 +69,10 @@ class Lock:
         self.fh = None
 
     def acquire(self, wait=True) -> bool:
-        import fcntl
+        try:
+            import fcntl
+        except ImportError:         # not on this system: no lock (numba's cache as before)
+            return True
         os.makedirs(os.path.dirname(self.path), exist_ok=True)
         self.fh = open(self.path, "a+")      # noqa: SIM115 - held until release()
         try:
