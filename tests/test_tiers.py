@@ -306,3 +306,19 @@ def test_a_built_model_file_loads_without_sympy(tmp_path):
     src.write_text(src.read_text().replace('m.param("longitud", 3.0)', 'm.param("longitud", 2.5)'))
     edited = mechgen.compile(str(src), outdir=out_dir, tier="python")
     assert edited.parameters["longitud"] == 2.5
+
+
+def test_a_module_from_before_the_tiers_loads_compiled(tmp_path):
+    """A module whose header has no plain-Python indirection (an older build) loads with
+    numba in "auto"; asking for the python tier says to rebuild."""
+    import re
+    from mechgen.protocol import STAMP, content_digest
+    text = open(os.path.join(GENERATED, "fourbar_loop.py"), encoding="utf-8").read()
+    start, end = text.index("try:\n"), text.index("MODEL_NAME = ")
+    text = text[:start] + "from numba import njit\n\n" + text[end:]
+    body = re.sub(r"^# content-sha256: \w+\n", "", text)
+    old = tmp_path / "fourbar_loop.py"
+    old.write_text(STAMP.format(digest=content_digest(body)) + body)
+    assert mechgen.load(str(old), tier="auto").tier == "compiled"
+    with pytest.raises(mechgen.MechgenError, match="before the plain-Python tier"):
+        mechgen.load(str(old), tier="python")

@@ -121,6 +121,10 @@ class Clock:
         return call
 
 
+class NoPlainTier(MechgenError):
+    """A module generated before the plain-Python tier existed."""
+
+
 def state_dir(path: str) -> str:
     """Where mechgen keeps what it knows of the module at ``path`` (its bytecode, the marks
     and lock of mechgen.runtime.tiers): beside numba's cache of it."""
@@ -177,7 +181,7 @@ def python_module(path: str, clock: Clock | None = None) -> types.ModuleType:
         raise MechgenError(f"{path} was edited after mechgen generated it (its content stamp does "
                            "not match); rebuild it with `mechgen build MODEL.py`")
     if "__mechgen_python__" not in text:
-        raise MechgenError(f"{path} was generated before the plain-Python tier existed; rebuild "
+        raise NoPlainTier(f"{path} was generated before the plain-Python tier existed; rebuild "
                            "it with `mechgen build MODEL.py`, or load it with tier='compiled'")
     name = os.path.splitext(os.path.basename(path))[0]
     ns = {"__name__": f"{name}__mechgen_python", "__file__": path,

@@ -25,7 +25,7 @@ import sys
 
 from ..protocol import MECHGEN_VERSION
 from .loader import import_path, open_module, check_version
-from .plain import Clock, python_module, state_dir
+from .plain import Clock, NoPlainTier, python_module, state_dir
 
 TIERS = ("auto", "python", "compiled")
 SWITCH_AFTER = 0.2     # seconds of plain-Python calls after which a ready cache is loaded
@@ -121,7 +121,12 @@ class Tiers:
             return cls(open_module(path_or_module), "compiled")
         path = os.path.abspath(os.fspath(path_or_module))
         clock = Clock()
-        module = python_module(path, clock)
+        try:
+            module = python_module(path, clock)
+        except NoPlainTier:
+            if tier == "python":
+                raise
+            return cls(open_module(path), "compiled")     # an older module: numba only
         check_version(module)
         tiers = cls(module, "python", path, clock)
         if tier == "auto":
