@@ -23,6 +23,7 @@ import json
 import os
 import sys
 
+from ..errors import MechgenError
 from ..protocol import MECHGEN_VERSION
 from .loader import import_path, open_module, check_version
 from .plain import Clock, NoPlainTier, python_module, state_dir
@@ -176,7 +177,18 @@ class Tiers:
         if self.worker is not None and self.worker.poll() is not None:
             self.worker = None
         if cache_ready(self.path):
+            self._switch_or_stay()
+
+    def _switch_or_stay(self, compile_first=None):
+        """switch(), after ``compile_first()`` when given; where numba cannot load the
+        module (not installed, broken), stay in the python tier for good."""
+        try:
+            if compile_first is not None:
+                compile_first()
             self.switch()
+        except MechgenError:
+            self.mode = "python"
+            self.clock.after = None
 
     def switch(self):
         """Load the compiled module and answer with it from now on."""
@@ -198,9 +210,13 @@ class Tiers:
         if points * self._rate < BIG_CALL:
             return
         if cache_ready(self.path):
-            self.switch()
+            self._switch_or_stay()
             return
         self.stop_worker()
+        self._switch_or_stay(lambda: self._compile_here(mech, kind))
+
+    def _compile_here(self, mech, kind):
+        """Compile in this process, under the module's lock, what a ``kind`` call needs."""
         lock = Lock(state_paths(self.path)[1])
         lock.acquire(wait=True)      # a worker of another process: wait for it
         try:
@@ -211,7 +227,6 @@ class Tiers:
                 warm(type(mech)(module), STAGES_FOR[kind])
         finally:
             lock.release()
-        self.switch()
 
 
 def dump_mark(path: str, stages) -> None:
