@@ -29,6 +29,7 @@ from .loader import import_path, open_module, check_version
 from .plain import Clock, NoPlainTier, python_module, state_dir
 
 TIERS = ("auto", "python", "compiled")
+_STARTED = []          # the workers this process started (they may outlive it)
 SWITCH_AFTER = 0.2     # seconds of plain-Python calls after which a ready cache is loaded
 BIG_CALL = 0.5         # a call estimated to take longer than this in Python waits for numba
 POINT_COST = 5e-6      # seconds a sweep point costs in Python, per coordinate (a first guess)
@@ -152,6 +153,7 @@ class Tiers:
                     [sys.executable, "-m", "mechgen.runtime.warmup", self.path], env=env,
                     stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err,
                     start_new_session=True, close_fds=True)
+            _STARTED.append(self.worker)    # kept: no "still running" warning when dropped
         except OSError:
             self.worker = None      # no worker: a large call compiles in this process
 
