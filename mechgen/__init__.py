@@ -44,13 +44,18 @@ def __dir__():
 
 
 def load(path_or_module, **kwargs):
-    """Load a generated module (a path or an imported module) as a :class:`Mechanism`."""
+    """Load a generated module (a path or an imported module) as a :class:`Mechanism`.
+
+    ``tier="auto"`` (default, or $MECHGEN_TIER) answers at once in plain Python while a
+    background process compiles; "python" or "compiled" force one (``mech.tier``)."""
     from .runtime.mechanism import load as _load
     return _load(path_or_module, **kwargs)
 
 
 def compile(model, **kwargs):  # noqa: A001 - the API name
-    """Build ``model`` into a module and load it, keeping the symbolic side for evaluate()."""
+    """Build ``model`` (a Model, or a model file's path: loaded without sympy when its
+    module is up to date) into a module and load it, keeping the symbolic side for
+    evaluate(). ``tier=`` as for :func:`load`."""
     from .bridge import compile_model
     return compile_model(model, **kwargs)
 
