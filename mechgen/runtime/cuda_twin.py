@@ -15,12 +15,16 @@ back from the module file, translated by a few mechanical rules and compiled wit
   anything else is refused with a TranslationError naming the function (a test
   translates every example module, so a library change that the rules do not cover
   fails there, not on a user's GPU);
+- ``max(a, b, ...)`` and ``min(...)`` become the same pairwise comparisons as device
+  functions (numba.cuda cannot compile the builtins for two numbers);
 - in sweep() and sweep_fast() the rows they write (Q, QD, QDD, INFO) are indexed
-  ``min(k, rows - 1)``: with arrays of one row per design the kernel keeps only the last
-  point (the reducing kernel), with full arrays nothing changes (the table kernel);
-- at the end of each of their time steps a hook ``_cu_point`` sees the point just
-  written: it tracks the design's branch status (JUMP, THROUGH_SINGULAR) and the
-  running minimum and maximum (and their times) of the requested quantity slots.
+  ``k & mask``: mask -1 keeps every row (the table kernel, nothing changes), mask 1 a
+  ring of two thread-local rows (the reducing kernel);
+- a hook ``_cu_point`` sees each final point once: at the end of each time step of
+  sweep(), one step late in sweep_fast() (whose last accepted point sweep() solves
+  again when it takes over, as on the CPU). It tracks the design's branch status (JUMP,
+  THROUGH_SINGULAR) and the running minimum and maximum (and their times) of the
+  requested quantity slots.
 
 Nothing here imports numba.cuda: ``build_twin(module, cuda)`` is given it by
 mechgen.runtime.cuda, which imports it only when a CUDA table is asked for.
@@ -43,6 +47,7 @@ COPY_SIZES = {"q0": "N_COORDS", "r": "N_EQS"}
 # locals whose value is a size only known from an argument's shape: the size it always
 # has where the sweep calls the function (_fp_solve solves with Φ_q, N_EQS × N_COORDS)
 SIZE_HINTS = {("_fp_solve", "n"): "N_COORDS", ("_fp_solve", "m"): "N_EQS"}
+MASK = 6                        # the row mask's place in the context tuple
 _DTYPES = {None: ("_cu_f8", 0.0), "float64": ("_cu_f8", 0.0), "bool_": ("_cu_b1", False),
            "int64": ("_cu_i8", 0)}
 
@@ -57,6 +62,16 @@ class TranslationError(MechgenError):
 # Device helpers, kernels and the per-design driver, as Python compiled into the twin's
 # namespace (so that they name the module's constants and the translated functions).
 SUPPORT = '''
+def _cu_max(a, b):
+    """max(a, b) as numba computes it (b only when b > a: max(nan, 1.0) is nan)."""
+    return b if b > a else a
+
+
+def _cu_min(a, b):
+    """min(a, b) as numba computes it (b only when b < a)."""
+    return b if b < a else a
+
+
 def _cu_fill(a, v):
     for i in range(a.shape[0]):
         a[i] = v
@@ -90,9 +105,9 @@ def _cu_value(s, row, Q, QD, QDD, OUT):
 
 def _cu_point(k, ts, Q, QD, QDD, INFO, p, ctx):
     """The hook at the end of each time step of sweep() and sweep_fast()."""
-    SL, nsl, R, F, OUT, nord = ctx
-    row = min(k, Q.shape[0] - 1)
-    s = int(INFO[min(k, INFO.shape[0] - 1), INFO_STATUS])
+    SL, nsl, R, F, OUT, nord, mask = ctx
+    row = k & mask
+    s = int(INFO[row, INFO_STATUS])
     if s == JUMP:
         F[0] = JUMP
     elif s == THROUGH_SINGULAR and F[0] != JUMP:
@@ -122,27 +137,31 @@ def _cu_design(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, INFO, ctx
     """One design as the module's sweep_designs() sweeps it: sweep_fast() while nothing
     is hard, then sweep() from its last accepted point. Returns the solved count."""
     start = 0
-    full = Q.shape[0] == ts.shape[0]
+    mask = ctx[6]
     for j in range(N_COORDS):
         qs[j] = q0[j]
     if SORTED and LEVEL >= 2 and method != METHOD_FULL:
         start = sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, INFO, ctx)
         if start == ts.shape[0]:
+            _cu_point(start - 1, ts, Q, QD, QDD, INFO, p, ctx)
             return start
-        start = max(start - 1, 0)
+        start = _cu_max(start - 1, 0)
         if start > 0:
-            r = min(start, Q.shape[0] - 1)
             for j in range(N_COORDS):
-                qs[j] = Q[r, j]
-    a = start if full else 0
-    return start + sweep(ts[start:], qs, p, level, tol, xtol, maxit, method,
-                         Q[a:], QD[a:], QDD[a:], INFO[a:], ctx)
+                qs[j] = Q[start & mask, j]
+    a = start if mask < 0 else 0
+    rows = INFO[a:]
+    n = sweep(ts[start:], qs, p, level, tol, xtol, maxit, method,
+              Q[a:], QD[a:], QDD[a:], rows, ctx)
+    if n < ts.shape[0] - start:         # the failure's status, in the row sweep() wrote
+        ctx[3][2] = int(rows[n & mask, INFO_STATUS])
+    return start + n
 
 
-def _cu_finish(d, done, nt, INFO, F, nsl, R, DONE, STATUS):
+def _cu_finish(d, done, nt, F, nsl, R, DONE, STATUS):
     DONE[d] = done
     if done < nt:
-        STATUS[d] = int(INFO[min(done, INFO.shape[0] - 1), INFO_STATUS])
+        STATUS[d] = F[2]
         for i in range(nsl):
             for c in range(4):
                 R[c, i] = math.nan
@@ -156,45 +175,48 @@ def _cu_table_kernel(ts, q0, P, level, tol, xtol, maxit, method, SL, nsl, nord,
     d = cuda.grid(1)
     if d >= P.shape[0]:
         return
-    F = cuda.local.array(2, _cu_i8)
+    F = cuda.local.array(3, _cu_i8)     # branch status, points seen, failure status
     F[0] = 0
     F[1] = 0
+    F[2] = 0
     OUT = cuda.local.array((3, _CU_NOUT), _cu_f8)
     qs = cuda.local.array(N_COORDS, _cu_f8)
-    ctx = (SL, nsl, R[d], F, OUT, nord)
+    ctx = (SL, nsl, R[d], F, OUT, nord, -1)
     done = _cu_design(ts, q0, P[d], level, tol, xtol, maxit, method,
                       Q[d], QD[d], QDD[d], INFO[d], ctx, qs)
-    _cu_finish(d, done, ts.shape[0], INFO[d], F, nsl, R[d], DONE, STATUS)
+    _cu_finish(d, done, ts.shape[0], F, nsl, R[d], DONE, STATUS)
 
 
 def _cu_reduce_kernel(ts, q0, P, level, tol, xtol, maxit, method, SL, nsl, nord,
                       R, DONE, STATUS):
-    """One thread per design; only the last point is kept (in thread-local rows), the
+    """One thread per design; only the last two points are kept (thread-local rows), the
     reductions R[design] = (min, max, tmin, tmax) of the slots SL go back."""
     d = cuda.grid(1)
     if d >= P.shape[0]:
         return
-    F = cuda.local.array(2, _cu_i8)
+    F = cuda.local.array(3, _cu_i8)     # branch status, points seen, failure status
     F[0] = 0
     F[1] = 0
+    F[2] = 0
     OUT = cuda.local.array((3, _CU_NOUT), _cu_f8)
     qs = cuda.local.array(N_COORDS, _cu_f8)
-    Q = cuda.local.array((1, N_COORDS), _cu_f8)
-    QD = cuda.local.array((1, N_COORDS), _cu_f8)
-    QDD = cuda.local.array((1, N_COORDS), _cu_f8)
-    INFO = cuda.local.array((1, _CU_INFO), _cu_f8)
-    for j in range(N_COORDS):
-        Q[0, j] = 0.0
-        QD[0, j] = 0.0
-        QDD[0, j] = 0.0
-    for j in range(_CU_INFO):
-        INFO[0, j] = 0.0
-    ctx = (SL, nsl, R[d], F, OUT, nord)
+    Q = cuda.local.array((2, N_COORDS), _cu_f8)
+    QD = cuda.local.array((2, N_COORDS), _cu_f8)
+    QDD = cuda.local.array((2, N_COORDS), _cu_f8)
+    INFO = cuda.local.array((2, _CU_INFO), _cu_f8)
+    for r in range(2):
+        for j in range(N_COORDS):
+            Q[r, j] = 0.0
+            QD[r, j] = 0.0
+            QDD[r, j] = 0.0
+        for j in range(_CU_INFO):
+            INFO[r, j] = 0.0
+    ctx = (SL, nsl, R[d], F, OUT, nord, 1)
     done = _cu_design(ts, q0, P[d], level, tol, xtol, maxit, method,
                       Q, QD, QDD, INFO, ctx, qs)
-    _cu_finish(d, done, ts.shape[0], INFO, F, nsl, R[d], DONE, STATUS)
+    _cu_finish(d, done, ts.shape[0], F, nsl, R[d], DONE, STATUS)
 '''
-SUPPORT_DEVICE = ("_cu_fill", "_cu_arange", "_cu_copy", "_cu_value", "_cu_point",
+SUPPORT_DEVICE = ("_cu_max", "_cu_min", "_cu_fill", "_cu_arange", "_cu_copy", "_cu_value", "_cu_point",
                   "_cu_design", "_cu_finish")
 KERNELS = ("_cu_table_kernel", "_cu_reduce_kernel")
 
@@ -236,6 +258,15 @@ class _Rewriter(ast.NodeTransformer):
     def visit_Call(self, node):
         self.generic_visit(node)
         f = node.func
+        if isinstance(f, ast.Name) and f.id in ("max", "min") and not node.keywords:
+            # numba.cuda (built in to numba 0.68) cannot compile max()/min() of two
+            # numbers: the same comparison, pairwise from the left as numba does it
+            if len(node.args) < 2:
+                self.fail(f"{f.id}() of one argument")
+            out = node.args[0]
+            for arg in node.args[1:]:
+                out = _call(ast.Name("_cu_" + f.id, ast.Load()), [out, arg])
+            return out
         if isinstance(f, ast.Name):
             self.calls.add(f.id)
             return node
@@ -275,18 +306,15 @@ class _Rewriter(ast.NodeTransformer):
 
 
 class _Rows(ast.NodeTransformer):
-    """Q[k, j] -> Q[min(k, Q.shape[0] - 1), j] for the row arrays."""
+    """Q[k, j] -> Q[k & mask, j] for the row arrays (mask: the context's last entry, -1
+    for full rows, 1 for a ring of two)."""
 
     def visit_Subscript(self, node):
         self.generic_visit(node)
         if isinstance(node.value, ast.Name) and node.value.id in ROW_ARRAYS and \
                 isinstance(node.slice, ast.Tuple):
-            name = node.value.id
-            last = ast.BinOp(ast.Subscript(ast.Attribute(ast.Name(name, ast.Load()), "shape",
-                                                         ast.Load()),
-                                           ast.Constant(0), ast.Load()),
-                             ast.Sub(), ast.Constant(1))
-            first = _call(ast.Name("min", ast.Load()), [node.slice.elts[0], last])
+            mask = ast.Subscript(ast.Name("_cu_ctx", ast.Load()), ast.Constant(MASK), ast.Load())
+            first = ast.BinOp(node.slice.elts[0], ast.BitAnd(), mask)
             node.slice = ast.Tuple([first] + node.slice.elts[1:], ast.Load())
         return node
 
@@ -306,15 +334,28 @@ def _simple_bindings(fn):
 
 
 def _hook(fn, module):
-    """Add the _cu_ctx argument and the per-point hook to sweep() or sweep_fast()."""
+    """Add the _cu_ctx argument and the per-point hook to sweep() or sweep_fast(), and
+    index their rows through the context's mask."""
     fn.args.args.append(ast.arg("_cu_ctx"))
     loops = [s for s in fn.body if isinstance(s, ast.For) and isinstance(s.target, ast.Name)
              and s.target.id == "k"]
     if len(loops) != 1:
         raise TranslationError(f"{fn.name}() of '{module.__name__}' has no single loop over "
                                "the times (for k in ...) to hook the reductions into")
-    loops[0].body.append(ast.Expr(_call(ast.Name("_cu_point", ast.Load()), [
-        ast.Name(n, ast.Load()) for n in ("k", "ts", "Q", "QD", "QDD", "INFO", "p", "_cu_ctx")])))
+    args = [ast.Name(n, ast.Load()) for n in ("ts", "Q", "QD", "QDD", "INFO", "p", "_cu_ctx")]
+    if fn.name == "sweep":
+        # sweep()'s points are final: each is seen when it is written
+        loops[0].body.append(ast.Expr(_call(ast.Name("_cu_point", ast.Load()),
+                                            [ast.Name("k", ast.Load())] + args)))
+    else:
+        # sweep_fast()'s last accepted point is solved again by sweep() when sweep_fast
+        # stops early (the CPU table keeps sweep()'s): a point is seen once the next one
+        # is accepted; the driver sees the last one when sweep_fast() went to the end
+        prev = ast.BinOp(ast.Name("k", ast.Load()), ast.Sub(), ast.Constant(1))
+        loops[0].body.append(ast.If(
+            test=ast.Compare(ast.Name("k", ast.Load()), [ast.Gt()], [ast.Constant(0)]),
+            body=[ast.Expr(_call(ast.Name("_cu_point", ast.Load()), [prev] + args))],
+            orelse=[]))
     _Rows().visit(fn)
 
 
