@@ -71,11 +71,20 @@ def compare(name, span, params, quantities, levels):
     return out
 
 
+def bench():
+    """benchmarks/bench_cuda.py's measure() at tiny sizes: it runs, and agrees."""
+    sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
+    import bench_cuda
+    r = bench_cuda.measure(designs=3, times=30, sample=3, rounds=1)
+    return {k: r[k] for k in ("max_diff_gen_hand", "max_diff_gen_cpu", "status_mismatches",
+                              "failed", "points", "simulated")}
+
+
 def main():
     from numba.core import config
     assert config.ENABLE_CUDASIM, "run with NUMBA_ENABLE_CUDASIM=1"
-    names = sys.argv[1:] or list(CASES)
-    print(json.dumps({n: compare(n, *CASES[n]) for n in names}))
+    names = sys.argv[1:] or list(CASES) + ["bench"]
+    print(json.dumps({n: bench() if n == "bench" else compare(n, *CASES[n]) for n in names}))
 
 
 if __name__ == "__main__":

@@ -45,6 +45,13 @@ def test_fourbar_fails_in_mid_sweep(sim):
     assert 0 < min(d for d in r["done"] if d) < 6 and r["status"].count(0) >= 1
 
 
+def test_benchmark_runs_on_the_simulator(sim):
+    r = sim["bench"]
+    assert r["simulated"] and r["points"] == 90
+    assert r["max_diff_gen_hand"] <= 1e-12 and r["max_diff_gen_cpu"] <= 1e-12
+    assert r["status_mismatches"] == 0 and r["failed"] == 0
+
+
 def test_slots(qr):
     from mechgen.runtime.cuda import quantity_slots, slot_names
     n = len(qr.coordinates)

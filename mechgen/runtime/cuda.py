@@ -38,7 +38,7 @@ INFO_COLUMNS = INFO_SUBSTEPS
 THREADS = 128                   # threads per block on a GPU
 SIM_THREADS = 8                 # ... and under the simulator (a Python thread each)
 
-_TWINS = {}                     # id(module) -> (module, twin namespace)
+_TWINS = {}                     # (id(module), max_registers) -> (module, twin namespace)
 
 
 def require_cuda():
@@ -62,15 +62,17 @@ def simulated() -> bool:
     return bool(config.ENABLE_CUDASIM)
 
 
-def twin(module):
-    """The CUDA twin of a generated module (translated and compiled once per module)."""
-    hit = _TWINS.get(id(module))
+def twin(module, max_registers=None):
+    """The CUDA twin of a generated module (translated once per module; numba compiles
+    each kernel at its first launch)."""
+    key = (id(module), max_registers)
+    hit = _TWINS.get(key)
     if hit is not None and hit[0] is module:
         return hit[1]
     cuda = require_cuda()
     from .cuda_twin import build_twin
-    ns = build_twin(module, cuda, INFO_COLUMNS)
-    _TWINS[id(module)] = (module, ns)
+    ns = build_twin(module, cuda, INFO_COLUMNS, max_registers)
+    _TWINS[key] = (module, ns)
     return ns
 
 
@@ -127,14 +129,19 @@ def _check_slots(mech, slots, lev):
 
 
 def run_table_cuda(mech, ts, P, q0, level, tol, maxit, reduce_slots=None, method=None,
-                   threads=None) -> dict:
+                   threads=None, max_registers=None) -> dict:
     """A design table on the GPU: row d of ``P`` (designs × parameters) swept over ``ts``
     from ``q0`` at ``level`` (a name or 0, 1, 2), one CUDA thread per design.
 
     Returns a dict with ``status`` (designs,) int32 and ``done`` (designs,) int64 (times
     solved), and either (reduce_slots None) ``Q``, ``QD``, ``QDD`` (designs, times,
     coordinates; QD and QDD None below their level) and ``INFO`` (designs, times, 5), or
-    ``min``, ``max``, ``tmin``, ``tmax`` (designs, slots), NaN for a failed design."""
+    ``min``, ``max``, ``tmin``, ``tmax`` (designs, slots), NaN for a failed design, with
+    ``slots`` and their ``names``.
+
+    method: as Mechanism.sweep (None: the mechanism's); threads: per block (default 128);
+    max_registers: a cap on the kernels' registers per thread (numba.cuda.jit's option;
+    fewer registers, more threads resident, some values spilled)."""
     cuda = require_cuda()
     lev = mech._level(LEVELS[level] if isinstance(level, (int, np.integer)) else level)
     meth = mech._method(method)
@@ -155,7 +162,7 @@ def run_table_cuda(mech, ts, P, q0, level, tol, maxit, reduce_slots=None, method
     else:
         slots, nord = np.zeros(1, dtype=np.int64), 0
     nsl = slots.size if reducing else 0
-    ns = twin(mech.module)
+    ns = twin(mech.module, max_registers)
     tpb = threads or (SIM_THREADS if simulated() else THREADS)
     blocks = -(-D // tpb)
     d_ts, d_q0, d_P, d_sl = (cuda.to_device(a) for a in (ts, q0, P, slots))
@@ -202,3 +209,14 @@ def design_status(INFO, done, nt) -> np.ndarray:
         elif np.any(col == THROUGH_SINGULAR):
             status[d] = THROUGH_SINGULAR
     return status
+
+
+def as_design_arrays(out, level):
+    """(Q, QD, QDD, INFO, done) of a full run_table_cuda result, as
+    mechgen.runtime.design.run_designs returns them (zeros where a level is not solved),
+    ready for DesignTable."""
+    Q = out["Q"]
+    lev = LEVEL[level] if isinstance(level, str) else int(level)
+    QD = out["QD"] if lev >= 1 else np.zeros_like(Q)
+    QDD = out["QDD"] if lev >= 2 else np.zeros_like(Q)
+    return Q, QD, QDD, out["INFO"], out["done"]

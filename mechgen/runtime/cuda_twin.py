@@ -387,9 +387,10 @@ def translate(module) -> str:
     return "\n\n\n".join(parts) + "\n"
 
 
-def build_twin(module, cuda, info_columns):
+def build_twin(module, cuda, info_columns, max_registers=None):
     """The namespace of the CUDA twin of ``module``: the translated functions as device
-    functions, and the two kernels (_cu_table_kernel, _cu_reduce_kernel)."""
+    functions, and the two kernels (_cu_table_kernel, _cu_reduce_kernel), compiled by
+    numba at their first launch (max_registers: numba.cuda.jit's option)."""
     from numba import types
     text = translate(module) + "\n\n" + SUPPORT
     filename = f"<cuda twin {next(_counter)} of {module.__name__}>"
@@ -403,7 +404,8 @@ def build_twin(module, cuda, info_columns):
     defined = [n.name for n in tree.body if isinstance(n, ast.FunctionDef)]
     for name in defined:
         if name in KERNELS:
-            ns[name] = cuda.jit(ns[name])
+            opts = {} if max_registers is None else {"max_registers": int(max_registers)}
+            ns[name] = cuda.jit(**opts)(ns[name])
         else:
             ns[name] = cuda.jit(device=True)(ns[name])
     return ns
