@@ -62,7 +62,8 @@ def compare(name, span, params, quantities, levels):
                     rdiff = max(rdiff, float(np.max(np.abs(got[ok] - fn(vals[ok], axis=1)))))
                     want_t = tab.t[arg(vals[ok], axis=1)]
                     rdiff = max(rdiff, float(np.max(np.abs(red["t" + key][ok, i] - want_t))))
-        out[level] = dict(diff=diff, info_same=info_same,
+        out[level] = dict(diff=diff, info_same=info_same, second_pass=gpu["second_pass"],
+                          designs=len(tab),
                           status=gpu["status"].tolist(), cpu_status=cpu_status.tolist(),
                           reduce_status=red["status"].tolist(),
                           done=gpu["done"].tolist(), cpu_done=tab.done.tolist(),

@@ -38,6 +38,7 @@ def test_cuda_table_matches_cpu(sim, case):
     assert r["status"] == r["cpu_status"] == r["reduce_status"]
     assert r["reduce_diff"] <= 1e-12          # min, max and their times
     assert r["nan_ok"]                        # a failed design's reductions are NaN
+    assert 0 < r["second_pass"] < r["designs"]  # both kernels ran: some designs needed sweep()
 
 
 def test_fourbar_fails_in_mid_sweep(sim):

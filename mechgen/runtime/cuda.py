@@ -1,7 +1,8 @@
 """Design tables on an NVIDIA GPU (``backend="cuda"``): one CUDA thread per design,
 sweeping its times warm-started exactly as the CPU design table does (the module's
-sweep_fast(), then sweep() from its last accepted point), with the module's own solver
-functions compiled for the GPU (mechgen.runtime.cuda_twin).
+sweep_fast(), then sweep() from its last accepted point: two kernels, the second only
+for the designs the first left unfinished), with the module's own solver functions
+compiled for the GPU (mechgen.runtime.cuda_twin).
 
 Two ways to run, both through :func:`run_table_cuda`:
 
@@ -133,8 +134,12 @@ def run_table_cuda(mech, ts, P, q0, level, tol, maxit, reduce_slots=None, method
     """A design table on the GPU: row d of ``P`` (designs × parameters) swept over ``ts``
     from ``q0`` at ``level`` (a name or 0, 1, 2), one CUDA thread per design.
 
-    Returns a dict with ``status`` (designs,) int32 and ``done`` (designs,) int64 (times
-    solved), and either (reduce_slots None) ``Q``, ``QD``, ``QDD`` (designs, times,
+    Two kernels run: the first sweeps every design with sweep_fast(), the second, only
+    where the first stopped early, goes on with sweep() (sweep_designs' two steps; the
+    first kernel stays small, the careful sweep's registers do not slow it).
+
+    Returns a dict with ``status`` (designs,) int32, ``done`` (designs,) int64 (times
+    solved), ``second_pass`` (how many designs needed the careful sweep), and either (reduce_slots None) ``Q``, ``QD``, ``QDD`` (designs, times,
     coordinates; QD and QDD None below their level) and ``INFO`` (designs, times, 5), or
     ``min``, ``max``, ``tmin``, ``tmax`` (designs, slots), NaN for a failed design, with
     ``slots`` and their ``names``.
@@ -164,30 +169,44 @@ def run_table_cuda(mech, ts, P, q0, level, tol, maxit, reduce_slots=None, method
     nsl = slots.size if reducing else 0
     ns = twin(mech.module, max_registers)
     tpb = threads or (SIM_THREADS if simulated() else THREADS)
-    blocks = -(-D // tpb)
     d_ts, d_q0, d_P, d_sl = (cuda.to_device(a) for a in (ts, q0, P, slots))
     d_R = cuda.to_device(np.full((D, 4, max(nsl, 1)), np.nan))
     d_done = cuda.to_device(np.zeros(D, dtype=np.int64))
     d_status = cuda.to_device(np.zeros(D, dtype=np.int32))
-    args = (d_ts, d_q0, d_P, lev, float(tol), float(mech.xtol), int(maxit), meth, d_sl, nsl,
-            nord)
-    out = {}
+    d_QS = cuda.device_array((D, n))                # where the second pass resumes
+    d_FL = cuda.device_array((D, 3), dtype=np.int64)
+    common = (float(tol), float(mech.xtol), int(maxit), d_sl, nsl, nord)
+    tail = (d_R, d_QS, d_FL, d_done, d_status)
     if reducing:
-        ns["_cu_reduce_kernel"][blocks, tpb](*args, d_R, d_done, d_status)
+        rows = ()
+        kind = "reduce"
+    else:
+        zeros = np.zeros((D, N, n))
+        rows = tuple(cuda.to_device(zeros) for _ in range(3)) + \
+            (cuda.to_device(np.zeros((D, N, INFO_COLUMNS))),)
+        kind = "table"
+    # first pass: sweep_fast() for every design (a small kernel, no careful sweep in it)
+    ns["_cu_fast_" + kind][-(-D // tpb), tpb](d_ts, d_q0, d_P, meth, *common, *rows, *tail)
+    done = d_done.copy_to_host()
+    pending = np.nonzero(done < 0)[0]
+    if pending.size:
+        # second pass, only for the designs the first left unfinished: sweep() from there
+        d_idx = cuda.to_device(pending.astype(np.int64))
+        ns["_cu_careful_" + kind][-(-pending.size // tpb), tpb](
+            d_ts, d_P, d_idx, lev, meth, *common, *rows, *tail)
+        done = d_done.copy_to_host()
+    out = {"passes": 2 if pending.size else 1, "second_pass": int(pending.size)}
+    if reducing:
         R = d_R.copy_to_host()
         out.update(min=R[:, 0], max=R[:, 1], tmin=R[:, 2], tmax=R[:, 3],
                    slots=slots, names=[slot_names(mech)[s] for s in slots])
     else:
-        zeros = np.zeros((D, N, n))
-        d_Q, d_QD, d_QDD = (cuda.to_device(zeros) for _ in range(3))
-        d_INFO = cuda.to_device(np.zeros((D, N, INFO_COLUMNS)))
-        ns["_cu_table_kernel"][blocks, tpb](*args, d_Q, d_QD, d_QDD, d_INFO, d_R, d_done,
-                                            d_status)
+        d_Q, d_QD, d_QDD, d_INFO = rows
         out.update(Q=d_Q.copy_to_host(),
                    QD=d_QD.copy_to_host() if lev >= 1 else None,
                    QDD=d_QDD.copy_to_host() if lev >= 2 else None,
                    INFO=d_INFO.copy_to_host())
-    out["done"] = d_done.copy_to_host()
+    out["done"] = done
     out["status"] = d_status.copy_to_host()
     return out
 

@@ -133,73 +133,79 @@ def _cu_point(k, ts, Q, QD, QDD, INFO, p, ctx):
     F[1] = 1
 
 
-def _cu_design(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, INFO, ctx, qs):
-    """One design as the module's sweep_designs() sweeps it: sweep_fast() while nothing
-    is hard, then sweep() from its last accepted point. Returns the solved count."""
-    start = 0
+def _cu_fast(d, ts, q0, p, method, tol, xtol, maxit, Q, QD, QDD, INFO, ctx, QS, FL, DONE,
+             STATUS):
+    """The first pass of a design, as the module's sweep_designs() begins it: sweep_fast()
+    while nothing is hard. A design it takes to the end is finished; otherwise DONE[d] =
+    -1 - the time to resume at, QS[d] the configuration there and FL[d] the flags."""
+    F = ctx[3]
     mask = ctx[6]
-    for j in range(N_COORDS):
-        qs[j] = q0[j]
+    start = 0
     if SORTED and LEVEL >= 2 and method != METHOD_FULL:
         start = sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, INFO, ctx)
         if start == ts.shape[0]:
             _cu_point(start - 1, ts, Q, QD, QDD, INFO, p, ctx)
-            return start
+            DONE[d] = start
+            STATUS[d] = F[0]
+            return
         start = _cu_max(start - 1, 0)
-        if start > 0:
-            for j in range(N_COORDS):
-                qs[j] = Q[start & mask, j]
+    for j in range(N_COORDS):
+        QS[d, j] = Q[start & mask, j] if start > 0 else q0[j]
+    for j in range(3):
+        FL[d, j] = F[j]
+    DONE[d] = -1 - start
+
+
+def _cu_careful(d, ts, p, level, method, tol, xtol, maxit, Q, QD, QDD, INFO, ctx, qs, DONE,
+                STATUS):
+    """The second pass of a design the first left unfinished: sweep() from the last point
+    sweep_fast() accepted, as sweep_designs() goes on."""
+    start = -1 - DONE[d]
+    mask = ctx[6]
     a = start if mask < 0 else 0
     rows = INFO[a:]
     n = sweep(ts[start:], qs, p, level, tol, xtol, maxit, method,
               Q[a:], QD[a:], QDD[a:], rows, ctx)
-    if n < ts.shape[0] - start:         # the failure's status, in the row sweep() wrote
-        ctx[3][2] = int(rows[n & mask, INFO_STATUS])
-    return start + n
-
-
-def _cu_finish(d, done, nt, F, nsl, R, DONE, STATUS):
-    DONE[d] = done
-    if done < nt:
-        STATUS[d] = F[2]
-        for i in range(nsl):
+    DONE[d] = start + n
+    if start + n < ts.shape[0]:
+        STATUS[d] = int(rows[n & mask, INFO_STATUS])   # the failure, in the row sweep wrote
+        R = ctx[2]
+        for i in range(ctx[1]):
             for c in range(4):
-                R[c, i] = math.nan
+                R[c, i] = math.nan          # a failed design reports no numbers
     else:
-        STATUS[d] = F[0]
+        STATUS[d] = ctx[3][0]
 
 
-def _cu_table_kernel(ts, q0, P, level, tol, xtol, maxit, method, SL, nsl, nord,
-                     Q, QD, QDD, INFO, R, DONE, STATUS):
-    """One thread per design; every point kept (Q, QD, QDD, INFO: design, time, column)."""
+def _cu_fast_table(ts, q0, P, method, tol, xtol, maxit, SL, nsl, nord, Q, QD, QDD, INFO, R,
+                   QS, FL, DONE, STATUS):
+    """First pass, one thread per design, every point kept (Q, QD, QDD, INFO: design, time,
+    column)."""
     d = cuda.grid(1)
     if d >= P.shape[0]:
         return
-    F = cuda.local.array(3, _cu_i8)     # branch status, points seen, failure status
+    F = cuda.local.array(3, _cu_i8)     # branch status, points seen, spare
     F[0] = 0
     F[1] = 0
     F[2] = 0
     OUT = cuda.local.array((3, _CU_NOUT), _cu_f8)
-    qs = cuda.local.array(N_COORDS, _cu_f8)
     ctx = (SL, nsl, R[d], F, OUT, nord, -1)
-    done = _cu_design(ts, q0, P[d], level, tol, xtol, maxit, method,
-                      Q[d], QD[d], QDD[d], INFO[d], ctx, qs)
-    _cu_finish(d, done, ts.shape[0], F, nsl, R[d], DONE, STATUS)
+    _cu_fast(d, ts, q0, P[d], method, tol, xtol, maxit, Q[d], QD[d], QDD[d], INFO[d], ctx,
+             QS, FL, DONE, STATUS)
 
 
-def _cu_reduce_kernel(ts, q0, P, level, tol, xtol, maxit, method, SL, nsl, nord,
-                      R, DONE, STATUS):
-    """One thread per design; only the last two points are kept (thread-local rows), the
-    reductions R[design] = (min, max, tmin, tmax) of the slots SL go back."""
+def _cu_fast_reduce(ts, q0, P, method, tol, xtol, maxit, SL, nsl, nord, R, QS, FL, DONE,
+                    STATUS):
+    """First pass, one thread per design, only the last two points kept (thread-local
+    rows); the reductions R[design] = (min, max, tmin, tmax) of the slots SL."""
     d = cuda.grid(1)
     if d >= P.shape[0]:
         return
-    F = cuda.local.array(3, _cu_i8)     # branch status, points seen, failure status
+    F = cuda.local.array(3, _cu_i8)
     F[0] = 0
     F[1] = 0
     F[2] = 0
     OUT = cuda.local.array((3, _CU_NOUT), _cu_f8)
-    qs = cuda.local.array(N_COORDS, _cu_f8)
     Q = cuda.local.array((2, N_COORDS), _cu_f8)
     QD = cuda.local.array((2, N_COORDS), _cu_f8)
     QDD = cuda.local.array((2, N_COORDS), _cu_f8)
@@ -212,13 +218,59 @@ def _cu_reduce_kernel(ts, q0, P, level, tol, xtol, maxit, method, SL, nsl, nord,
         for j in range(_CU_INFO):
             INFO[r, j] = 0.0
     ctx = (SL, nsl, R[d], F, OUT, nord, 1)
-    done = _cu_design(ts, q0, P[d], level, tol, xtol, maxit, method,
-                      Q, QD, QDD, INFO, ctx, qs)
-    _cu_finish(d, done, ts.shape[0], F, nsl, R[d], DONE, STATUS)
+    _cu_fast(d, ts, q0, P[d], method, tol, xtol, maxit, Q, QD, QDD, INFO, ctx,
+             QS, FL, DONE, STATUS)
+
+
+def _cu_careful_table(ts, P, IDX, level, method, tol, xtol, maxit, SL, nsl, nord, Q, QD, QDD,
+                      INFO, R, QS, FL, DONE, STATUS):
+    """Second pass over the designs IDX the first left unfinished, every point kept."""
+    i = cuda.grid(1)
+    if i >= IDX.shape[0]:
+        return
+    d = IDX[i]
+    F = cuda.local.array(3, _cu_i8)
+    for j in range(3):
+        F[j] = FL[d, j]
+    qs = cuda.local.array(N_COORDS, _cu_f8)
+    for j in range(N_COORDS):
+        qs[j] = QS[d, j]
+    OUT = cuda.local.array((3, _CU_NOUT), _cu_f8)
+    ctx = (SL, nsl, R[d], F, OUT, nord, -1)
+    _cu_careful(d, ts, P[d], level, method, tol, xtol, maxit, Q[d], QD[d], QDD[d], INFO[d],
+                ctx, qs, DONE, STATUS)
+
+
+def _cu_careful_reduce(ts, P, IDX, level, method, tol, xtol, maxit, SL, nsl, nord, R, QS, FL,
+                       DONE, STATUS):
+    """Second pass over the designs IDX the first left unfinished, reductions only."""
+    i = cuda.grid(1)
+    if i >= IDX.shape[0]:
+        return
+    d = IDX[i]
+    F = cuda.local.array(3, _cu_i8)
+    for j in range(3):
+        F[j] = FL[d, j]
+    qs = cuda.local.array(N_COORDS, _cu_f8)
+    for j in range(N_COORDS):
+        qs[j] = QS[d, j]
+    OUT = cuda.local.array((3, _CU_NOUT), _cu_f8)
+    Q = cuda.local.array((2, N_COORDS), _cu_f8)
+    QD = cuda.local.array((2, N_COORDS), _cu_f8)
+    QDD = cuda.local.array((2, N_COORDS), _cu_f8)
+    INFO = cuda.local.array((2, _CU_INFO), _cu_f8)
+    for r in range(2):
+        for j in range(N_COORDS):
+            Q[r, j] = 0.0
+            QD[r, j] = 0.0
+            QDD[r, j] = 0.0
+        for j in range(_CU_INFO):
+            INFO[r, j] = 0.0
+    ctx = (SL, nsl, R[d], F, OUT, nord, 1)
+    _cu_careful(d, ts, P[d], level, method, tol, xtol, maxit, Q, QD, QDD, INFO, ctx, qs,
+                DONE, STATUS)
 '''
-SUPPORT_DEVICE = ("_cu_max", "_cu_min", "_cu_fill", "_cu_arange", "_cu_copy", "_cu_value", "_cu_point",
-                  "_cu_design", "_cu_finish")
-KERNELS = ("_cu_table_kernel", "_cu_reduce_kernel")
+KERNELS = ("_cu_fast_table", "_cu_fast_reduce", "_cu_careful_table", "_cu_careful_reduce")
 
 
 def _is_np(node, attr):
@@ -389,7 +441,8 @@ def translate(module) -> str:
 
 def build_twin(module, cuda, info_columns, max_registers=None):
     """The namespace of the CUDA twin of ``module``: the translated functions as device
-    functions, and the two kernels (_cu_table_kernel, _cu_reduce_kernel), compiled by
+    functions, and the kernels (KERNELS: first and second pass, keeping every point or
+    reducing), compiled by
     numba at their first launch (max_registers: numba.cuda.jit's option)."""
     from numba import types
     text = translate(module) + "\n\n" + SUPPORT
