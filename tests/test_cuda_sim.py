@@ -53,6 +53,18 @@ def test_benchmark_runs_on_the_simulator(sim):
     assert r["status_mismatches"] == 0 and r["failed"] == 0
 
 
+def test_no_cuda_import_until_asked():
+    """Importing the backend (or loading and sweeping a module) costs nothing of CUDA."""
+    code = ("import sys, mechgen, mechgen.runtime.cuda, mechgen.runtime.cuda_twin; "
+            "m = mechgen.load(sys.argv[1]); "
+            "assert 'numba.cuda' not in sys.modules, 'numba.cuda imported'")
+    out = subprocess.run([sys.executable, "-c", code, os.path.join(ROOT, "generated",
+                                                                  "quick_return.py")],
+                         env=dict(os.environ, PYTHONPATH=ROOT), capture_output=True, text=True,
+                         timeout=120)
+    assert out.returncode == 0, out.stderr[-2000:]
+
+
 def test_slots(qr):
     from mechgen.runtime.cuda import quantity_slots, slot_names
     n = len(qr.coordinates)

@@ -18,11 +18,12 @@ back from the module file, translated by a few mechanical rules and compiled wit
 - ``max(a, b, ...)`` and ``min(...)`` become the same pairwise comparisons as device
   functions (numba.cuda cannot compile the builtins for two numbers);
 - in sweep() and sweep_fast() the rows they write (Q, QD, QDD, INFO) are indexed
-  ``k & mask``: mask -1 keeps every row (the table kernel, nothing changes), mask 1 a
-  ring of two thread-local rows (the reducing kernel);
+  ``k & mask``: mask -1 keeps every row (the table kernels, nothing changes), mask 0
+  one thread-local row (the reducing kernels);
 - a hook ``_cu_point`` sees each final point once: at the end of each time step of
   sweep(), one step late in sweep_fast() (whose last accepted point sweep() solves
-  again when it takes over, as on the CPU). It tracks the design's branch status (JUMP,
+  again when it takes over, as on the CPU), just before the next point's row is
+  written over it. It tracks the design's branch status (JUMP,
   THROUGH_SINGULAR) and the running minimum and maximum (and their times) of the
   requested quantity slots.
 
@@ -196,8 +197,8 @@ def _cu_fast_table(ts, q0, P, method, tol, xtol, maxit, SL, nsl, nord, Q, QD, QD
 
 def _cu_fast_reduce(ts, q0, P, method, tol, xtol, maxit, SL, nsl, nord, R, QS, FL, DONE,
                     STATUS):
-    """First pass, one thread per design, only the last two points kept (thread-local
-    rows); the reductions R[design] = (min, max, tmin, tmax) of the slots SL."""
+    """First pass, one thread per design, only the last point kept (a thread-local row);
+    the reductions R[design] = (min, max, tmin, tmax) of the slots SL."""
     d = cuda.grid(1)
     if d >= P.shape[0]:
         return
@@ -206,18 +207,17 @@ def _cu_fast_reduce(ts, q0, P, method, tol, xtol, maxit, SL, nsl, nord, R, QS, F
     F[1] = 0
     F[2] = 0
     OUT = cuda.local.array((3, _CU_NOUT), _cu_f8)
-    Q = cuda.local.array((2, N_COORDS), _cu_f8)
-    QD = cuda.local.array((2, N_COORDS), _cu_f8)
-    QDD = cuda.local.array((2, N_COORDS), _cu_f8)
-    INFO = cuda.local.array((2, _CU_INFO), _cu_f8)
-    for r in range(2):
-        for j in range(N_COORDS):
-            Q[r, j] = 0.0
-            QD[r, j] = 0.0
-            QDD[r, j] = 0.0
-        for j in range(_CU_INFO):
-            INFO[r, j] = 0.0
-    ctx = (SL, nsl, R[d], F, OUT, nord, 1)
+    Q = cuda.local.array((1, N_COORDS), _cu_f8)
+    QD = cuda.local.array((1, N_COORDS), _cu_f8)
+    QDD = cuda.local.array((1, N_COORDS), _cu_f8)
+    INFO = cuda.local.array((1, _CU_INFO), _cu_f8)
+    for j in range(N_COORDS):
+        Q[0, j] = 0.0
+        QD[0, j] = 0.0
+        QDD[0, j] = 0.0
+    for j in range(_CU_INFO):
+        INFO[0, j] = 0.0
+    ctx = (SL, nsl, R[d], F, OUT, nord, 0)
     _cu_fast(d, ts, q0, P[d], method, tol, xtol, maxit, Q, QD, QDD, INFO, ctx,
              QS, FL, DONE, STATUS)
 
@@ -255,18 +255,17 @@ def _cu_careful_reduce(ts, P, IDX, level, method, tol, xtol, maxit, SL, nsl, nor
     for j in range(N_COORDS):
         qs[j] = QS[d, j]
     OUT = cuda.local.array((3, _CU_NOUT), _cu_f8)
-    Q = cuda.local.array((2, N_COORDS), _cu_f8)
-    QD = cuda.local.array((2, N_COORDS), _cu_f8)
-    QDD = cuda.local.array((2, N_COORDS), _cu_f8)
-    INFO = cuda.local.array((2, _CU_INFO), _cu_f8)
-    for r in range(2):
-        for j in range(N_COORDS):
-            Q[r, j] = 0.0
-            QD[r, j] = 0.0
-            QDD[r, j] = 0.0
-        for j in range(_CU_INFO):
-            INFO[r, j] = 0.0
-    ctx = (SL, nsl, R[d], F, OUT, nord, 1)
+    Q = cuda.local.array((1, N_COORDS), _cu_f8)
+    QD = cuda.local.array((1, N_COORDS), _cu_f8)
+    QDD = cuda.local.array((1, N_COORDS), _cu_f8)
+    INFO = cuda.local.array((1, _CU_INFO), _cu_f8)
+    for j in range(N_COORDS):
+        Q[0, j] = 0.0
+        QD[0, j] = 0.0
+        QDD[0, j] = 0.0
+    for j in range(_CU_INFO):
+        INFO[0, j] = 0.0
+    ctx = (SL, nsl, R[d], F, OUT, nord, 0)
     _cu_careful(d, ts, P[d], level, method, tol, xtol, maxit, Q, QD, QDD, INFO, ctx, qs,
                 DONE, STATUS)
 '''
@@ -359,7 +358,7 @@ class _Rewriter(ast.NodeTransformer):
 
 class _Rows(ast.NodeTransformer):
     """Q[k, j] -> Q[k & mask, j] for the row arrays (mask: the context's last entry, -1
-    for full rows, 1 for a ring of two)."""
+    for full rows, 0 for a single row)."""
 
     def visit_Subscript(self, node):
         self.generic_visit(node)
@@ -385,6 +384,15 @@ def _simple_bindings(fn):
     return out
 
 
+def _stores_row(stmt):
+    """Whether a statement writes into one of the row arrays."""
+    for node in ast.walk(stmt):
+        if isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Store) and \
+                isinstance(node.value, ast.Name) and node.value.id in ROW_ARRAYS:
+            return True
+    return False
+
+
 def _hook(fn, module):
     """Add the _cu_ctx argument and the per-point hook to sweep() or sweep_fast(), and
     index their rows through the context's mask."""
@@ -402,9 +410,15 @@ def _hook(fn, module):
     else:
         # sweep_fast()'s last accepted point is solved again by sweep() when sweep_fast
         # stops early (the CPU table keeps sweep()'s): a point is seen once the next one
-        # is accepted; the driver sees the last one when sweep_fast() went to the end
+        # is accepted, just before its row is written over it (so one row is enough); the
+        # driver sees the last one when sweep_fast() went to the end
+        body = loops[0].body
+        at = next((i for i, st in enumerate(body) if _stores_row(st)), None)
+        if at is None:
+            raise TranslationError(f"sweep_fast() of '{module.__name__}' writes no Q[k, ...] "
+                                   "row in its loop over the times")
         prev = ast.BinOp(ast.Name("k", ast.Load()), ast.Sub(), ast.Constant(1))
-        loops[0].body.append(ast.If(
+        body.insert(at, ast.If(
             test=ast.Compare(ast.Name("k", ast.Load()), [ast.Gt()], [ast.Constant(0)]),
             body=[ast.Expr(_call(ast.Name("_cu_point", ast.Load()), [prev] + args))],
             orelse=[]))
@@ -426,7 +440,13 @@ def translate(module) -> str:
         py = getattr(disp, "py_func", None)
         if py is None:
             continue                    # not a numba function (a Python builtin, min, ...)
-        tree = ast.parse(textwrap.dedent(inspect.getsource(py)))
+        try:
+            text = inspect.getsource(py)
+        except (OSError, TypeError) as exc:
+            raise TranslationError(f"the source of {name}() of '{module.__name__}' cannot be "
+                                   f"read ({exc}): the CUDA backend translates the module's "
+                                   "own source file") from None
+        tree = ast.parse(textwrap.dedent(text))
         fn = tree.body[0]
         fn.name = name
         fn.decorator_list = []
