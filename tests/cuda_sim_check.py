@@ -14,16 +14,18 @@ CASES = {
     # solves, and the seed's own longitud 3
     "quick_return": ((0.0, 0.5, 6), {"longitud": [2.0, 3.0, 6.0], "anguloI": [-0.8, 0.0]},
                      ["X4", "X4d", "Th3dd", "stroke_x", "stroke_xdd"], ("position", "acceleration")),
-    # a crank too long to turn: fails in mid-sweep (a = 3, b = 2.5), and b = 0.5 that
-    # cannot assemble at all
-    "fourbar": ((0.0, 0.5, 6), {"a": [0.8, 3.0], "b": [2.5, 0.5]}, ["Th3", "Th4d", "X3dd"],
+    # a crank too long to turn: fails in mid-sweep (a = 3, b = 2.5); a = 1.5 passes a
+    # singular configuration (status THROUGH_SINGULAR); b = 0.5 cannot assemble at all
+    "fourbar": ((0.0, 0.5, 6), {"a": [0.8, 1.5, 3.0], "b": [2.5, 0.5]}, ["Th3", "Th4d", "X3dd"],
                 ("acceleration",)),
 }
 
 
 def compare(name, span, params, quantities, levels):
     import mechgen
-    from mechgen.runtime.cuda import design_status, quantity_slots, run_table_cuda
+    from mechgen.runtime.cuda import (as_design_arrays, design_status, quantity_slots,
+                                      run_table_cuda)
+    from mechgen.runtime.design import DesignTable
     mech = mechgen.load(os.path.join(ROOT, "generated", name + ".py"))
     out = {}
     for level in levels:
@@ -44,6 +46,11 @@ def compare(name, span, params, quantities, levels):
             rows = min(k + 1, nt)               # the failed row's status too
             info_same &= bool(np.array_equal(gpu["INFO"][d, :rows], tab.INFO[d, :rows]))
         cpu_status = design_status(tab.INFO, tab.done, nt)
+        # the GPU's arrays as a DesignTable: the same quantities, NaN where unsolved
+        gtab = DesignTable(mech, tab.names, tab.axes, tab.t, tab.P,
+                           *as_design_arrays(gpu, level), level)
+        table_same = all(np.allclose(gtab[q], tab[q], rtol=0, atol=1e-12, equal_nan=True)
+                         for q in quantities if level == "acceleration" or not q.endswith("d"))
         names = [q for q in quantities if level == "acceleration" or
                  not q.endswith("d")]
         slots = quantity_slots(mech, names, level)
@@ -63,6 +70,7 @@ def compare(name, span, params, quantities, levels):
                     want_t = tab.t[arg(vals[ok], axis=1)]
                     rdiff = max(rdiff, float(np.max(np.abs(red["t" + key][ok, i] - want_t))))
         out[level] = dict(diff=diff, info_same=info_same, second_pass=gpu["second_pass"],
+                          table_same=bool(table_same),
                           designs=len(tab),
                           status=gpu["status"].tolist(), cpu_status=cpu_status.tolist(),
                           reduce_status=red["status"].tolist(),
