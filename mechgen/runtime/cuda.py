@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import MechgenError
-from ..protocol import INFO_STATUS, INFO_SUBSTEPS, LEVEL, LEVELS, METHOD_FULL  # noqa: F401
+from ..protocol import INFO_STATUS, INFO_SUBSTEPS, LEVEL, LEVELS
 from .quantity import _lookup
 
 # the design table's INFO columns (iterations, residual, rank, method, status)

@@ -462,8 +462,8 @@ def translate(module) -> str:
 def build_twin(module, cuda, info_columns, max_registers=None):
     """The namespace of the CUDA twin of ``module``: the translated functions as device
     functions, and the kernels (KERNELS: first and second pass, keeping every point or
-    reducing), compiled by
-    numba at their first launch (max_registers: numba.cuda.jit's option)."""
+    reducing), compiled by numba at their first launch (max_registers: numba.cuda.jit's
+    option)."""
     from numba import types
     text = translate(module) + "\n\n" + SUPPORT
     filename = f"<cuda twin {next(_counter)} of {module.__name__}>"
@@ -482,10 +482,3 @@ def build_twin(module, cuda, info_columns, max_registers=None):
         else:
             ns[name] = cuda.jit(device=True)(ns[name])
     return ns
-
-
-def twin_source(module) -> str:
-    """The translated text (for reading and for the tests)."""
-    return translate(module) + "\n\n" + SUPPORT
-
-
