@@ -157,6 +157,9 @@ def measure(designs=1_000_000, times=1000, sample=2000, rounds=3, threads=None,
     warm = P[: min(designs, 64)]
     t0 = time.perf_counter()
     gen(warm)
+    # method="full" sends every design to the second kernel: both are compiled before timing
+    run_table_cuda(mech, ts[:5], P[:2], q0, "position", mech.tol, mech.maxit,
+                   reduce_slots=slots, method="full", threads=tpb, max_registers=max_registers)
     compile_gen = time.perf_counter() - t0
     t0 = time.perf_counter()
     hand(warm)
@@ -177,7 +180,7 @@ def measure(designs=1_000_000, times=1000, sample=2000, rounds=3, threads=None,
     cpu_diff = float(np.max(np.abs(gs[ok, :2] - cpu[ok]))) if ok.any() else math.nan
     bad_status = int(np.sum(np.isfinite(gs[:, 0]) != ok))
     points = designs * times
-    return dict(designs=designs, times=times, points=points,
+    return dict(designs=designs, times=times, points=points, second_pass=g["second_pass"],
                 gen_points_per_s=points / t_gen, hand_points_per_s=points / t_hand,
                 ratio=t_gen / t_hand, gen_s=t_gen, hand_s=t_hand,
                 compile_gen_s=compile_gen, compile_hand_s=compile_hand,
@@ -208,7 +211,8 @@ def main(argv=None):
     print(f"quick-return, {r['designs']} designs × {r['times']} times = {r['points']:.3g} "
           f"points, on {where}")
     print(f"  generated (backend='cuda'): {r['gen_points_per_s']:.3g} points/s "
-          f"({r['gen_s']:.3g} s; first call with compile {r['compile_gen_s']:.3g} s)")
+          f"({r['gen_s']:.3g} s; {r['second_pass']} designs needed the second kernel; "
+          f"compiling both kernels {r['compile_gen_s']:.3g} s)")
     print(f"  hand-written kernel:        {r['hand_points_per_s']:.3g} points/s "
           f"({r['hand_s']:.3g} s; compile {r['compile_hand_s']:.3g} s)")
     print(f"  generated / hand time: {r['ratio']:.3g}")
