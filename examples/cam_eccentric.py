@@ -1,0 +1,11 @@
+from mechgen import Model, cos, sin, pi, T, Line
+m = Model("ecc")
+R = m.param("R", 2.0); e = m.param("e", 0.5); w = m.param("w", 2 * pi)
+g = m.ground("g", points=[(0, 0), (0, 1)])
+cam = m.body("cam", guess=(0, 0, 0))
+f = m.body("f", points=[(-1, 0), (1, 0), (0, 1)], guess=(0, 2.0, 0))
+m.revolute(g[1], cam[0])
+m.rotation_lock(cam, w * T)
+m.translate(g.line(1, 2), Line(f[0], f[3]))
+disc = m.profile("disc", xy=lambda s: (e + R * cos(s), R * sin(s)))
+m.cam_to_line(cam, disc, f.line(1, 2), contact="s", guess=1.5)
