@@ -100,7 +100,7 @@ class ProfileFunction(sp.Function):
     @classmethod
     def diffed(cls):
         """Its expression, differentiated ``order`` times."""
-        return sp.diff(cls.expr, cls.var, cls.order) if cls.order else cls.expr
+        return derivative(cls.expr, cls.var, cls.order)
 
     @classmethod
     def _imp_(cls, s, *params):
@@ -109,6 +109,29 @@ class ProfileFunction(sp.Function):
 
 
 _FUNCTIONS: dict = {}
+_DERIVATIVES: dict = {}
+
+
+def derivative(expr, var, order):
+    """d^order expr / d var^order, each order computed once; a Piecewise (profiles fold
+    theirs to the top) branch by branch, its conditions left as they are."""
+    if order == 0:
+        return expr
+    key = (expr, var, order)
+    if key not in _DERIVATIVES:
+        _DERIVATIVES[key] = _diff(derivative(expr, var, order - 1), var)
+    return _DERIVATIVES[key]
+
+
+def _diff(expr, var):
+    if isinstance(expr, sp.Piecewise):
+        return sp.Piecewise(*[(_diff(e, var), c) for e, c in expr.args], evaluate=False)
+    return sp.diff(expr, var)
+
+
+def _folded(expr):
+    """A Piecewise anywhere in ``expr`` brought to the top (one smooth branch each)."""
+    return sp.piecewise_fold(expr) if expr.has(sp.Piecewise) else expr
 
 
 def profile_function(base, expr, var, params, order=0):
@@ -166,6 +189,7 @@ class Profile:
 
     def __init__(self, name, kind, var, x, y, params, period, text):
         self.name, self.kind, self.period, self.text = name, kind, period, text
+        x, y = _folded(sp.sympify(x)), _folded(sp.sympify(y))
         self.var, self.x, self.y, self.params = var, x, y, tuple(params)
         self.fx = profile_function(f"{name}_x", x, var, self.params)
         self.fy = profile_function(f"{name}_y", y, var, self.params)
@@ -255,16 +279,17 @@ SAMPLES = 2000
 
 def sample(model, profile, n=SAMPLES):
     """Parameter values and (x, y, x', y', x'', y'') over one period, at the defaults."""
-    s = sp.Symbol("_s", real=True)
-    x, y = profile.raw(s)
     subs = {sym: val for sym, val in model.params.values()}
-    exprs = [sp.sympify(e).subs(subs) for e in (x, y)]
-    exprs += [sp.diff(e, s) for e in exprs] + [sp.diff(e, s, 2) for e in exprs]
+    values = [subs[p] for p in profile.params]
     period = float(sp.sympify(profile.period).subs(subs))
     ss = np.linspace(0.0, period, n, endpoint=False)
-    f = sp.lambdify(s, exprs, modules="numpy")
+    vals = []
     with np.errstate(all="ignore"):
-        vals = [np.broadcast_to(np.asarray(v, dtype=float), ss.shape) for v in f(ss)]
+        for order in range(3):
+            for f in (profile.fx, profile.fy):
+                g = profile_function(f.base, f.expr, f.var, f.params, order)
+                vals.append(np.broadcast_to(np.asarray(g.numeric()(ss, *values), dtype=float),
+                                            ss.shape))
     return ss, np.array(vals)
 
 
