@@ -316,3 +316,46 @@ def test_bad_arguments():
         m.cam_to_point(cam, lambda s: (cos(s), sin(s)), f[1])
     with pytest.raises(mechgen.ModelError, match="not the profile parameter"):
         m.profile("q", xy=lambda s: (cos(s) * sp.Symbol("zz"), sin(s)))
+
+
+# -- pictures -----------------------------------------------------------------------------
+DRAW = r"""
+import json, sys
+import numpy as np
+import matplotlib
+matplotlib.use("Agg")
+import mechgen
+from matplotlib.patches import Polygon
+from mechgen.plot import draw
+mech = mechgen.load(sys.argv[1] + "/cam_eccentric.py")
+out = []
+d = draw(mech, 0.1, frame="pose")
+for t in (0.1, 0.35):
+    d.update(mech.solve(t))
+    polys = [a for a in d.artists["cam"] if isinstance(a, Polygon)]
+    big = max(polys, key=lambda a: len(a.get_xy()))
+    xy = (big.get_transform() - d.ax.transData).transform(big.get_xy())
+    out.append(dict(t=t, xy=xy.tolist()))
+d.figure.savefig(sys.argv[2])
+print(json.dumps(out))
+"""
+
+
+def test_the_profile_is_drawn_turning_with_its_cam(tmp_path):
+    """The eccentric cam's outline, at two times, is the circle of radius R about the
+    turned centre (e cos θ, e sin θ); the picture is written."""
+    from mechgen.model.cams import PROFILE_POINTS
+    from mechgen.plot import cams as plot_cams
+    assert plot_cams.PROFILE_POINTS == PROFILE_POINTS
+    png = str(tmp_path / "cam.png")
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1", PYTHONPATH=ROOT)
+    run = subprocess.run([sys.executable, "-c", DRAW, GENERATED, png], env=env,
+                         capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0, run.stderr[-3000:]
+    for frame in json.loads(run.stdout.splitlines()[-1]):
+        th = 2 * np.pi * frame["t"]
+        xy = np.array(frame["xy"])
+        assert len(xy) >= PROFILE_POINTS
+        r = np.hypot(xy[:, 0] - 0.5 * np.cos(th), xy[:, 1] - 0.5 * np.sin(th))
+        assert np.allclose(r, 2.0, atol=1e-9)
+    assert os.path.getsize(png) > 5000
