@@ -359,3 +359,14 @@ def test_the_profile_is_drawn_turning_with_its_cam(tmp_path):
         r = np.hypot(xy[:, 0] - 0.5 * np.cos(th), xy[:, 1] - 0.5 * np.sin(th))
         assert np.allclose(r, 2.0, atol=1e-9)
     assert os.path.getsize(png) > 5000
+
+
+def test_the_reference_documents_every_cam_kind():
+    import re
+    from mechgen.model.cams import CAM_KINDS, CamsMixin
+    text = open(os.path.join(ROOT, "docs", "constraints.md"), encoding="utf-8").read()
+    sections = dict(re.findall(r"^## (\w+)\n(.*?)(?=^## |\Z)", text, re.S | re.M))
+    for kind in CAM_KINDS:
+        assert f"`m.{kind}(" in sections[kind] and f"# 1 {kind}(" in sections[kind]
+    for name in ("profile", "cam_to_point", "cam_to_line", "cam_to_cam"):
+        assert getattr(CamsMixin, name).__doc__

@@ -65,7 +65,7 @@ class CamToPoint(Constraint):
         if radius is not None:
             n = cam.rotate((sign * d[1], -sign * d[0])) / sp.sqrt(d[0] ** 2 + d[1] ** 2)
             res = res - radius * n
-            text += f", radius={radius}"
+            text += f", radius={float(radius):g}" if radius.is_Float else f", radius={radius}"
         self.exprs = [res[0], res[1]]
         return text
 

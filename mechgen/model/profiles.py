@@ -7,11 +7,13 @@ A profile is one of
 - a table of points: the smooth periodic cubic spline through them, in a parameter that
   runs from 0 to 2π once round the table (knots equally spaced).
 
-A table's spline is a sympy Function (``disc_x(s)``, its derivatives ``disc_x_s``,
-``disc_x_ss``, ...) that prints into generated code as the piecewise cubic itself in the
-wrapped parameter (``s % 2π``), so that a generated module stays standalone, and evaluates
-with numpy for lambdify. ``wrap(s, P)`` (s taken modulo P, derivative 1) lets a parametric
-profile defined over one period (a piecewise motion law) hold for every turn.
+Constraints see a profile through opaque functions (ProfileFunction): ``disc_x(s)``,
+``disc_y(s)`` and their derivatives ``disc_x'(s)``, ... in printed equations, so that Φ,
+Φ_q and γ stay short whatever the profile; the generated module computes each in a helper
+of its own from its explicit expression (mechgen.compiler.profiles_code), and lambdify
+evaluates them with numpy (``_imp_``). A table's expression is the piecewise cubic in the
+wrapped parameter; ``wrap(s, P)`` (s modulo P, derivative 1) lets a parametric profile
+defined over one period (a piecewise motion law) hold for every turn.
 """
 from __future__ import annotations
 
