@@ -370,3 +370,33 @@ def test_the_reference_documents_every_cam_kind():
         assert f"`m.{kind}(" in sections[kind] and f"# 1 {kind}(" in sections[kind]
     for name in ("profile", "cam_to_point", "cam_to_line", "cam_to_cam"):
         assert getattr(CamsMixin, name).__doc__
+
+
+def _pure(model, tmp_path):
+    """``model`` built and loaded with every jitted function of its module replaced by
+    its Python (no numba compile)."""
+    return mechgen.load(_emitted(model, tmp_path))
+
+
+def test_cam_on_cam_is_the_equivalent_four_bar(tmp_path):
+    """Two eccentric circles touching (cam_to_cam) move as the four-bar whose coupler
+    joins their centres with length r1 + r2."""
+    def base(name):
+        m = Model(name)
+        g = m.ground("g", points=[(0, 0), (4.0, 0)])
+        c1 = m.body("c1", points=[(1.0, 0)], guess=(0, 0, 0.3))
+        c2 = m.body("c2", points=[(2.5, 0)], guess=(4, 0, 1.8))
+        m.revolute(g[1], c1[0])
+        m.revolute(g[2], c2[0])
+        m.rotation_lock(c1, 0.3 + 2 * pi * T)
+        return m, c1, c2
+    m, c1, c2 = base("cams2")
+    p1 = m.profile("circ1", xy=lambda s: (1.0 + 2.0 * cos(s), 2.0 * sin(s)))
+    p2 = m.profile("circ2", xy=lambda s: (2.5 + 1.2 * cos(s), 1.2 * sin(s)))
+    m.cam_to_cam(c1, p1, c2, p2, contact=("s1", "s2"), guess=(0.4, 2.0))
+    ref, r1, r2 = base("bars2")
+    ref.relative_distance(r1[1], r2[1], 3.2)     # a crank-rocker (Grashof)
+    a = _pure(m, tmp_path / "a").sweep(0, 1, 21, level="acceleration")
+    b = _pure(ref, tmp_path / "b").sweep(0, 1, 21, level="acceleration")
+    for k in ("Th3", "Th3d", "Th3dd"):
+        assert np.max(np.abs(a[k] - b[k])) < 1e-9, k
