@@ -400,3 +400,22 @@ def test_cam_on_cam_is_the_equivalent_four_bar(tmp_path):
     b = _pure(ref, tmp_path / "b").sweep(0, 1, 21, level="acceleration")
     for k in ("Th3", "Th3d", "Th3dd"):
         assert np.max(np.abs(a[k] - b[k])) < 1e-9, k
+
+
+@pytest.mark.parametrize("side, turn, centre", [("outside", 1, 3.5), ("inside", 1, 2.5),
+                                                 ("outside", -1, 3.5), ("inside", -1, 2.5)])
+def test_the_roller_sits_on_the_side_asked_whichever_way_the_profile_runs(side, turn, centre):
+    """A circle of radius 3 (run counter-clockwise or clockwise): a roller of radius 0.5
+    outside it has its centre 3.5 from the centre, inside it 2.5."""
+    m = Model("sides")
+    g = m.ground("g", points=[(0, 0)])
+    cam = m.body("cam", guess=(0, 0, 0))
+    f = m.body("f", guess=(centre, 0, 0))
+    m.revolute(g[1], cam[0])
+    m.rotation_lock(cam, 0)
+    prof = m.profile("ring", xy=lambda s: (3 * cos(turn * s), 3 * sin(turn * s)))
+    m.cam_to_point(cam, prof, f[0], contact="s", radius=0.5, side=side)
+    eq = m.equations()
+    phi = sp.lambdify(list(eq.q), eq.phi[-2:, 0], "numpy")
+    assert np.allclose(np.ravel(phi(0, 0, 0, centre, 0, 0, 0.0)), 0, atol=1e-14)
+    assert not np.allclose(np.ravel(phi(0, 0, 0, 6 - centre, 0, 0, 0.0)), 0, atol=1e-3)
