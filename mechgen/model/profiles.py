@@ -88,6 +88,9 @@ class ProfileFunction(sp.Function):
     def _sympystr(self, printer):
         return f"{self.base}{chr(39) * self.order}({printer._print(self.args[0])})"
 
+    def _mcode(self, printer):      # Mathematica, as Mech writes a function: disc_x'[s]
+        return f"{self.base}{chr(39) * self.order}[{printer._print(self.args[0])}]"
+
     def _latex(self, printer):
         name = self.base.replace("_", r"\_")
         return rf"\mathrm{{{name}}}{chr(39) * self.order}({printer._print(self.args[0])})"
