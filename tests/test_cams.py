@@ -419,3 +419,19 @@ def test_the_roller_sits_on_the_side_asked_whichever_way_the_profile_runs(side, 
     phi = sp.lambdify(list(eq.q), eq.phi[-2:, 0], "numpy")
     assert np.allclose(np.ravel(phi(0, 0, 0, centre, 0, 0, 0.0)), 0, atol=1e-14)
     assert not np.allclose(np.ravel(phi(0, 0, 0, 6 - centre, 0, 0, 0.0)), 0, atol=1e-3)
+
+
+def test_a_periodic_profile_with_a_period_in_parameters(tmp_path):
+    """The wrapped parameter's period is an argument of the profile's functions."""
+    m, cam, f = _cam_and_slider("wrapped")
+    P = m.param("P", 2 * np.pi)
+    prof = m.profile("ring", xy=lambda s: (2 * cos(s), 2 * sin(s)), period=P, periodic=True)
+    m.cam_to_point(cam, prof, f[1], contact="s", guess=1.4)
+    eq = m.equations()
+    assert P in set().union(*(e.free_symbols for e in eq.phi))
+    mod = _emitted(m, tmp_path)
+    out = np.zeros(eq.phi.rows)
+    q = np.array([0, 0, 0.2, 0.3, 2.0, 0, 1.4 + 4 * np.pi])
+    mod.phi(q, 0.0, np.array([1.3, 2 * np.pi]), out)
+    ref = sp.lambdify(list(eq.q) + [eq.T] + list(eq.params), eq.phi, "numpy")
+    assert np.allclose(out, np.ravel(ref(*q, 0.0, 1.3, 2 * np.pi)), atol=1e-12)

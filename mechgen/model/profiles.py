@@ -254,6 +254,7 @@ def make_profile(model, name, xy=None, polar=None, points=None, period=None, per
             f"(x, y) = ({x.subs(probe, shown)}, {y.subs(probe, shown)})")
     if periodic:
         x, y = x.subs(probe, wrap(probe, per)), y.subs(probe, wrap(probe, per))
+        held |= per.free_symbols          # a period in parameters: arguments too
     params = [p for p in model.param_symbols if p in held]
     return Profile(name, "polar" if polar is not None else "parametric", probe, x, y,
                    params, per, text)
