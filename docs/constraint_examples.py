@@ -82,3 +82,21 @@ m19.point_on_line(b.at(1, 2), Line(base[1], direction=(1, 1)))
 
 m20, base, a, b, L = parts("named")
 m20.revolute(a[2], b[1], name="elbow")
+
+# cams (mechgen.model.cams): body a carries the profile, b follows; one constraint each
+m21, base, a, b, L = parts("cam_to_point")
+disc = m21.profile("disc", polar=lambda th: L / 2 + sin(th) / 2)
+m21.cam_to_point(a, disc, b[1], contact="s", guess=1.5)
+
+m22, base, a, b, L = parts("cam_to_point_roller")
+disc = m22.profile("disc", polar=lambda th: L / 2 + sin(th) / 2)
+m22.cam_to_point(a, disc, b[1], contact="s", guess=1.5, radius=0.4)
+
+m23, base, a, b, L = parts("cam_to_line")
+disc = m23.profile("disc", polar=lambda th: L / 2 + sin(th) / 2)
+m23.cam_to_line(a, disc, b.line(1, 2), contact="s", guess=0.0)
+
+m24, base, a, b, L = parts("cam_to_cam")
+disc = m24.profile("disc", polar=lambda th: L / 2 + sin(th) / 2)
+oval = m24.profile("oval", xy=lambda s: (2 * sin(s), L * sin(s + pi / 2) / 4))
+m24.cam_to_cam(a, disc, b, oval, contact=("s1", "s2"), guess=(0.0, pi))

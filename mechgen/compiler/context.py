@@ -21,6 +21,7 @@ from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body,
 from .names import Names, emitter_symbols, identifiers, module_words
 from .plan import SHARE_MAX, make_plan, summary
 from .position import position_body, trig_pair
+from .profiles_code import profile_helpers
 from .sweep import options as sweep_options
 from .sweep import sweep_fast_body, written_step
 
@@ -33,7 +34,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     plan = make_plan(model, eq, sort=sort, level=level, outputs=outputs, cse=cse,
                      closed_forms=closed_forms)
     points = point_list(model)
-    helpers, bodies = [], {}
+    helpers, bodies = profile_helpers(model, eq, cse), {}    # cam profiles' functions
 
     def put(key, made):
         body, parts = made

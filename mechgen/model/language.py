@@ -13,6 +13,7 @@ from .constraints import (Constraint, Expression, Orthogonal, Parallel, PointOnL
                           RelativeAngle, RelativeDistance, RelativeX, RelativeY, Revolute,
                           RotationLock, Translate)
 from ..errors import ModelError, _user_frame
+from .cams import CamsMixin
 from .geometry import Body, T
 from .quantities import register_coordinates
 
@@ -40,7 +41,7 @@ def _is_identifier(name) -> bool:
         unicodedata.normalize("NFKC", name) == name
 
 
-class Model:
+class Model(CamsMixin):
     """A planar mechanism. Every ``Model`` defined at module level of a model file is built."""
 
     def __init__(self, name: str):

@@ -288,8 +288,11 @@ class Builder:
 
     # bodies
     def body_shape(self, b):
-        keep = [k for k in b.every if k != b.origin or k in b.pts or
-                any(k in used for _, _, used in self.st.joints)]
+        keep = [k for k in b.every if (k != b.origin or k in b.pts or
+                any(k in used for _, _, used in self.st.joints))
+                and k not in getattr(self, "profiled", ())]      # cams: plot.cams draws those
+        if not keep and getattr(self, "profiled", ()) and b.every:
+            return                                    # a cam body: its profile is its shape
         if not keep:
             keep = [b.origin]
         pts = np.array([self.local(b, k) for k in keep])

@@ -113,7 +113,8 @@ class Scene:
             if b.ground or b.origin >= 0:
                 out.append(f"{b.name}[0]")
             out += [f"{b.name}[{k}]" for k in range(1, len(b.pts) + 1)]
-        return out + [label for label in self.labels if label not in out]
+        # (a cam's profile points, "cam~disc[5]", are the drawing's, not named points)
+        return out + [label for label in self.labels if label not in out and "~" not in label]
 
     def locate(self, label):
         """Where a point is over a motion: ``(body, path)``, ``path(P, Q)`` giving its

@@ -1,0 +1,41 @@
+"""The functions of cam profiles (mechgen.model.profiles.ProfileFunction) in a generated
+module: one jitted helper per profile coordinate and derivative order that the equations,
+the points or the outputs use, ``_profile_disc_x_ss(s, h, e)``, computing its expression
+with one CSE pass. Call sites print as calls to it (ProfileFunction._pythoncode)."""
+from __future__ import annotations
+
+import sympy as sp
+
+from ..model.profiles import ProfileFunction
+from .ir import Code, Helper, Store
+from .printer import Local
+from .schedule import emit
+
+
+def used_profiles(exprs):
+    """The ProfileFunction classes the expressions call, by name."""
+    found = {}
+    for e in exprs:
+        for f in sp.sympify(e).atoms(ProfileFunction):
+            found[f.func.__name__] = f.func
+    return [found[k] for k in sorted(found)]
+
+
+def profile_helpers(model, eq, cse=True):
+    """[Helper] of every profile function that Φ, Φ_q, γ, the points or the outputs call."""
+    exprs = list(eq.phi) + list(eq.phi_q) + list(eq.gamma) + list(model.outputs.values())
+    for con in model.constraints:
+        for pt in getattr(con, "points", ()):
+            exprs += list(pt.r)
+    out = []
+    for cls in used_profiles(exprs):
+        args = [Local("_s", real=True)] + [Local(f"_a{k}", real=True)
+                                           for k in range(len(cls.params))]
+        expr = cls.diffed().subs(dict(zip((cls.var,) + cls.params, args)))
+        shown = ", ".join(["s"] + [p.name for p in cls.params])
+        doc = (f"Profile coordinate {cls.base}" + (f", derivative {cls.order}" if cls.order
+                                                    else "") + f", of ({shown}).")
+        body = tuple(emit([Store("_v", expr)], cse=cse)) + (Code("return _v"),)
+        out.append(Helper(f"_profile_{cls.__name__}", ", ".join(a.name for a in args), doc,
+                          body))
+    return out
