@@ -146,6 +146,7 @@ class GenRevolute(_WithCoordinate):
         phi = self._coord(coord)
         d = a1.first.r - a2.first.r
         self.exprs = [d[0], d[1], (b2.th + al2) - (b1.th + al1) - phi]
+        self.drawn = [a1.first, a2.first]          # drawn as a pin
         return f"{a1}, {a2}, {phi}"
 
 
@@ -170,6 +171,8 @@ class GenTranslate(_WithCoordinate):
         u1, u2 = a1.u, a2.u
         d = a2.first.r - a1.first.r
         self.exprs = [cross2(u1, u2), cross2(d, u2), dot2(d, u1) / a1.length - s]
+        ends = [a1.first, a1.second, a2.first, a2.second]
+        self.drawn = ends if all(e is not None for e in ends) else []   # drawn as translate
         return f"{a1}, {a2}, {s}"
 
 

@@ -90,7 +90,7 @@ class Mech2D:
             raise ModelError(f"{cls.kind}: guess= goes with a new coordinate's name; "
                              f"{coord} has its guess from m.coordinate()")
         try:
-            return self._add(cls, (a1, a2, coord), name)
+            return self._add_drawn(cls, (a1, a2, coord), name)
         except ModelError:
             if made is not None:          # a rejected joint leaves the model as it was
                 self.coords.remove(made)

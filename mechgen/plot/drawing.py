@@ -15,6 +15,7 @@ from matplotlib.patches import Patch
 
 from ..errors import MechgenError
 from ..runtime.results import Solution
+from .gears import draw_library
 from .glyphs import Builder
 from .scene import Scene
 from .shapes import AUTO
@@ -264,6 +265,7 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
                         del bld.d.artists[b.name][n_before[b.name]:]
         elif kind == "relative_distance" and len(used) == 2:
             bld.rod(*used)
+    draw_library(bld)        # gears, racks, gen_revolute, ... (plot/gears.py)
     for b in st.bodies:
         if b.ground and (b.name not in custom or AUTO in _listed(custom[b.name])):
             bld.ground_link(b)
