@@ -264,7 +264,37 @@ for th3, th4 in ((0.5274103891, 1.792465604), (-1.048246730, -2.313301945)):
     s = mechs["fourbar_loop"].solve(0.0, guess={{"theta3": th3 + 0.1, "theta4": th4 - 0.1}})
     seed.append(max(abs(s["theta3"] - th3), abs(s["theta4"] - th4)))
 closed["fourbar_loop"] = max(seed)
-print(json.dumps({{"functions": report, "closed": closed}}))
+
+import matplotlib
+matplotlib.use("Agg")
+from matplotlib.collections import LineCollection
+from matplotlib.patches import Circle
+from mechgen import plot
+pictures = {{}}
+for name, mech in mechs.items():
+    if name == "fourbar_loop":
+        continue
+    s0, s1 = mech.solve(0.1), mech.solve(0.35)
+    d = plot.draw(mech, s0, labels=False)
+    d.ax.figure.savefig(os.path.join(out, name + ".png"), dpi=50)
+    info = {{"circles": {{}}, "turned": 0.0, "ticks": 0}}
+    for body, arts in d.artists.items():
+        for a in arts:
+            if isinstance(a, Circle) and a.get_radius() > 0.3:
+                info["circles"].setdefault(body, []).append(round(a.get_radius(), 9))
+            if isinstance(a, LineCollection) and body in d.transforms and a.get_zorder() in (1.9, 2.7):
+                info["ticks"] += len(a.get_segments())
+    # ticks turn with their body: the first tick of every gear body, before and after
+    before = {{b: d.transforms[b].get_matrix().copy() for b in d.transforms}}
+    d.set_state(s1.points(), s1.q, s1.t)
+    for b, m0 in before.items():
+        m1 = d.transforms[b].get_matrix()
+        k = mech.coordinates.index(f"Th{{[x.number for x in d.structure.bodies if x.name == b][0]}}")
+        turn = math.atan2(m1[1, 0], m1[0, 0]) - math.atan2(m0[1, 0], m0[0, 0])
+        want = s1.q[k] - s0.q[k]
+        info["turned"] = max(info["turned"], abs(math.remainder(turn - want, 2 * math.pi)))
+    pictures[name] = info
+print(json.dumps({{"functions": report, "closed": closed, "pictures": pictures}}))
 """
 
 
@@ -296,3 +326,19 @@ def test_generated_functions_agree_with_lambdify(jitless):
     ("slider_crank_gen", 1e-9), ("yoke", 1e-10), ("fourbar_loop", 1e-9)])
 def test_worked_examples_against_closed_forms(jitless, name, tol):
     assert jitless["closed"][name] < tol, jitless["closed"]
+
+
+def test_pictures_show_pitch_circles_that_turn_with_their_gears(jitless):
+    pics = jitless["pictures"]
+    assert set(pics) == {"gear_train", "internal_gear", "planetary", "rack_pinion",
+                         "rolling_pinion", "fourbar_gen", "slider_crank_gen", "yoke"}
+    c = pics["gear_train"]["circles"]
+    assert sorted(c["A"]) == [1.0] and sorted(c["BC"]) == [1.5, 3.0] and c["D"] == [2.5]
+    ring = pics["internal_gear"]["circles"]["ring"]
+    assert 2.5 in ring and len(ring) == 2                   # pitch circle and rim
+    assert sorted(pics["planetary"]["circles"]["frame"])[0] == 2.5   # the fixed ring
+    assert pics["rack_pinion"]["circles"]["pinion"] == [0.8]
+    for name in ("gear_train", "internal_gear", "planetary", "rack_pinion", "rolling_pinion"):
+        assert pics[name]["ticks"] >= 18, name          # a pitch circle's ticks at least
+    for name, info in pics.items():
+        assert info["turned"] < 1e-9, name
