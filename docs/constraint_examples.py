@@ -82,3 +82,42 @@ m19.point_on_line(b.at(1, 2), Line(base[1], direction=(1, 1)))
 
 m20, base, a, b, L = parts("named")
 m20.revolute(a[2], b[1], name="elbow")
+
+# -- Mech's 2D library: gears, racks, more constraints, joints with a coordinate, loops
+from mechgen import I, exp  # noqa: E402
+
+m21, base, a, b, L = parts("gears")
+m21.gears(a[1], 1, b[1], 2)
+
+m22, base, a, b, L = parts("gear_ratio")
+m22.gear_ratio(a[1], 1, b[1], -3)
+
+m23, base, a, b, L = parts("rack_and_pinion")
+m23.rack_and_pinion(b[1], 0.5, base.line(1, 2))
+
+m24, base, a, b, L = parts("rack_ratio")
+m24.rack_ratio(b[1], 0.5, a.line(1, 2), 1)
+
+m25, base, a, b, L = parts("point_on_lines")
+m25.point_on_lines(b[1], base.line(1, 3), a.line(1, 2))
+
+m26, base, a, b, L = parts("origin_lock")
+m26.origin_lock(a, b)
+
+m27, base, a, b, L = parts("origin_lock_offset")
+m27.origin_lock(a, (1, L))
+
+m28, base, a, b, L = parts("directed_distance")
+m28.directed_distance(a[2], b[1], base.line(1, 2), L)
+
+m29, base, a, b, L = parts("directed_distance_origin")
+m29.directed_distance(a[2], (3, 4))
+
+m30, base, a, b, L = parts("gen_revolute")
+m30.gen_revolute(base.line(1, 2), a.line(1, 2), "phi")
+
+m31, base, a, b, L = parts("gen_translate")
+m31.gen_translate(base.line(1, 2), a.line(1, 2), "s")
+
+m32, base, a, b, L = parts("loop")
+m32.loop(2 * exp(I * a.th) + L * exp(I * b.th) - 4)

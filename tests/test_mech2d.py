@@ -342,3 +342,17 @@ def test_pictures_show_pitch_circles_that_turn_with_their_gears(jitless):
         assert pics[name]["ticks"] >= 18, name          # a pitch circle's ticks at least
     for name, info in pics.items():
         assert info["turned"] < 1e-9, name
+
+
+@pytest.mark.parametrize("spec", MODELS, ids=IDS)
+def test_equations_print_as_text_and_latex(spec):
+    from mechgen.model.printing import equations_text
+    model = example_model(spec[0], spec[1])
+    text = equations_text(model)
+    latex = equations_text(model, latex=True)
+    assert latex.count(r"\begin{align*}") == latex.count(r"\end{align*}") == 4
+    for con in model.constraints:
+        for _, label in con.rows():
+            assert f"# {label}" in text
+            from mechgen.model.printing import _latex_text
+            assert rf"\text{{{_latex_text(label)}}}" in latex

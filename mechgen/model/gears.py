@@ -38,6 +38,11 @@ def _radius(model, value, kind, which):
     return r
 
 
+def _txt(e):
+    """A value as a label writes it: 0.5, not 0.500000000000000."""
+    return repr(float(e)) if isinstance(e, sp.Float) else f"{e}"
+
+
 def _phase(model, value, kind):
     return model._expr(value, f"{kind}: the phase constant c")
 
@@ -72,7 +77,7 @@ class _Gears(Constraint):
         self.exprs = [rows[k] for k in self.components]
         self.radii = (r1, r2)
         self.drawn = [p1, pitch_marker(p1, r1), p2, pitch_marker(p2, r2)]
-        return f"{p1}, {r1}, {p2}, {r2}" + ("" if c == 0 else f", {c}")
+        return f"{p1}, {_txt(r1)}, {p2}, {_txt(r2)}" + ("" if c == 0 else f", {_txt(c)}")
 
 
 class Gears(_Gears):
@@ -113,7 +118,7 @@ class _Rack(Constraint):
         self.drawn = [p, marker, a.first, a.second if a.second is not None else
                       a.first.body.at(a.first.local[0] + a.local_direction[0],
                                       a.first.local[1] + a.local_direction[1])]
-        return f"{p}, {r}, {a}" + ("" if c == 0 else f", {c}")
+        return f"{p}, {_txt(r)}, {a}" + ("" if c == 0 else f", {_txt(c)}")
 
 
 class RackAndPinion(_Rack):
