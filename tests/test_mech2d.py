@@ -321,9 +321,10 @@ def test_generated_functions_agree_with_lambdify(jitless):
 
 
 @pytest.mark.parametrize("name, tol", [
-    ("gear_train", 1e-10), ("internal_gear", 1e-10), ("planetary", 1e-10),
-    ("rack_pinion", 1e-10), ("rolling_pinion", 1e-10), ("fourbar_gen", 1e-10),
-    ("slider_crank_gen", 1e-9), ("yoke", 1e-10), ("fourbar_loop", 1e-9)])
+    ("gear_train", 1e-12), ("internal_gear", 1e-12), ("planetary", 1e-12),
+    ("rack_pinion", 1e-12), ("rolling_pinion", 1e-12), ("fourbar_gen", 1e-10),
+    ("slider_crank_gen", 1e-12), ("yoke", 1e-12),
+    ("fourbar_loop", 1e-9)])          # the seed prints 10 digits
 def test_worked_examples_against_closed_forms(jitless, name, tol):
     assert jitless["closed"][name] < tol, jitless["closed"]
 

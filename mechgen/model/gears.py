@@ -11,6 +11,8 @@ mechgen writes the rolling relation without an arctangent, as "the centre line p
 along ψ":  u × (cos ψ, sin ψ) = 0,  u = r(p2) − r(p1),  ψ = (r1 Th1 + r2 Th2 − c)/(r1 + r2).
 The row is smooth everywhere (no branch cut when a planet gear goes round its sun), and
 equals |u| sin(ψ − β): near a solution, (r1 + r2)(ψ − β), the relation above.
+(It also vanishes at β = ψ + π, the gears meshed at phase c + π (r1 + r2): another
+assembly, never reached from a nearby configuration.)
 
 A rack is an axis (fixed in its body) that is the rack's pitch line; the pinion's centre
 p lies r to the left of it (to the right with a negative r) and rolls along it:
