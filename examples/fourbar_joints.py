@@ -7,7 +7,7 @@ rotation_lock.
 
 ``slider_crank_gen``: a slider-crank whose slider is held by gen_translate; its travel s
 along the guide is a coordinate, x = a cos θ + sqrt(b² − (a sin θ)²)."""
-from mechgen import Model, T, pi
+from mechgen import Line, Model, T, pi
 
 m = Model("fourbar_gen")
 a = m.param("a", 0.8)
@@ -20,7 +20,10 @@ ground = m.ground("ground", points=[(0, 0), (d, 0)])
 crank = m.body("crank", points=[(0, 0), (a, 0)], guess=(0, 0, 1.0))
 coupler = m.body("coupler", points=[(0, 0), (b, 0)], guess=(0.4, 0.7, 0.5))
 rocker = m.body("rocker", points=[(0, 0), (c, 0)], guess=(3, 0, 1.8))
-crank_joint = m.gen_revolute(ground.line(1, 2), crank.line(1, 2), "phi", guess=1.0)
+# the angle from the ground's x axis to the crank's (axes by direction: their angles in
+# their bodies are 0 whatever the parameters, and the row reads Th2 - phi)
+crank_joint = m.gen_revolute(Line(ground[1], direction=(1, 0)),
+                             Line(crank[1], direction=(1, 0)), "phi", guess=1.0)
 phi = crank_joint.coordinate
 m.revolute(crank[2], coupler[1])
 m.revolute(ground[2], rocker[1])
