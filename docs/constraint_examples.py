@@ -84,19 +84,58 @@ m20, base, a, b, L = parts("named")
 m20.revolute(a[2], b[1], name="elbow")
 
 # cams (mechgen.model.cams): body a carries the profile, b follows; one constraint each
-m21, base, a, b, L = parts("cam_to_point")
-disc = m21.profile("disc", polar=lambda th: L / 2 + sin(th) / 2)
-m21.cam_to_point(a, disc, b[1], contact="s", guess=1.5)
+cam1, base, a, b, L = parts("cam_to_point")
+disc = cam1.profile("disc", polar=lambda th: L / 2 + sin(th) / 2)
+cam1.cam_to_point(a, disc, b[1], contact="s", guess=1.5)
 
-m22, base, a, b, L = parts("cam_to_point_roller")
-disc = m22.profile("disc", polar=lambda th: L / 2 + sin(th) / 2)
-m22.cam_to_point(a, disc, b[1], contact="s", guess=1.5, radius=0.4)
+cam2, base, a, b, L = parts("cam_to_point_roller")
+disc = cam2.profile("disc", polar=lambda th: L / 2 + sin(th) / 2)
+cam2.cam_to_point(a, disc, b[1], contact="s", guess=1.5, radius=0.4)
 
-m23, base, a, b, L = parts("cam_to_line")
-disc = m23.profile("disc", polar=lambda th: L / 2 + sin(th) / 2)
-m23.cam_to_line(a, disc, b.line(1, 2), contact="s", guess=0.0)
+cam3, base, a, b, L = parts("cam_to_line")
+disc = cam3.profile("disc", polar=lambda th: L / 2 + sin(th) / 2)
+cam3.cam_to_line(a, disc, b.line(1, 2), contact="s", guess=0.0)
 
-m24, base, a, b, L = parts("cam_to_cam")
-disc = m24.profile("disc", polar=lambda th: L / 2 + sin(th) / 2)
-oval = m24.profile("oval", xy=lambda s: (2 * sin(s), L * sin(s + pi / 2) / 4))
-m24.cam_to_cam(a, disc, b, oval, contact=("s1", "s2"), guess=(0.0, pi))
+cam4, base, a, b, L = parts("cam_to_cam")
+disc = cam4.profile("disc", polar=lambda th: L / 2 + sin(th) / 2)
+oval = cam4.profile("oval", xy=lambda s: (2 * sin(s), L * sin(s + pi / 2) / 4))
+cam4.cam_to_cam(a, disc, b, oval, contact=("s1", "s2"), guess=(0.0, pi))
+
+# -- Mech's 2D library: gears, racks, more constraints, joints with a coordinate, loops
+from mechgen import I, exp  # noqa: E402
+
+m21, base, a, b, L = parts("gears")
+m21.gears(a[1], 1, b[1], 2)
+
+m22, base, a, b, L = parts("gear_ratio")
+m22.gear_ratio(a[1], 1, b[1], -3)
+
+m23, base, a, b, L = parts("rack_and_pinion")
+m23.rack_and_pinion(b[1], 0.5, base.line(1, 2))
+
+m24, base, a, b, L = parts("rack_ratio")
+m24.rack_ratio(b[1], 0.5, a.line(1, 2), 1)
+
+m25, base, a, b, L = parts("point_on_lines")
+m25.point_on_lines(b[1], base.line(1, 3), a.line(1, 2))
+
+m26, base, a, b, L = parts("origin_lock")
+m26.origin_lock(a, b)
+
+m27, base, a, b, L = parts("origin_lock_offset")
+m27.origin_lock(a, (1, L))
+
+m28, base, a, b, L = parts("directed_distance")
+m28.directed_distance(a[2], b[1], base.line(1, 2), L)
+
+m29, base, a, b, L = parts("directed_distance_origin")
+m29.directed_distance(a[2], (3, 4))
+
+m30, base, a, b, L = parts("gen_revolute")
+m30.gen_revolute(base.line(1, 2), a.line(1, 2), "phi")
+
+m31, base, a, b, L = parts("gen_translate")
+m31.gen_translate(base.line(1, 2), a.line(1, 2), "s")
+
+m32, base, a, b, L = parts("loop")
+m32.loop(2 * exp(I * a.th) + L * exp(I * b.th) - 4)

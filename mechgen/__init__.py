@@ -12,7 +12,7 @@ from .errors import (BranchJumpWarning, ConvergenceError, MechgenError, ModelErr
 from .protocol import MECHGEN_VERSION as __version__
 
 _SYMPY_NAMES = ("sin", "cos", "tan", "sqrt", "atan2", "atan", "asin", "acos", "exp", "log",
-                "pi", "E", "Abs", "sign", "sinh", "cosh", "tanh", "Rational", "Piecewise",
+                "pi", "E", "I", "Abs", "sign", "sinh", "cosh", "tanh", "Rational", "Piecewise",
                 "Symbol", "Matrix")
 _QUANTITIES = ("location", "distance", "point_to_line_distance", "angle", "rotation",
                "intersection", "project_on_line", "direction", "magnitude", "unit", "cross",

@@ -15,6 +15,7 @@ from .constraints import (Constraint, Expression, Orthogonal, Parallel, PointOnL
 from ..errors import ModelError, _user_frame
 from .cams import CamsMixin
 from .geometry import Body, T
+from .library2d import Mech2D
 from .quantities import register_coordinates
 
 _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")      # a model's own name (its module's)
@@ -41,7 +42,7 @@ def _is_identifier(name) -> bool:
         unicodedata.normalize("NFKC", name) == name
 
 
-class Model(CamsMixin):
+class Model(CamsMixin, Mech2D):
     """A planar mechanism. Every ``Model`` defined at module level of a model file is built."""
 
     def __init__(self, name: str):

@@ -17,6 +17,7 @@ from ..errors import MechgenError
 from ..runtime.results import Solution
 from .cams import KINDS as CAM_KINDS
 from .cams import draw as draw_cam
+from .gears import draw_library
 from .glyphs import Builder
 from .scene import Scene
 from .shapes import AUTO
@@ -268,6 +269,7 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
             bld.rod(*used)
         elif kind in CAM_KINDS:
             draw_cam(bld, kind, used)
+    draw_library(bld)        # gears, racks, gen_revolute, ... (plot/gears.py)
     for b in st.bodies:
         if b.ground and (b.name not in custom or AUTO in _listed(custom[b.name])):
             bld.ground_link(b)

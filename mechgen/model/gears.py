@@ -1,0 +1,144 @@
+"""Gears and rack and pinion (Mech's TwoGears2, TwoGears1, RackAndPinion2, RackAndPinion1).
+
+A gear is a body with a pitch circle of radius r about one of its points; a negative
+radius makes it an internal gear (a ring, teeth inside). Two meshing gears at p1, p2
+(radii r1, r2) keep their centres r1 + r2 apart and roll without slipping:
+
+    r1 (Th1 − β) + r2 (Th2 − β) = c,        β the angle of r(p2) − r(p1)
+
+(Mech's constant C: e_i = Th_i − β is the angle from the centre line to gear i's x axis).
+mechgen writes the rolling relation without an arctangent, as "the centre line points
+along ψ":  u × (cos ψ, sin ψ) = 0,  u = r(p2) − r(p1),  ψ = (r1 Th1 + r2 Th2 − c)/(r1 + r2).
+The row is smooth everywhere (no branch cut when a planet gear goes round its sun), and
+equals |u| sin(ψ − β): near a solution, (r1 + r2)(ψ − β), the relation above.
+(It also vanishes at β = ψ + π, the gears meshed at phase c + π (r1 + r2): another
+assembly, never reached from a nearby configuration.)
+
+A rack is an axis (fixed in its body) that is the rack's pitch line; the pinion's centre
+p lies r to the left of it (to the right with a negative r) and rolls along it:
+
+    s + r (Th_p − Th_a − α) − c = 0,        s = (r(p) − a.first) · u / |u|
+
+(c: Mech's C, the travel s at which the pinion's x axis is parallel to the rack).
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from ..errors import ModelError
+from .constraints import Constraint, _line, _point, cross2, dot2
+from .geometry import T
+from .joints import body_fixed
+
+
+def _radius(model, value, kind, which):
+    r = model._expr(value, f"{kind}: the radius {which}")
+    if T in r.free_symbols:
+        raise ModelError(f"{kind}: the radius {which} ({r}) may not depend on T")
+    if r.is_zero:
+        raise ModelError(f"{kind}: the radius {which} is 0; a gear needs a pitch radius")
+    return r
+
+
+def _txt(e):
+    """A value as a label writes it: 0.5, not 0.500000000000000."""
+    return repr(float(e)) if isinstance(e, sp.Float) else f"{e}"
+
+
+def _phase(model, value, kind):
+    return model._expr(value, f"{kind}: the phase constant c")
+
+
+def pitch_marker(p, r):
+    """The point r along the x axis of p's body from p: its distance from p is the drawn
+    pitch radius, its side the radius' sign (a negative radius: an internal gear)."""
+    return p.body.at(p.local[0] + r, p.local[1])
+
+
+class _Gears(Constraint):
+    """Two gears; ``components`` picks the rows ("distance", "rolling")."""
+
+    def build(self, p1, r1, p2, r2, c=0):
+        kind = self.kind
+        p1 = _point(self.model, p1, kind, 1)
+        r1 = _radius(self.model, r1, kind, "r1")
+        p2 = _point(self.model, p2, kind, 3)
+        r2 = _radius(self.model, r2, kind, "r2")
+        c = _phase(self.model, c, kind)
+        if p1.body is p2.body:
+            raise ModelError(f"{kind}: both gears are body {p1.body}; gears mesh between "
+                             "two bodies")
+        total = sp.simplify(r1 + r2)
+        if total.is_zero:
+            raise ModelError(f"{kind}: r1 + r2 = 0 (radii {r1}, {r2}): the gears would share "
+                             "their centre; an internal gear must be larger than its pinion")
+        u = p2.r - p1.r
+        psi = (r1 * p1.body.th + r2 * p2.body.th - c) / total
+        rows = {"distance": u[0] ** 2 + u[1] ** 2 - total ** 2,
+                "rolling": u[0] * sp.sin(psi) - u[1] * sp.cos(psi)}
+        self.exprs = [rows[k] for k in self.components]
+        self.radii = (r1, r2)
+        self.drawn = [p1, pitch_marker(p1, r1), p2, pitch_marker(p2, r2)]
+        return f"{p1}, {_txt(r1)}, {p2}, {_txt(r2)}" + ("" if c == 0 else f", {_txt(c)}")
+
+
+class Gears(_Gears):
+    """``gears(p1, r1, p2, r2, c=0)``: two meshing gears (Mech's TwoGears2): the centres
+    ‖r(p2) − r(p1)‖² − (r1 + r2)² = 0 (row distance) and the rolling relation
+    u × (cos ψ, sin ψ) = 0, ψ = (r1 Th1 + r2 Th2 − c)/(r1 + r2) (row rolling)."""
+
+    kind = "gears"
+    components = ("distance", "rolling")
+
+
+class GearRatio(_Gears):
+    """``gear_ratio(p1, r1, p2, r2, c=0)``: the rolling relation of two gears alone (Mech's
+    TwoGears1), for gears whose centres other constraints already hold."""
+
+    kind = "gear_ratio"
+    components = ("rolling",)
+
+
+class _Rack(Constraint):
+    def build(self, p, r, a, c=0):
+        kind = self.kind
+        p = _point(self.model, p, kind, 1)
+        r = _radius(self.model, r, kind, "r")
+        a = _line(self.model, a, kind, 3)
+        c = _phase(self.model, c, kind)
+        rack, alpha = body_fixed(a, kind, 3)
+        if rack is p.body:
+            raise ModelError(f"{kind}: the pinion's centre {p} and the rack {a!r} are on the "
+                             "same body")
+        u, length = a.u, a.length
+        d = p.r - a.first.r
+        rows = {"offset": cross2(u, d) / length - r,
+                "rolling": dot2(d, u) / length + r * (p.body.th - rack.th - alpha) - c}
+        self.exprs = [rows[k] for k in self.components]
+        self.radii = (r,)
+        marker = pitch_marker(p, r)
+        self.drawn = [p, marker, a.first, a.second if a.second is not None else
+                      a.first.body.at(a.first.local[0] + a.local_direction[0],
+                                      a.first.local[1] + a.local_direction[1])]
+        return f"{p}, {_txt(r)}, {a}" + ("" if c == 0 else f", {_txt(c)}")
+
+
+class RackAndPinion(_Rack):
+    """``rack_and_pinion(p, r, a, c=0)``: a pinion of radius r centred at p on the rack
+    whose pitch line is axis a (Mech's RackAndPinion2): p lies r to the left of a,
+    u × (r(p) − a.first)/|u| − r = 0 (row offset), and rolls along it,
+    (r(p) − a.first) · u/|u| + r (Th_p − Th_a − α) − c = 0 (row rolling)."""
+
+    kind = "rack_and_pinion"
+    components = ("offset", "rolling")
+
+
+class RackRatio(_Rack):
+    """``rack_ratio(p, r, a, c=0)``: the rolling row of rack_and_pinion alone (Mech's
+    RackAndPinion1), for a pinion whose distance to the rack is already held."""
+
+    kind = "rack_ratio"
+    components = ("rolling",)
+
+
+KINDS_GEARS = (Gears, GearRatio, RackAndPinion, RackRatio)
