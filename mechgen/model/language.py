@@ -15,6 +15,7 @@ from .constraints import (Constraint, Expression, Orthogonal, Parallel, PointOnL
 from ..errors import ModelError, _user_frame
 from .geometry import Body, T
 from .quantities import register_coordinates
+from .stages import StageMixin
 
 _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")      # a model's own name (its module's)
 # The names a model may not give a parameter, coordinate, body or output: Python's keywords,
@@ -40,7 +41,7 @@ def _is_identifier(name) -> bool:
         unicodedata.normalize("NFKC", name) == name
 
 
-class Model:
+class Model(StageMixin):
     """A planar mechanism. Every ``Model`` defined at module level of a model file is built."""
 
     def __init__(self, name: str):

@@ -30,6 +30,7 @@ from .locks import singularities as find_singularities
 from .quantity import symbolic_side
 from .results import Solution, Sweep
 from .singular import null_space, solve_q
+from .stages import staged_sweep
 
 
 def load(path_or_module, **kwargs) -> "Mechanism":
@@ -273,6 +274,12 @@ class Mechanism:
         if params is not None:
             return self.design_sweep(t0, t1, n, params, level=level, guess=guess,
                                      method=method, tol=tol, maxit=maxit, times=times)
+        if getattr(self.module, "SWITCH_TIMES", ()):
+            # a model with stages: a sweep across a switch runs stage by stage
+            staged = staged_sweep(self, t0, t1, n, times, guess=guess, level=level,
+                                  method=method, tol=tol, maxit=maxit)
+            if staged is not None:
+                return staged
         lev = self._level(level)
         meth = self._method(method)
         ts = sweep_times(t0, t1, n, times)
