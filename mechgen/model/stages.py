@@ -115,6 +115,10 @@ class StageMixin:
         if not isinstance(name, str) or not name.strip():
             raise ModelError(f"stage: the name must be a non-empty string, got {name!r}")
         stages = self.stages
+        active = self.__dict__.get("_stage_active")
+        if active is not None:
+            raise ModelError(f"stage {name!r} declared inside stage '{active.name}': stages "
+                             "follow one another, they do not nest")
         if any(s.name == name for s in stages):
             raise ModelError(f"stage {name!r} is declared twice in model '{self.name}'; "
                              "to add constraints to it, use the Stage object it returned")

@@ -31,13 +31,15 @@ POSITION_AGREEMENT = 1e-8   # largest |Φ| of the next stage at the reached conf
 
 @dataclass(frozen=True)
 class Switch:
-    """A stage switch inside a sweep: its time, the stages before and after, and the rows
-    of the sweep holding its left limit (``left``) and right limit (``right``)."""
+    """A stage switch inside a sweep: its time, the stages before and after it in the
+    sweep's order, and the rows of the sweep holding the switch time as each of them
+    reaches it (``row_before``, then ``row_after``: the left and right limits of a forward
+    sweep; the same position, each stage's own velocities and accelerations)."""
     t: float
     before: str
     after: str
-    left: int
-    right: int
+    row_before: int
+    row_after: int
 
 
 def switch_times(mech) -> np.ndarray:
@@ -133,11 +135,12 @@ def _check_agreement(mech, sw, before, after, t_next, names, tol):
 
 class StagedSweep(Sweep):
     """A sweep across stage switches: the arrays of every stage's piece, one after the
-    other, each switch time held twice (left limit, then right limit, in sweep order).
+    other, each switch time held twice (as the stage before it ends there, then as the
+    stage after it starts there: left then right limit in a forward sweep).
 
     ``sw.switches``: the :class:`Switch` records; ``sw.stage``: the stage index of each
-    row; ``sw.parts``: the pieces as ordinary sweeps; ``sw.jump(name)``: the right limit
-    minus the left limit of a quantity at each switch (the velocity jump of ``"X4d"``)."""
+    row; ``sw.parts``: the pieces as ordinary sweeps; ``sw.jump(name)``: the change of a
+    quantity at each switch (the velocity jump of ``"X4d"``)."""
 
     def __init__(self, mech, parts, names):
         t = np.concatenate([shown for _, _, shown in parts])
@@ -160,9 +163,10 @@ class StagedSweep(Sweep):
         self.switches = tuple(switches)
 
     def jump(self, name) -> np.ndarray:
-        """Right limit minus left limit of a quantity at each switch, in sweep order."""
+        """At each switch, in sweep order: the quantity after it minus before it (the right
+        minus the left limit in a forward sweep; ``"X4d"``: the velocity jump)."""
         y = Quantity(self.mechanism, name).on_sweep(self)
-        return np.array([y[s.right] - y[s.left] for s in self.switches])
+        return np.array([y[s.row_after] - y[s.row_before] for s in self.switches])
 
     def at_level(self, level) -> "StagedSweep":
         """As Sweep.at_level, piece by piece (each on its own stage's equations)."""
@@ -178,9 +182,10 @@ class StagedSweep(Sweep):
         """A callable of t, interpolating each stage's piece on its own (see
         Sweep.interpolate): nothing is smoothed across a switch; at a switch time it gives
         the later stage's value (the right limit), as a solve there does."""
-        return StagedInterpolant([sw.interpolate(name, method=method, degree=degree,
-                                                 extrapolate=True) for sw in self.parts],
-                                 self, extrapolate)
+        parts = [sw for sw in self.parts if len(sw) >= 2]   # a lone switch point: its
+        return StagedInterpolant([sw.interpolate(name, method=method, degree=degree,  # neighbour
+                                                 extrapolate=True) for sw in parts],
+                                 parts, self.switches, extrapolate)
 
     def extrema(self, name, method="auto", xtol=1e-12):
         """Extremes within each stage (Sweep.extrema) and, at a switch where the quantity's
@@ -197,11 +202,13 @@ class StagedSweep(Sweep):
             dy = dq.on_sweep(view)
             forward = self.t[-1] >= self.t[0]
             for s in self.switches:
-                lo, hi = (s.left, s.right) if forward else (s.right, s.left)
+                lo, hi = (s.row_before, s.row_after) if forward else \
+                    (s.row_after, s.row_before)
                 if dy[lo] * dy[hi] < 0:
                     kind = "max" if dy[lo] > 0 else "min"
                     events.append(Event(Quantity(self.mechanism, name).label, kind, s.t,
-                                        float(y[s.right]), s.t, float(y[s.right]), "switch"))
+                                        float(y[s.row_after]), s.t,
+                                        float(y[s.row_after]), "switch"))
         events.sort(key=lambda e: e.t)
         return events
 
@@ -230,17 +237,17 @@ def _level(sw) -> int:
 class StagedInterpolant:
     """One interpolant per stage piece, chosen by t (the later stage at a switch time)."""
 
-    def __init__(self, pieces_, sw, extrapolate):
+    def __init__(self, pieces_, parts, switches, extrapolate):
         self.pieces = pieces_
         self.name = pieces_[0].name
         self.method = pieces_[0].method
         self.extrapolate = extrapolate
-        spans = [(float(min(p.t[0], p.t[-1])), float(max(p.t[0], p.t[-1]))) for p in sw.parts]
+        spans = [(float(min(p.t[0], p.t[-1])), float(max(p.t[0], p.t[-1]))) for p in parts]
         order = np.argsort([a for a, _ in spans])
         self._order = order
         self._starts = np.array([spans[k][0] for k in order])
         self.domain = (min(a for a, _ in spans), max(b for _, b in spans))
-        self.switches = tuple(s.t for s in sw.switches)
+        self.switches = tuple(s.t for s in switches)
 
     def __call__(self, t, nu=0):
         t_arr = np.asarray(t, dtype=np.float64)
