@@ -76,18 +76,16 @@ def pieces(ts, switches):
     stage = np.searchsorted(switches, grid, side="right")
     out = []
     for k in range(int(stage[0]), int(stage[-1]) + 1):
-        solved = list(grid[stage == k])
-        shown = list(solved)
-        if k > stage[0] and (not solved or solved[0] != switches[k - 1]):
-            solved.insert(0, float(switches[k - 1]))       # the right limit
-            shown.insert(0, float(switches[k - 1]))
+        solved = grid[stage == k]
+        head, tail = [], []
+        if k > stage[0] and (not solved.size or solved[0] != switches[k - 1]):
+            head = [float(switches[k - 1])]                  # the right limit
         if k < stage[-1]:
-            s = float(switches[k])
-            solved.append(float(np.nextafter(s, -np.inf)))  # the left limit
-            shown.append(s)
-        solved, shown = np.array(solved), np.array(shown)
+            tail = [float(np.nextafter(switches[k], -np.inf))]  # the left limit
+        shown = np.concatenate([head, solved, [float(switches[k])] if tail else []])
+        solved = np.concatenate([head, solved, tail])
         if not forward:
-            solved, shown = solved[::-1], shown[::-1]
+            solved, shown = solved[::-1].copy(), shown[::-1].copy()
         out.append((k, solved, shown))
     return out if forward else out[::-1]
 
