@@ -291,3 +291,15 @@ def test_module_states_its_stages(staged):
     # a model without stages states none
     plain = open(os.path.join(GENERATED, "quick_return.py"), encoding="utf-8").read()
     assert "SWITCH_TIMES" not in plain and "Stages (" not in plain
+
+
+def test_singularities_are_searched_stage_by_stage(handover):
+    # det Φ_q changes sign at the switch (another row takes over) without any rank loss
+    assert handover.singularities(0, 0.5) == []
+    # a slider law that overshoots the stroke locks the mechanism in the slider stage where
+    # X4 reaches its largest value, 9 * 3/5 + sqrt(25 - (10 - 9 * 4/5)^2) (lever tangent
+    # to the crank circle)
+    x_max = 5.4 + math.sqrt(25 - 2.8 ** 2)
+    t_lock = 0.25 + math.asin((x_max - math.sqrt(24)) / 5) / (2 * math.pi)
+    found = handover.with_params(amplitud=5.0).singularities(0, 1)
+    assert found and found[0].kind == "lock" and abs(found[0] - t_lock) < 1e-8, found

@@ -30,7 +30,7 @@ from .locks import singularities as find_singularities
 from .quantity import symbolic_side
 from .results import Solution, Sweep
 from .singular import null_space, solve_q
-from .stages import staged_sweep
+from .stages import staged_singularities, staged_sweep
 
 
 def load(path_or_module, **kwargs) -> "Mechanism":
@@ -262,7 +262,10 @@ class Mechanism:
         t0, t1 = finite(t0, "t0"), finite(t1, "t1")
         if isinstance(n, bool) or int(n) != n or n < 2:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
-        return find_singularities(self, np.linspace(t0, t1, int(n)), self._start(guess))
+        ts = np.linspace(t0, t1, int(n))
+        if getattr(self.module, "SWITCH_TIMES", ()):     # stage by stage (runtime.stages)
+            return staged_singularities(self, ts, self._start(guess))
+        return find_singularities(self, ts, self._start(guess))
 
     # -- sweeps -----------------------------------------------------------------------
     def sweep(self, t0, t1, n, level="position", guess=None, method=None, tol=None,

@@ -21,8 +21,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ModelError
+from ..errors import MechgenError, ModelError
 from .events import Event, Events
+from .locks import singularities as find_singularities
 from .quantity import Quantity
 from .results import Sweep
 
@@ -129,6 +130,24 @@ def _check_agreement(mech, sw, before, after, t_next, names, tol):
         f"reaches there does not satisfy the equations of '{names[after]}' (residual {rows}; "
         f"tolerance {limit:.3g}). Make the later stage start where the earlier one ends.",
         where=None)
+
+
+def staged_singularities(mech, ts, q):
+    """Mechanism.singularities stage by stage: Φ_q changes from one stage to the next, so
+    that det Φ_q may change sign at a switch without any loss of rank there. Each stage's
+    piece starts from the configuration the previous one reached (a position sweep)."""
+    split = pieces(ts, switch_times(mech))
+    if split is None:
+        return find_singularities(mech, ts, q)
+    found = []
+    for j, (_, solved, _) in enumerate(split):
+        found += find_singularities(mech, solved, q)
+        if j + 1 < len(split):
+            try:
+                q = mech.sweep(solved[0], solved[-1], len(solved), times=solved, guess=q).Q[-1]
+            except MechgenError:
+                break          # the branch ends in this stage (a lock): nothing beyond it
+    return found
 
 
 class StagedSweep(Sweep):
