@@ -148,6 +148,8 @@ def test_stages_that_disagree_in_position_are_refused_when_swept(handover):
     text = str(err.value)
     for part in ("'crank'", "'slider'", "t=0.25", "disagree in position", "slider driver"):
         assert part in text, text
+    solved = err.value.sweep            # what was solved before the switch, and no more
+    assert solved.t[-1] == 0.25 and len(solved) == 6 and not solved.switches
 
 
 def test_a_driver_law_that_jumps_is_refused_at_the_model():

@@ -102,10 +102,19 @@ def staged_sweep(mech, t0, t1, n, times=None, guess=None, **kw):
     names = stage_names(mech)
     parts, q = [], guess
     for j, (k, solved, shown) in enumerate(split):
-        if j:
-            _check_agreement(mech, parts[-1][1], split[j - 1][0], k, float(solved[0]), names,
-                             kw.get("tol"))
-        sw = mech.sweep(solved[0], solved[-1], len(solved), times=solved, guess=q, **kw)
+        try:
+            if j:
+                _check_agreement(mech, parts[-1][1], split[j - 1][0], k, float(solved[0]),
+                                 names, kw.get("tol"))
+            sw = mech.sweep(solved[0], solved[-1], len(solved), times=solved, guess=q, **kw)
+        except MechgenError as exc:
+            # the error carries what was solved before it, every stage's piece included
+            part = getattr(exc, "sweep", None)
+            done = parts + ([(k, part, shown[:len(part)])] if part is not None and len(part)
+                            else [])
+            if done:
+                exc.sweep = StagedSweep(mech, done, names)
+            raise
         parts.append((k, sw, shown))
         q = sw.Q[-1].copy()
     return StagedSweep(mech, parts, names)
