@@ -305,3 +305,28 @@ def test_singularities_are_searched_stage_by_stage(handover):
     t_lock = 0.25 + math.asin((x_max - math.sqrt(24)) / 5) / (2 * math.pi)
     found = handover.with_params(amplitud=5.0).singularities(0, 1)
     assert found and found[0].kind == "lock" and abs(found[0] - t_lock) < 1e-8, found
+
+
+def test_three_stages_switch_in_turn():
+    m = Model("crank3")
+    w = m.param("w", 2 * pi)
+    base = m.ground("base", points=[(0, 0)])
+    a = m.body("a", points=[(0, 0), (2, 0)], guess=(0, 0, 0))
+    m.revolute(base[1], a[1])
+    with m.stage("out", until=0.25):
+        m.rotation_lock(a, w * T, name="turn out")
+    with m.stage("dwell", until=0.5):
+        m.rotation_lock(a, w / 4, name="dwell")
+    with m.stage("back"):
+        m.rotation_lock(a, w * (0.75 - T), name="turn back")
+    assert m.switch_times == (0.25, 0.5)
+    assert [s.range_text() for s in m.stages] == ["t < 0.25", "0.25 <= t < 0.5", "t >= 0.5"]
+    eq = m.equations()
+    th, thd = eq.q[2], eq.qd[2]
+    f = sp.lambdify((th, T, w), eq.phi[2])
+    nu = sp.lambdify((T, w), eq.nu[2])
+    w0 = 2 * math.pi
+    for t, angle, speed in ((0.1, w0 * 0.1, w0), (0.25, w0 / 4, 0.0), (0.4, w0 / 4, 0.0),
+                            (0.5, w0 / 4, -w0), (0.9, w0 * (0.75 - 0.9), -w0)):
+        assert abs(f(angle, t, w0)) < 1e-12 and abs(nu(t, w0) - speed) < 1e-12, t
+    assert eq.gamma[2] == 0 and thd not in eq.phi_q.free_symbols
