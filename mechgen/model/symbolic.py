@@ -7,6 +7,7 @@ import sympy as sp
 
 from ..errors import ModelError
 from .geometry import T
+from .stages import staged_rows
 
 
 def derivative_symbols(coords):
@@ -92,7 +93,6 @@ def _rows(model):
     """(constraint number, component, expression, label) per row of Φ; a model with stages
     joins its stage rows as Piecewise in T (mechgen.model.stages)."""
     if getattr(model, "stages", None):
-        from .stages import staged_rows
         return staged_rows(model)
     return [(con.number, k, expr, label) for con in model.constraints
             for k, (expr, label) in enumerate(con.rows())]
