@@ -145,8 +145,8 @@ def linear_in(expr, var):
     if var in coef.free_symbols:
         return None
     rest = expr.subs(var, 0)
-    if coef == 0:
-        return None
+    if coef == 0 or coef.has(sp.Piecewise):
+        return None     # a coefficient that changes with the stage may vanish: Newton
     return coef, rest
 
 

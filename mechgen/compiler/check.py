@@ -306,6 +306,9 @@ class _Check:
         model, n, m = self.model, self.n, self.m
         drivers = model.drivers
         driver_rows = sum(len(c.exprs) for c in drivers)
+        stages = getattr(model, "stages", None)
+        if stages:      # each stage drives with its own rows: count those of one stage
+            driver_rows = sum(len(c.exprs) for c in model.stage_view(stages[0]).drivers)
         bodies = [f"{b.name} = {b.number}" + (" (ground)" if b.is_ground else "")
                   for b in model.bodies.values()]
         self.lines += [
@@ -316,6 +319,8 @@ class _Check:
             f"  equations:    {m} from {len(model.constraints)} constraints",
             f"  drivers:      {len(drivers)}" +
             "".join(f"\n    {c.number} {c.label}" for c in drivers),
+            *([f"  stages:       {len(stages)}: " + ", ".join(
+                f"{st.name} ({st.range_text()})" for st in stages)] if stages else []),
             f"  degrees of freedom: {n - (m - driver_rows)} ({n} coordinates - "
             f"{m - driver_rows} kinematic equations), {driver_rows} driven"]
         return drivers, driver_rows

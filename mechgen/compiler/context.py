@@ -11,6 +11,7 @@ from __future__ import annotations
 import hashlib
 
 from ..model.geometry import T
+from ..model.stages import constraint_table, stages_context
 from ..model.symbolic import check_square
 from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
@@ -89,8 +90,8 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         guess=[repr(float(x)) for x in model.guess_vector()],
         parameters=[(name, repr(float(v))) for name, v in model.param_defaults.items()],
         labels=list(eq.labels),
-        constraints=[dict(number=c.number, kind=c.kind, label=c.label, rows=len(c.exprs),
-                          driver=c.is_driver) for c in model.constraints],
+        constraints=constraint_table(model),
+        stages=stages_context(model), switch_times=[repr(t) for t in model.switch_times],
         points=[(label, body) for label, body, _ in points],
         bodies=[(b.name, b.number, b.is_ground) for b in model.bodies.values()],
         outputs=list(plan.outputs), output_orders=orders,

@@ -17,6 +17,7 @@ from .cams import CamsMixin
 from .geometry import Body, T
 from .library2d import Mech2D
 from .quantities import register_coordinates
+from .stages import StageMixin
 
 _NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")      # a model's own name (its module's)
 # The names a model may not give a parameter, coordinate, body or output: Python's keywords,
@@ -42,7 +43,7 @@ def _is_identifier(name) -> bool:
         unicodedata.normalize("NFKC", name) == name
 
 
-class Model(CamsMixin, Mech2D):
+class Model(CamsMixin, Mech2D, StageMixin):
     """A planar mechanism. Every ``Model`` defined at module level of a model file is built."""
 
     def __init__(self, name: str):

@@ -78,6 +78,8 @@ def equations_text(model, numeric=False, latex=False, mathematica_style=False) -
     AccelerationTerms = −γ). ``mathematica_style`` prints Mech's own notation
     (``Cos[Th3]``); ``numeric`` substitutes the parameter defaults (6 digits, as Mech)."""
     eq = model.equations()
+    if getattr(model, "stages", None):
+        return _staged_text(model, numeric, latex, mathematica_style)
     if latex:
         return _equations_latex(model, eq, numeric)
     fmt = mathematica if mathematica_style else sp.sstr
@@ -126,6 +128,20 @@ def equations_text(model, numeric=False, latex=False, mathematica_style=False) -
     lines += ["", "gamma: Phi_q qdd = gamma            [Mech: AccelerationTerms[All] = -gamma]"]
     lines += _rows([((tag(i), show(eq.gamma[i])), eq.labels[i]) for i in range(m)])
     return "\n".join(lines).rstrip() + "\n"
+
+
+def _staged_text(model, numeric, latex, mathematica_style) -> str:
+    """A model with stages (Mech's TimeSwitch): each stage's system in turn, under a
+    heading with its time range (mechgen.model.stages)."""
+    times = ", ".join(f"{t:g}" for t in model.switch_times)
+    out = []
+    for s in model.stages:
+        head = (f"Stage {s.number} of {len(model.stages)} '{s.name}': {s.range_text()}  "
+                f"(switches at t = {times}; positions continuous, velocities may jump)")
+        text = equations_text(model.stage_view(s), numeric, latex, mathematica_style)
+        out.append(("% " if latex else "") + head + "\n" + ("" if latex else "=" * len(head)
+                                                             + "\n") + text)
+    return "\n".join(out)
 
 
 def _latex_names(eq):

@@ -7,6 +7,7 @@ import sympy as sp
 
 from ..errors import ModelError
 from .geometry import T
+from .stages import staged_rows
 
 
 def derivative_symbols(coords):
@@ -55,11 +56,10 @@ def expand(model) -> Equations:
     if not model.constraints:
         raise ModelError(f"model '{model.name}' has no constraints", where=where)
     exprs, labels, rows = [], [], []
-    for con in model.constraints:
-        for k, (expr, label) in enumerate(con.rows()):
-            exprs.append(sp.sympify(expr))
-            labels.append(label)
-            rows.append((con.number, k))
+    for number, k, expr, label in _rows(model):
+        exprs.append(sp.sympify(expr))
+        labels.append(label)
+        rows.append((number, k))
     q = sp.Matrix(model.coords)
     qd_syms, qdd_syms = derivative_symbols(model.coords)
     qd, qdd = sp.Matrix(qd_syms), sp.Matrix(qdd_syms)
@@ -87,6 +87,15 @@ def expand(model) -> Equations:
     return Equations(q=q, qd=qd, qdd=qdd, phi=phi, phi_q=phi_q, phi_t=phi_t, nu=-phi_t,
                      gamma=gamma, labels=tuple(labels), rows=tuple(rows),
                      params=tuple(model.param_symbols))
+
+
+def _rows(model):
+    """(constraint number, component, expression, label) per row of Φ; a model with stages
+    joins its stage rows as Piecewise in T (mechgen.model.stages)."""
+    if getattr(model, "stages", None):
+        return staged_rows(model)
+    return [(con.number, k, expr, label) for con in model.constraints
+            for k, (expr, label) in enumerate(con.rows())]
 
 
 def total_derivative(expr, coords, order: int = 1):

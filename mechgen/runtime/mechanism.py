@@ -30,6 +30,7 @@ from .locks import singularities as find_singularities
 from .quantity import symbolic_side
 from .results import Solution, Sweep
 from .singular import null_space, solve_q
+from .stages import staged_singularities, staged_sweep
 
 
 def load(path_or_module, tier=None, **kwargs) -> "Mechanism":
@@ -281,7 +282,10 @@ class Mechanism:
         t0, t1 = finite(t0, "t0"), finite(t1, "t1")
         if isinstance(n, bool) or int(n) != n or n < 2:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
-        return find_singularities(self, np.linspace(t0, t1, int(n)), self._start(guess))
+        ts = np.linspace(t0, t1, int(n))
+        if getattr(self.module, "SWITCH_TIMES", ()):     # stage by stage (runtime.stages)
+            return staged_singularities(self, ts, self._start(guess))
+        return find_singularities(self, ts, self._start(guess))
 
     # -- sweeps -----------------------------------------------------------------------
     def sweep(self, t0, t1, n, level="position", guess=None, method=None, tol=None,
@@ -293,6 +297,12 @@ class Mechanism:
         if params is not None:
             return self.design_sweep(t0, t1, n, params, level=level, guess=guess,
                                      method=method, tol=tol, maxit=maxit, times=times)
+        if getattr(self.module, "SWITCH_TIMES", ()):
+            # a model with stages: a sweep across a switch runs stage by stage
+            staged = staged_sweep(self, t0, t1, n, times, guess=guess, level=level,
+                                  method=method, tol=tol, maxit=maxit)
+            if staged is not None:
+                return staged
         lev = self._level(level)
         meth = self._method(method)
         ts = sweep_times(t0, t1, n, times)
