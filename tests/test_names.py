@@ -33,7 +33,7 @@ AS_COORDINATES = dict(ORDINARY, slide="q", twice="t", swing="k", kepler="i", str
 AS_LOCALS = dict(ORDINARY, **dict(zip(PARAMS, ("out", "math", "np", "njit", "abs", "range",
                                               "info", "piv", "_t0", "_sin_Th3", "N_COORDS",
                                               "_iters", "__x"))),
-                 slide="qp", twice="_u", swing="qd_", kepler="det", stroke="ts", rate="INFO",
+                 slide="qp", twice="_u", swing="qd_", kepler="det", stroke="ts", rate="STATUS",
                  turn="Q", lag="maxit", ratio="xtol")
 
 
@@ -178,7 +178,7 @@ def test_names_of_the_module_are_read_from_its_sources():
     from mechgen.compiler.names import identifiers, module_words
     words = module_words()
     for name in ("q", "t", "p", "out", "tol", "xtol", "maxit", "info", "piv", "ts", "q0",
-                 "Q", "QD", "QDD", "INFO", "math", "np", "njit", "abs", "range", "N_COORDS",
+                 "Q", "QD", "QDD", "STATUS", "math", "np", "njit", "abs", "range", "N_COORDS",
                  "_turn", "_gauss", "sweep", "SING_RTOL", "GAVE_UP", "BRANCH_RATIO"):
         assert name in words, name
     # the library's own locals are not: they never share a scope with a model's names

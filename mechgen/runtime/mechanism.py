@@ -28,7 +28,7 @@ from .locks import singularities as find_singularities
 from .quantity import symbolic_side
 from .results import Solution, Sweep
 from .singular import null_space
-from .sweeping import linspace
+from .sweeping import times as sweep_times_of
 from .sweeping import run as run_sweep
 
 
@@ -68,13 +68,27 @@ class Mechanism:
         self.method = method
         self.model = None      # the symbolic model, when built by mechgen.compile
         self.symbolic = None   # its evaluator (evaluate, derivative, level), attached there
-        self.last: Solution | None = None
+        self._last = None      # a Solution, or (sweep, index) until asked for (see last)
         self._info = np.zeros(POINT_INFO_SIZE)
         self._none = np.empty(0)    # qd, qdd of a solve that does not ask for them
 
     def __repr__(self):
         return (f"<Mechanism {self.name!r}: {self.n} coordinates, {self.m} equations, "
                 f"parameters {self.parameters}>")
+
+    @property
+    def last(self):
+        """The last configuration solved (Mech's LastSolve[]): a Solution, or None. After
+        a sweep it is the sweep's last point, made into a Solution when first asked for."""
+        last = self._last
+        if last.__class__ is tuple:
+            sw, k = last
+            last = self._last = sw[k]
+        return last
+
+    @last.setter
+    def last(self, value):
+        self._last = value
 
     # -- parameters -------------------------------------------------------------------
     @property
@@ -289,7 +303,7 @@ class Mechanism:
         meth = self._method(method)
         if times is None and t0.__class__ is float and t1.__class__ is float and \
                 n.__class__ is int and n >= 1 and t0 - t0 == 0.0 and t1 - t1 == 0.0:
-            ts = linspace(t0, t1, n)                # plain numbers: no further checks
+            ts = sweep_times_of(t0, t1, n)          # plain numbers: no further checks
         else:
             ts = sweep_times(t0, t1, n, times)
         tol = self.tol if tol is None else positive_tol(tol)

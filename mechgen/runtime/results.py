@@ -17,6 +17,7 @@ __all__ = ["Solution", "Sweep", "write_csv", "_lookup"]
 
 _NONE = np.empty(0)             # the jumps and crossings of a sweep that has none
 _NONE.flags.writeable = False
+_INT16 = np.dtype(np.int16)
 
 
 def _status_rows(status, N):
@@ -131,7 +132,7 @@ class Sweep:
         self.Q = Q
         self.QD = QD
         self.QDD = QDD
-        self._status = status if status is not None and status.dtype == np.int16 \
+        self._status = status if status.__class__ is np.ndarray and status.dtype is _INT16 \
             else _status_rows(status, Q.shape[0])
         self._report = report
         self.jumps = self.crossings = _NONE

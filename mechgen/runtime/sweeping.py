@@ -29,11 +29,11 @@ _NO_ROWS = {}       # n -> an empty (0, n) array: QD, QDD of a sweep that does n
 
 
 def no_rows(n) -> np.ndarray:
-    """A read-only (0, n) array: what the compiled sweeps get for a level not stored."""
+    """A (0, n) array: what the compiled sweeps get for a level not stored (writeable, as
+    the arrays they fill: the same compiled code serves both; it holds nothing)."""
     arr = _NO_ROWS.get(n)
     if arr is None:
         arr = _NO_ROWS[n] = np.empty((0, n))
-        arr.flags.writeable = False
     return arr
 
 
@@ -52,6 +52,20 @@ def linspace(t0, t1, n) -> np.ndarray:
     else:
         ts += t0
     return ts
+
+
+_TIMES = {}         # the times of the last plain sweep: (t0, t1, n) -> its times
+
+
+def times(t0, t1, n) -> np.ndarray:
+    """linspace(t0, t1, n), copied from the last sweep's when it asked for the same."""
+    key = (t0, t1, n)
+    ts = _TIMES.get(key)
+    if ts is None:
+        ts = linspace(t0, t1, n)
+        _TIMES.clear()
+        _TIMES[key] = ts
+    return ts.copy()
 
 
 def _given(arr, what, N, cols, dtype):
@@ -146,7 +160,14 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None) -> Sweep:
     """A checked sweep: the compiled loops, the result, its warnings, or the error of the
     point where it stopped (carrying the points solved before it as ``.sweep``)."""
     N, n = ts.shape[0], mech.n
-    Q, QD, QDD, S = out_arrays(out, N, n, lev)
+    if out is None:
+        Q = np.empty((N, n))
+        QD = np.empty((N, n)) if lev >= _VEL else no_rows(n)
+        QDD = np.empty((N, n)) if lev >= _ACC else no_rows(n)
+        S = np.empty((N, STATUS_COLUMNS), dtype=np.int16)
+    else:
+        Q, QD, QDD, S = out_arrays(out, N, n, lev)
+        mech.last       # a sweep's last point, which these arrays may hold, made a Solution
     report = np.zeros(REPORT_SIZE)
     done, careful = compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report)
     if done == N:
@@ -155,8 +176,9 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None) -> Sweep:
     else:
         sw = Sweep(mech, ts[:done], Q[:done], QD[:done] if lev >= _VEL else None,
                    QDD[:done] if lev >= _ACC else None, S[:done], report)
-    if careful < done and (report[REPORT_JUMP] != 0.0 or
-                           np.any(S[careful:done, STATUS_CODE] == THROUGH_SINGULAR)):
+    # (the careful sweep marks an accepted point JUMP or THROUGH_SINGULAR, never another
+    # status other than OK)
+    if careful < done and S[careful:done, STATUS_CODE].any():
         _flag(mech, sw, report)
     if done < N:
         try:
@@ -165,8 +187,9 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None) -> Sweep:
             exc.sweep = sw
             raise
     if done:
-        mech._report_redundancy(Q[0], ts[0])
-        mech.last = sw[done - 1]
+        if mech.m > n:
+            mech._report_redundancy(Q[0], ts[0])
+        mech.last = (sw, done - 1)          # made a Solution when asked for
     return sw
 
 
