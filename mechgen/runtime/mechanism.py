@@ -68,7 +68,7 @@ class Mechanism:
         self.method = method
         self.model = None      # the symbolic model, when built by mechgen.compile
         self.symbolic = None   # its evaluator (evaluate, derivative, level), attached there
-        self._last = None      # a Solution, or (sweep, index) until asked for (see last)
+        self._last = None      # a Solution, or (t, q, qd, qdd) until asked for (see last)
         self._info = np.zeros(POINT_INFO_SIZE)
         self._none = np.empty(0)    # qd, qdd of a solve that does not ask for them
 
@@ -82,8 +82,7 @@ class Mechanism:
         a sweep it is the sweep's last point, made into a Solution when first asked for."""
         last = self._last
         if last.__class__ is tuple:
-            sw, k = last
-            last = self._last = sw[k]
+            last = self._last = Solution(self, *last)
         return last
 
     @last.setter

@@ -167,7 +167,6 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None) -> Sweep:
         S = np.empty((N, STATUS_COLUMNS), dtype=np.int16)
     else:
         Q, QD, QDD, S = out_arrays(out, N, n, lev)
-        mech.last       # a sweep's last point, which these arrays may hold, made a Solution
     report = np.zeros(REPORT_SIZE)
     done, careful = compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report)
     if done == N:
@@ -189,7 +188,9 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None) -> Sweep:
     if done:
         if mech.m > n:
             mech._report_redundancy(Q[0], ts[0])
-        mech.last = (sw, done - 1)          # made a Solution when asked for
+        k = done - 1                        # the last point, a Solution when asked for
+        mech.last = (ts[k], Q[k].copy(), QD[k].copy() if lev >= _VEL else None,
+                     QDD[k].copy() if lev >= _ACC else None)
     return sw
 
 
