@@ -47,11 +47,13 @@ POINT_RESIDUAL = 4          # solve_point: max |Φ| of the solution
 POINT_PIVOT = 5             # solve_point: its pivot ratio
 POINT_INFO_SIZE = 6
 
-# A sweep's per-point record: STATUS[k, column], a small integer array (int16) of one or
-# two columns, written for every point the sweep accepts (and the one where it stops).
+# A sweep's per-point record: STATUS[k, column], a small integer array (int16) of one to
+# three columns, written for every point the sweep accepts (and the one where it stops);
+# a sweep writes the columns its STATUS has.
 STATUS_CODE = 0             # one of the status codes above (OK, JUMP, THROUGH_SINGULAR)
 STATUS_ITERATIONS = 1       # Newton iterations of the point (capped at STATUS_MAX)
-STATUS_COLUMNS = 2
+STATUS_SUBSTEPS = 2         # substeps taken on the way to it (capped at STATUS_MAX)
+STATUS_COLUMNS = 3
 STATUS_MAX = 32767
 # A sweep's report (one float vector a sweep): the info vector of the point where it
 # stopped (the first four entries, as INFO_* above), then
@@ -91,7 +93,7 @@ HEADER_CONSTANTS = (
     ("The solvers' info vectors; a sweep's STATUS columns and report entries",
      ("INFO_ITERATIONS", "INFO_RESIDUAL", "INFO_RANK", "INFO_METHOD", "POSITION_INFO_SIZE",
       "POINT_RESIDUAL", "POINT_PIVOT", "POINT_INFO_SIZE", "STATUS_CODE", "STATUS_ITERATIONS",
-      "STATUS_COLUMNS", "STATUS_MAX", "REPORT_STATUS", "REPORT_REACHED", "REPORT_FAILED",
+      "STATUS_SUBSTEPS", "STATUS_COLUMNS", "STATUS_MAX", "REPORT_STATUS", "REPORT_REACHED", "REPORT_FAILED",
       "REPORT_JUMP", "REPORT_SIZE")),
     ("Pivot thresholds (rows of Φ_q scaled to 1) and the smallest size counted as non-zero",
      ("PIVOT_RTOL", "SING_RTOL", "TINY")),

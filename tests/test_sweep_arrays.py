@@ -34,6 +34,7 @@ def test_a_position_sweep_has_no_velocity_arrays(qr):
     info = sw.info
     assert info.shape == (201, 7) and np.all(info[:, 4] == OK)
     assert np.array_equal(info[:, 0], sw.iterations)
+    assert np.all(sw.substeps >= 0) and np.array_equal(info[:, 5], sw.substeps)
     vel = qr.sweep(0.0, 1.0, 201, level="velocity")
     assert vel.QD.shape == (201, qr.n) and vel.QDD is None
     with pytest.raises(KeyError, match="'X4dd' needs a sweep at level acceleration"):
@@ -98,7 +99,7 @@ def test_out_reuses_the_callers_arrays_with_the_same_numbers(qr):
     ({"qdd": np.empty((11, 18))[:, ::2]}, "qdd must be C-contiguous"),
     ({"q": [[0.0] * 9] * 11}, "q must be a numpy array, got list"),
     ({"status": np.empty((11, 2))}, "status must have dtype int16, got float64"),
-    ({"status": np.empty((11, 3), dtype=np.int16)}, r"status must have shape \(11, 2\)"),
+    ({"status": np.empty((11, 4), dtype=np.int16)}, r"status must have shape \(11, 3\)"),
     ({"Q": np.empty((11, 9))}, r"unknown key\(s\) 'Q'"),
     (np.empty((11, 9)), "out must be a dict"),
 ])
@@ -122,7 +123,7 @@ def test_out_refuses_read_only_arrays_and_smaller_sweeps(qr):
     # a one-column status array: the codes only
     S1 = np.empty((11, 1), dtype=np.int16)
     sw = qr.sweep(0.0, 1.0, 11, out={"status": S1})
-    assert sw.iterations is None and np.all(sw.status == OK)
+    assert sw.iterations is None and sw.substeps is None and np.all(sw.status == OK)
 
 
 def test_a_failed_sweep_carries_what_it_solved(qr_slider):

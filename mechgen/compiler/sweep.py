@@ -1,7 +1,7 @@
 """The fast sweep: the whole body of ``sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD,
 STATUS)``, the quick path of a sweep for the stretches where nothing is hard. It stores
 what the caller gives arrays for: QD and QDD with no rows (a position sweep) are not
-written, nor the iterations where STATUS has one column.
+written, nor the STATUS columns it does not have (protocol.STATUS_*).
 
 Per point: a Taylor predictor from the last point's velocity and acceleration, the sorted
 position solve and the combined velocity/acceleration pass, then sweep()'s branch test.
@@ -107,6 +107,7 @@ def sweep_fast_body(step=None, pairs=()):
         Code("STATUS[k, STATUS_CODE] = OK"),
         If(Code("_sw_iterations"), (
             Code("STATUS[k, STATUS_ITERATIONS] = min(info[0], STATUS_MAX)"),)),
+        If(Code("_sw_substeps"), (Code("STATUS[k, STATUS_SUBSTEPS] = 0"),)),
     ]
     loop = Loop(Code("for k in range(ts.shape[0])"),
                 tuple([Code("t = ts[k]")] + warm + [predictor] + solve + checks + keep))
@@ -127,6 +128,7 @@ def sweep_fast_body(step=None, pairs=()):
              "sweep)"),
         Code("_sw_keep_dd = QDD.shape[0] > 0"),
         Code("_sw_iterations = STATUS.shape[1] > STATUS_ITERATIONS"),
+        Code("_sw_substeps = STATUS.shape[1] > STATUS_SUBSTEPS"),
         *init,
         loop,
         Code("return ts.shape[0]"),

@@ -15,14 +15,14 @@ import warnings
 import numpy as np
 
 from ..errors import MechgenError
-from ..protocol import LEVEL, LEVELS, STATUS_CODE, STATUS_COLUMNS
+from ..protocol import LEVEL, LEVELS, STATUS_CODE
 from .guards import finite
 from .quantity import _lookup, column_names
 from .results import Sweep, pandas, write_csv
 
-# A design table's per-point record: the STATUS rows of a sweep (int16: status code,
-# iterations; protocol.STATUS_*). INFO is its name in a DesignTable.
-DESIGN_INFO_COLUMNS = STATUS_COLUMNS
+# A design table's per-point record: the first column of a sweep's STATUS rows (int16: the
+# status code, protocol.STATUS_*), 2 bytes a point. INFO is its name in a DesignTable.
+DESIGN_INFO_COLUMNS = STATUS_CODE + 1
 ON_FAIL = ("warn", "raise", "ignore")
 
 

@@ -289,7 +289,8 @@ class Mechanism:
         is None, ``sw["X4d"]`` raises KeyError). ``out`` writes the results into arrays
         the caller owns instead of fresh ones: a dict ``{"q": Q, "qd": QD, "qdd": QDD,
         "status": S}`` (any of them; Q, QD, QDD float64 of shape (n, coordinates), S int16
-        of shape (n, 2) or (n, 1), all C-contiguous), a tuple ``(Q,)``, ``(Q, QD)`` or
+        of shape (n, 3): status code, iterations, substeps, or its first 1 or 2 columns;
+        all C-contiguous), a tuple ``(Q,)``, ``(Q, QD)`` or
         ``(Q, QD, QDD)``, or a Sweep of as many points and at least this level from an
         earlier call, whose arrays are then overwritten. The result's arrays are views of
         them."""

@@ -8,7 +8,8 @@ import csv
 import numpy as np
 
 from ..protocol import (INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP, INFO_STATUS, JUMP, LEVEL,
-                        LEVELS, REPORT_JUMP, STATUS_CODE, STATUS_COLUMNS, STATUS_ITERATIONS)
+                        LEVELS, REPORT_JUMP, STATUS_CODE, STATUS_COLUMNS, STATUS_ITERATIONS,
+                        STATUS_SUBSTEPS, INFO_SUBSTEPS)
 from .events import extrema as _extrema, roots as _roots
 from .interpolate import interpolate as _interpolate
 from .quantity import _lookup, column_names, level_of
@@ -30,6 +31,8 @@ def _status_rows(status, N):
         rows = np.empty((status.shape[0], STATUS_COLUMNS), dtype=np.int16)
         rows[:, STATUS_CODE] = status[:, INFO_STATUS]
         rows[:, STATUS_ITERATIONS] = status[:, INFO_ITERATIONS]
+        rows[:, STATUS_SUBSTEPS] = status[:, INFO_SUBSTEPS] if status.shape[1] > INFO_SUBSTEPS \
+            else 0
         return rows
     return status
 
@@ -150,15 +153,25 @@ class Sweep:
         return self._status[:, STATUS_ITERATIONS]
 
     @property
+    def substeps(self):
+        """The substeps each point took on the way to it (int16), or None where not
+        recorded."""
+        if self._status.shape[1] <= STATUS_SUBSTEPS:
+            return None
+        return self._status[:, STATUS_SUBSTEPS]
+
+    @property
     def info(self) -> np.ndarray:
         """The wide per-point rows of earlier versions (float, protocol.INFO_COLUMNS):
-        iterations and status filled, the size of the first jump at its point, NaN in
-        the columns a sweep no longer records (residual, rank, method, substeps)."""
+        iterations, status and substeps filled, the size of the first jump at its point,
+        NaN in the columns a sweep no longer records (residual, rank, method)."""
         N = len(self)
         info = np.full((N, INFO_COLUMNS), np.nan)
         info[:, INFO_STATUS] = self.status
         its = self.iterations
         info[:, INFO_ITERATIONS] = np.nan if its is None else its
+        sub = self.substeps
+        info[:, INFO_SUBSTEPS] = np.nan if sub is None else sub
         info[:, INFO_JUMP] = 0.0
         jumped = self.status == JUMP
         if self._report is not None and np.any(jumped):

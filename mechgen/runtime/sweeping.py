@@ -88,7 +88,7 @@ def _given(arr, what, N, cols, dtype):
 def out_arrays(out, N, n, lev):
     """The (Q, QD, QDD, STATUS) a sweep of N points at level ``lev`` writes into: fresh
     arrays (np.empty) for what ``out`` does not give. ``out`` is None, a dict with keys
-    "q", "qd", "qdd", "status" (any of them), a tuple (Q,), (Q, QD) or (Q, QD, QDD), or a
+    "q", "qd", "qdd", "status" (any of them; status of 1 to STATUS_COLUMNS columns), a tuple (Q,), (Q, QD) or (Q, QD, QDD), or a
     Sweep of the same size and at least this level from an earlier call (its arrays are
     reused: that sweep's numbers are overwritten)."""
     given = {}
@@ -124,7 +124,7 @@ def out_arrays(out, N, n, lev):
         S = np.empty((N, STATUS_COLUMNS), dtype=np.int16)
     else:
         if isinstance(S, np.ndarray) and S.ndim == 2 and S.shape[:1] == (N,) and \
-                S.shape[1] in (1, STATUS_COLUMNS):
+                1 <= S.shape[1] <= STATUS_COLUMNS:
             cols = S.shape[1]
         else:
             cols = STATUS_COLUMNS

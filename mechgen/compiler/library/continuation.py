@@ -14,7 +14,7 @@ from .toy import (ACCELERATION, BRANCH_ATOL, BRANCH_HMIN, BRANCH_NEAR, BRANCH_RA
                   BRANCH_TURN, INFO_ITERATIONS, JUMP, LEVEL, METHOD_FULL, N_COORDS, N_EQS,
                   OK, POSITION_INFO_SIZE, REPORT_FAILED, REPORT_JUMP, REPORT_REACHED,
                   REPORT_SIZE, REPORT_STATUS, SORTED, STATUS_CODE, STATUS_ITERATIONS,
-                  STATUS_MAX, THROUGH_SINGULAR, TINY, VELOCITY,
+                  STATUS_MAX, STATUS_SUBSTEPS, THROUGH_SINGULAR, TINY, VELOCITY,
                   derivatives_sorted, jacobian_det, outputs, outputs_d, outputs_dd, phi,
                   points, sweep_fast, njit)
 
@@ -42,7 +42,8 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
 
     Rows of Q (QD at level >= 1, QDD at level 2: below it they may have no rows) and
     STATUS are filled up to the returned count: STATUS[k, STATUS_CODE] the point's status
-    and, where STATUS has that column, STATUS[k, STATUS_ITERATIONS] its Newton iterations.
+    and, where STATUS has those columns, STATUS[k, STATUS_ITERATIONS] its Newton iterations
+    and STATUS[k, STATUS_SUBSTEPS] the substeps taken on the way to it.
     Status JUMP marks a point reached by a jump the step control could not avoid (the
     first jump's size goes to REPORT[REPORT_JUMP]), THROUGH_SINGULAR a point reached at or
     through a singular configuration (det Φ_q changed sign, or the tests failed next to
@@ -53,6 +54,7 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
     REPORT[REPORT_REACHED] its time and REPORT[REPORT_FAILED] the time that failed."""
     n = N_COORDS
     iterations = STATUS.shape[1] > STATUS_ITERATIONS
+    substeps_kept = STATUS.shape[1] > STATUS_SUBSTEPS
     for j in range(REPORT_SIZE):
         REPORT[j] = 0.0
     q = q0.copy()
@@ -234,6 +236,8 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
                     STATUS[k, STATUS_CODE] = status
                     if iterations:
                         STATUS[k, STATUS_ITERATIONS] = min(info[INFO_ITERATIONS], STATUS_MAX)
+                    if substeps_kept:
+                        STATUS[k, STATUS_SUBSTEPS] = min(substeps, STATUS_MAX)
                     for j in range(n):
                         Q[k, j] = qa[j]
                     if level >= 1:
@@ -289,6 +293,8 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
         STATUS[k, STATUS_CODE] = JUMP if jump > 0.0 else THROUGH_SINGULAR if crossed else OK
         if iterations:
             STATUS[k, STATUS_ITERATIONS] = min(info[INFO_ITERATIONS], STATUS_MAX)
+        if substeps_kept:
+            STATUS[k, STATUS_SUBSTEPS] = min(substeps, STATUS_MAX)
         for j in range(n):
             Q[k, j] = qa[j]
         if level >= 1:

@@ -29,6 +29,7 @@ from ...protocol import (ACCELERATION, BRANCH_ATOL, BRANCH_HMIN, BRANCH_NEAR, BR
                          POINT_PIVOT, POINT_RESIDUAL, POSITION_INFO_SIZE, REPORT_FAILED,
                          REPORT_JUMP, REPORT_REACHED, REPORT_SIZE, REPORT_STATUS, SING_RTOL,
                          SINGULAR, STATUS_CODE, STATUS_COLUMNS, STATUS_ITERATIONS, STATUS_MAX,
+                         STATUS_SUBSTEPS,
                          THROUGH_SINGULAR, TINY, VELOCITY)
 
 __all__ = [
@@ -39,7 +40,7 @@ __all__ = [
     "PIVOT_RTOL", "POINT_INFO_SIZE", "POINT_PIVOT", "POINT_RESIDUAL", "POSITION_INFO_SIZE",
     "REPORT_FAILED", "REPORT_JUMP", "REPORT_REACHED", "REPORT_SIZE", "REPORT_STATUS",
     "SING_RTOL", "SINGULAR", "STATUS_CODE", "STATUS_COLUMNS", "STATUS_ITERATIONS",
-    "STATUS_MAX", "THROUGH_SINGULAR", "TINY", "VELOCITY",
+    "STATUS_MAX", "STATUS_SUBSTEPS", "THROUGH_SINGULAR", "TINY", "VELOCITY",
     # the model constants
     "N_COORDS", "N_EQS", "SORTED", "LEVEL", "ALL_SOLVED", "INLINE",
     # the model functions
@@ -251,4 +252,6 @@ def sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS):
         STATUS[k, STATUS_CODE] = OK
         if STATUS.shape[1] > STATUS_ITERATIONS:
             STATUS[k, STATUS_ITERATIONS] = min(info[INFO_ITERATIONS], STATUS_MAX)
+        if STATUS.shape[1] > STATUS_SUBSTEPS:
+            STATUS[k, STATUS_SUBSTEPS] = 0
     return ts.shape[0]
