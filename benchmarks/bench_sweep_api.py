@@ -4,11 +4,14 @@ Run from anywhere:  python benchmarks/bench_sweep_api.py [--quick] [--json FILE]
 
 The quick-return of seed 001 (generated/quick_return.py, 9 coordinates), T in [0, 1], at
 10^3, 10^4, 10^5 and 10^6 points, positions only and all levels. In one process, in
-interleaved rounds (every method once per round, in turn), the best (with --median: the
+interleaved rounds (every method at both levels once per round, in turn), the best (with --median: the
 median) time per point of:
 
 - ``api``: ``mech.sweep(0.0, 1.0, N, level=...)``, fresh result arrays each call (the
   result dropped after the call, as a user's loop drops the one before);
+- ``api_held``: the same while the previous result is still held (``sw =
+  mech.sweep(...)`` in a loop: its memory cannot be reused, the new result's pages are
+  fresh);
 - ``api_out``: the same writing into the arrays of the previous result
   (``mech.sweep(..., out=sw)``);
 - ``compiled``: the module's own loop, ``sweep_fast(ts, q0, p, ...)`` writing into
@@ -42,7 +45,7 @@ sys.path.insert(0, HERE)
 MODULE = os.path.join(ROOT, "generated", "quick_return.py")
 SIZES = (10**3, 10**4, 10**5, 10**6)
 LEVELS = ("position", "acceleration")
-METHODS = ("api", "api_out", "compiled", "hand")
+METHODS = ("api", "api_held", "api_out", "compiled", "hand")
 
 
 def _methods(mech, N, level):
@@ -66,6 +69,10 @@ def _methods(mech, N, level):
         sw = mech.sweep(0.0, 1.0, N, level=level)
         return sw.Q, sw.QD, sw.QDD
 
+    def api_held():
+        keep["held"] = sw = mech.sweep(0.0, 1.0, N, level=level)
+        return sw.Q, sw.QD, sw.QDD
+
     def api_out():
         sw = mech.sweep(0.0, 1.0, N, level=level, out=keep["out"])
         return sw.Q, sw.QD, sw.QDD
@@ -80,14 +87,15 @@ def _methods(mech, N, level):
         baselines.hand_sorted_sweep(ts, lev, mech.tol, H)
         return H
 
-    return {"api": api, "api_out": api_out, "compiled": compiled, "hand": hand}
+    return {"api": api, "api_held": api_held, "api_out": api_out, "compiled": compiled,
+            "hand": hand}
 
 
 def _differences(mech, results):
     """Largest |difference| of each method's numbers from the compiled loop's."""
     Q, QD, QDD = results["compiled"]
     out = {}
-    for name in ("api", "api_out"):
+    for name in ("api", "api_held", "api_out"):
         q, qd, qdd = results[name]
         d = float(np.abs(q - Q).max())
         for a, b in ((qd, QD), (qdd, QDD)):
@@ -104,24 +112,32 @@ def _differences(mech, results):
     return out
 
 
-def measure(mech, N, level, rounds, stat=min):
-    """{method: ns per point (``stat`` of the rounds)}, {method: max difference from
-    compiled}."""
-    fns = _methods(mech, N, level)
+def measure(mech, N, rounds, stat=min):
+    """For each level: {method: ns per point (``stat`` of the rounds)} and {method: max
+    difference from compiled}; both levels' methods interleaved in every round."""
+    fns, diffs = {}, {}
+    for level in LEVELS:
+        these = _methods(mech, N, level)
+        results = {name: fn() for name, fn in these.items()}   # warm: compile, first touch
+        diffs[level] = _differences(mech, results)
+        del results
+        fns.update({(level, name): fn for name, fn in these.items()})
     reps = max(1, 20_000 // N)          # timing samples of at least ~20,000 points
-    results = {name: fn() for name, fn in fns.items()}      # warm: compile, first touch
-    diffs = _differences(mech, results)
-    del results
-    times = {name: [] for name in fns}
-    for _ in range(rounds):
-        for name, fn in fns.items():
-            gc.collect()
-            t0 = time.perf_counter()
-            for _ in range(reps):
-                r = fn()
-                del r                   # a fresh result is dropped before the next call
-            times[name].append((time.perf_counter() - t0) / (reps * N) * 1e9)
-    return {name: stat(v) for name, v in times.items()}, diffs
+    times = {key: [] for key in fns}
+    # api_held in rounds of its own: the result it holds would keep api from reusing the
+    # memory of the one it dropped (a Mechanism keeps one large block for reuse)
+    for group in ([k for k in fns if k[1] != "api_held"], [k for k in fns if k[1] == "api_held"]):
+        for _ in range(rounds):
+            for key in group:
+                fn = fns[key]
+                gc.collect()
+                t0 = time.perf_counter()
+                for _ in range(reps):
+                    r = fn()
+                    del r               # a fresh result is dropped before the next call
+                times[key].append((time.perf_counter() - t0) / (reps * N) * 1e9)
+    ns = {level: {name: stat(times[(level, name)]) for name in METHODS} for level in LEVELS}
+    return ns, diffs
 
 
 def main(argv=None, sizes=SIZES, rounds=None, quiet=False):
@@ -143,24 +159,29 @@ def main(argv=None, sizes=SIZES, rounds=None, quiet=False):
     say(f"mech.sweep against its compiled loop: {os.path.basename(MODULE)}, ns per point "
         f"({'median' if args.median else 'best'} of interleaved rounds)")
     say(f"{'points':>8} {'level':>12} " + " ".join(f"{m:>9}" for m in METHODS) +
-        f" {'api/comp':>9} {'out/comp':>9} {'hand/comp':>9}  max |diff| api, out, hand")
+        f" {'api/comp':>9} {'held/comp':>9} {'out/comp':>9} {'hand/comp':>9}"
+        "  max |diff| api, held, out, hand")
     for N in sizes:
-        per_level = {}
+        r = rounds or (3 if args.quick else (5 if N >= 10**6 else 9))
+        per_level, all_diffs = measure(mech, N, r, stat)
         for level in LEVELS:
-            r = rounds or (3 if args.quick else (5 if N >= 10**6 else 9))
-            ns, diffs = measure(mech, N, level, r, stat)
-            per_level[level] = ns
+            ns, diffs = per_level[level], all_diffs[level]
             row = dict(points=N, level=level, ns=ns, diffs=diffs,
                        api_ratio=ns["api"] / ns["compiled"],
+                       held_ratio=ns["api_held"] / ns["compiled"],
                        out_ratio=ns["api_out"] / ns["compiled"],
                        hand_ratio=ns["hand"] / ns["compiled"])
             rows.append(row)
             say(f"{N:>8} {level:>12} " + " ".join(f"{ns[m]:9.1f}" for m in METHODS) +
-                f" {row['api_ratio']:9.2f} {row['out_ratio']:9.2f} {row['hand_ratio']:9.2f}"
-                f"  {diffs['api']:.1e}, {diffs['api_out']:.1e}, {diffs['hand']:.1e}")
+                f" {row['api_ratio']:9.2f} {row['held_ratio']:9.2f} {row['out_ratio']:9.2f}"
+                f" {row['hand_ratio']:9.2f}  {diffs['api']:.1e}, {diffs['api_held']:.1e}, "
+                f"{diffs['api_out']:.1e}, {diffs['hand']:.1e}")
         pos, full = per_level["position"]["api"], per_level["acceleration"]["api"]
-        rows.append(dict(points=N, position_over_full=pos / full))
-        say(f"{N:>8} {'api: position / all levels':>40} = {pos / full:.2f}")
+        hpos, hfull = per_level["position"]["api_held"], per_level["acceleration"]["api_held"]
+        rows.append(dict(points=N, position_over_full=pos / full,
+                         held_position_over_full=hpos / hfull))
+        say(f"{N:>8} {'position / all levels:':>30} api {pos / full:.2f}, "
+            f"api_held {hpos / hfull:.2f}")
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(rows, fh, indent=1)

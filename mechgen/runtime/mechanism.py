@@ -301,15 +301,16 @@ class Mechanism:
         if lev is None:
             lev = self._level(level)
         meth = self._method(method)
-        if times is None and t0.__class__ is float and t1.__class__ is float and \
-                n.__class__ is int and n >= 1 and t0 - t0 == 0.0 and t1 - t1 == 0.0:
+        shared = times is None and t0.__class__ is float and t1.__class__ is float and \
+            n.__class__ is int and n >= 1 and t0 - t0 == 0.0 and t1 - t1 == 0.0
+        if shared:
             ts = sweep_times_of(t0, t1, n)          # plain numbers: no further checks
         else:
             ts = sweep_times(t0, t1, n, times)
         tol = self.tol if tol is None else positive_tol(tol)
         maxit = self.maxit if maxit is None else positive_count(maxit, "maxit")
         q0 = self.guess.copy() if guess is None else self._start(guess)
-        return run_sweep(self, ts, q0, lev, tol, maxit, meth, out)
+        return run_sweep(self, ts, q0, lev, tol, maxit, meth, out, shared)
 
     def design_sweep(self, t0, t1, n, params, level="position", guess=None, method=None,
                      tol=None, maxit=None, times=None, progress=None, on_fail="warn"):

@@ -11,6 +11,7 @@ branch jump. A position sweep touches no memory for velocities or accelerations.
 """
 from __future__ import annotations
 
+import sys
 import warnings
 
 import numpy as np
@@ -55,17 +56,72 @@ def linspace(t0, t1, n) -> np.ndarray:
 
 
 _TIMES = {}         # the times of the last plain sweep: (t0, t1, n) -> its times
+_SPARE_MIN = (32 << 20) // 8    # float64 entries: blocks from here on are kept (see _block)
 
 
 def times(t0, t1, n) -> np.ndarray:
-    """linspace(t0, t1, n), copied from the last sweep's when it asked for the same."""
+    """linspace(t0, t1, n), the last sweep's when it asked for the same: shared, to be
+    copied before a result holds it (run(..., shared=True) does)."""
     key = (t0, t1, n)
     ts = _TIMES.get(key)
     if ts is None:
         ts = linspace(t0, t1, n)
         _TIMES.clear()
         _TIMES[key] = ts
-    return ts.copy()
+    return ts
+
+
+def _block(mech, size) -> np.ndarray:
+    """``size`` float64 of memory for a sweep's arrays. A block the size of glibc's
+    largest cached one (32 MiB) or more is kept by the Mechanism (``_spare``) when handed
+    out, and handed out again (its first ``size`` entries) to the next sweep that fits in
+    it (and needs at least a quarter of it) once nothing holds it any more (no view of it
+    alive: the sweep it served was dropped). glibc hands such blocks back to the system at
+    once, and a sweep of a million points would otherwise fault its pages in afresh at
+    every call. At most one such block a Mechanism stays allocated after its sweep is
+    dropped."""
+    if size < _SPARE_MIN:
+        return np.empty(size)
+    spare, mech._spare = getattr(mech, "_spare", None), None
+    if spare is not None and size <= spare.shape[0] <= 4 * size and \
+            sys.getrefcount(spare) == 2:
+        mech._spare = spare     # referenced only here: no sweep holds a view of it
+        return spare[:size]
+    del spare
+    block = mech._spare = np.empty(size)
+    return block
+
+
+def fresh_arrays(ts, n, lev, shared, mech=None):
+    """(ts, Q, QD, QDD, STATUS) of a sweep at level ``lev``: views of one new block of
+    memory (the times copied into it when ``shared``). One block rather than five
+    arrays: freed, it goes back to the allocator whole and the next sweep of that size
+    reuses it, where separate arrays of a few hundred kilobytes each are handed back to
+    the system and their pages have to be faulted in again (100+ ns a point on a VM)."""
+    N = ts.shape[0]
+    rows = N * n
+    if rows < 4096:                 # small: separate arrays cost less to set up
+        return (ts.copy() if shared else ts, np.empty((N, n)),
+                np.empty((N, n)) if lev >= _VEL else no_rows(n),
+                np.empty((N, n)) if lev >= _ACC else no_rows(n),
+                np.empty((N, STATUS_COLUMNS), dtype=np.int16))
+    levels = 1 + (lev >= _VEL) + (lev >= _ACC)
+    status = -(-N * STATUS_COLUMNS // 4)            # int16 entries, in float64 units
+    size = N * shared + levels * rows + status
+    block = np.empty(size) if mech is None else _block(mech, size)
+    at = 0
+    if shared:
+        own = block[:N]
+        own[:] = ts
+        ts, at = own, N
+    Q = block[at:at + rows].reshape(N, n)
+    QD = QDD = no_rows(n)
+    if lev >= _VEL:
+        QD = block[at + rows:at + 2 * rows].reshape(N, n)
+    if lev >= _ACC:
+        QDD = block[at + 2 * rows:at + 3 * rows].reshape(N, n)
+    S = block[at + levels * rows:].view(np.int16)[:N * STATUS_COLUMNS]
+    return ts, Q, QD, QDD, S.reshape(N, STATUS_COLUMNS)
 
 
 def _given(arr, what, N, cols, dtype):
@@ -156,16 +212,16 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report):
                      report), 0
 
 
-def run(mech, ts, q0, lev, tol, maxit, meth, out=None) -> Sweep:
+def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False) -> Sweep:
     """A checked sweep: the compiled loops, the result, its warnings, or the error of the
-    point where it stopped (carrying the points solved before it as ``.sweep``)."""
+    point where it stopped (carrying the points solved before it as ``.sweep``).
+    ``shared``: ts is times()'s, copied before the result holds it."""
     N, n = ts.shape[0], mech.n
     if out is None:
-        Q = np.empty((N, n))
-        QD = np.empty((N, n)) if lev >= _VEL else no_rows(n)
-        QDD = np.empty((N, n)) if lev >= _ACC else no_rows(n)
-        S = np.empty((N, STATUS_COLUMNS), dtype=np.int16)
+        ts, Q, QD, QDD, S = fresh_arrays(ts, n, lev, shared, mech)
     else:
+        if shared:
+            ts = ts.copy()
         Q, QD, QDD, S = out_arrays(out, N, n, lev)
     report = np.zeros(REPORT_SIZE)
     done, careful = compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report)
