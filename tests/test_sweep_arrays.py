@@ -202,3 +202,23 @@ def test_design_tables_keep_their_statuses(qr_slider):
     assert all(two.residual(q, tt) <= 1e-10 for q, tt in zip(bad.Q, bad.t))
     one = tab.sweep(0)
     assert np.all(one.status == OK) and one.QDD.shape == (11, qr_slider.n)
+
+
+def test_a_sweep_held_is_never_written_by_the_next(qr, monkeypatch):
+    """Fresh arrays are views of one block; a Mechanism hands a large block out again only
+    once no view of it is alive (here every block counts as large)."""
+    from mechgen.runtime import sweeping
+    monkeypatch.setattr(sweeping, "_SPARE_MIN", 64)
+    a = qr.sweep(0.0, 1.0, 501, level="acceleration")
+    A, AD = a.Q.copy(), a.QD.copy()
+    b = qr.sweep(0.0, 0.5, 501, level="acceleration")
+    assert not np.shares_memory(a.Q, b.Q) and np.array_equal(a.Q, A)
+    B, tb = b.Q.copy(), b.t.copy()
+    del a
+    c = qr.sweep(0.0, 1.0, 501)                 # a's block is free: c may reuse it
+    assert np.array_equal(b.Q, B) and np.array_equal(b.t, tb)
+    assert not np.shares_memory(b.Q, c.Q) and np.abs(c.Q - A).max() <= 1e-12
+    C = c.Q.copy()
+    d = qr.sweep(0.0, 1.0, 501, level="velocity")
+    assert not np.shares_memory(c.Q, d.Q) and np.array_equal(c.Q, C)
+    assert np.abs(d.Q - A).max() <= 1e-12 and np.abs(d.QD - AD).max() <= 1e-10
