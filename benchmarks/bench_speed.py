@@ -97,7 +97,8 @@ def main():
     # the generated module's compiled sweep into preallocated arrays, as the hand-written
     # baseline is run (its quick path always solves velocities and accelerations too)
     mod, n = mech.module, mech.n
-    Qg, QDg, QDDg, INFOg = np.zeros((N, n)), np.zeros((N, n)), np.zeros((N, n)), np.zeros((N, 7))
+    Qg, QDg, QDDg = np.zeros((N, n)), np.zeros((N, n)), np.zeros((N, n))
+    INFOg = np.zeros((N, 3), dtype=np.int16)       # the STATUS rows (protocol.STATUS_*)
     q0 = np.array(mod.GUESS, dtype=float)
     mod.sweep_fast(ts[:5], q0, mech.p, mech.tol, mech.xtol, mech.maxit, Qg, QDg, QDDg, INFOg)
 

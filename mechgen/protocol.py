@@ -10,7 +10,7 @@ import hashlib
 import re
 
 MECHGEN_VERSION = "0.1.0"
-FORMAT_VERSION = 2          # the layout of a generated module that this runtime reads
+FORMAT_VERSION = 3          # the layout of a generated module that this runtime reads
 
 # Derivative levels, in order; a module is built up to one of them.
 LEVELS = ("position", "velocity", "acceleration")
@@ -37,21 +37,37 @@ STATUS_NAMES = {OK: "ok", NO_CONVERGENCE: "no convergence", SINGULAR: "singular"
                 NOT_FINITE: "not finite", GAVE_UP: "sorted solver gave up",
                 JUMP: "branch jump", THROUGH_SINGULAR: "through a singular configuration"}
 
-# Columns of a sweep's info array (INFO[k, column]).
+# The solvers' info vector (solve_position: the first four; solve_point: all six).
 INFO_ITERATIONS = 0         # Newton iterations of the point
 INFO_RESIDUAL = 1           # max |Φ| reached
 INFO_RANK = 2               # numeric rank of Φ_q
 INFO_METHOD = 3             # 0 sorted, 1 full Newton
-INFO_STATUS = 4             # one of the status codes above
-INFO_SUBSTEPS = 5           # substeps taken (on failure: the time last reached)
-INFO_JUMP = 6               # size of a jump (on failure: the time that failed)
-INFO_COLUMNS = 7
-# solve_position's info vector: the first four columns above
 POSITION_INFO_SIZE = 4
-# solve_point's info vector: [iterations, residual, rank, method, max|Φ|, pivot ratio]
-POINT_RESIDUAL = 4
-POINT_PIVOT = 5
+POINT_RESIDUAL = 4          # solve_point: max |Φ| of the solution
+POINT_PIVOT = 5             # solve_point: its pivot ratio
 POINT_INFO_SIZE = 6
+
+# A sweep's per-point record: STATUS[k, column], a small integer array (int16) of one to
+# three columns, written for every point the sweep accepts (and the one where it stops);
+# a sweep writes the columns its STATUS has.
+STATUS_CODE = 0             # one of the status codes above (OK, JUMP, THROUGH_SINGULAR)
+STATUS_ITERATIONS = 1       # Newton iterations of the point (capped at STATUS_MAX)
+STATUS_SUBSTEPS = 2         # substeps taken on the way to it (capped at STATUS_MAX)
+STATUS_COLUMNS = 3
+STATUS_MAX = 32767
+# A sweep's report (one float vector a sweep): the info vector of the point where it
+# stopped (the first four entries, as INFO_* above), then
+REPORT_STATUS = 4           # the status it stopped with (OK when it did not)
+REPORT_REACHED = 5          # the time of the last configuration reached on the way
+REPORT_FAILED = 6           # the time whose solve failed
+REPORT_JUMP = 7             # the size of the first branch jump (0.0: none)
+REPORT_SIZE = 8
+# The wide INFO rows of format 2 (seven floats a point), kept for readers of old results:
+# Sweep.info builds them from STATUS and the report.
+INFO_STATUS = 4
+INFO_SUBSTEPS = 5
+INFO_JUMP = 6
+INFO_COLUMNS = 7
 
 # Numerical thresholds shared by the generated solvers and the runtime's diagnostics.
 PIVOT_RTOL = 1e-10          # a pivot below this fraction of its row's size counts as zero
@@ -74,10 +90,11 @@ HEADER_CONSTANTS = (
     ("Status codes of the solvers; VELOCITY or ACCELERATION + a status: that solve failed",
      ("OK", "NO_CONVERGENCE", "SINGULAR", "NOT_FINITE", "GAVE_UP", "JUMP", "THROUGH_SINGULAR",
       "VELOCITY", "ACCELERATION")),
-    ("Columns of a sweep's INFO rows, and of the solvers' info vectors",
-     ("INFO_ITERATIONS", "INFO_RESIDUAL", "INFO_RANK", "INFO_METHOD", "INFO_STATUS",
-      "INFO_SUBSTEPS", "INFO_JUMP", "INFO_COLUMNS", "POSITION_INFO_SIZE", "POINT_RESIDUAL",
-      "POINT_PIVOT", "POINT_INFO_SIZE")),
+    ("The solvers' info vectors; a sweep's STATUS columns and report entries",
+     ("INFO_ITERATIONS", "INFO_RESIDUAL", "INFO_RANK", "INFO_METHOD", "POSITION_INFO_SIZE",
+      "POINT_RESIDUAL", "POINT_PIVOT", "POINT_INFO_SIZE", "STATUS_CODE", "STATUS_ITERATIONS",
+      "STATUS_SUBSTEPS", "STATUS_COLUMNS", "STATUS_MAX", "REPORT_STATUS", "REPORT_REACHED", "REPORT_FAILED",
+      "REPORT_JUMP", "REPORT_SIZE")),
     ("Pivot thresholds (rows of Φ_q scaled to 1) and the smallest size counted as non-zero",
      ("PIVOT_RTOL", "SING_RTOL", "TINY")),
     ("Step control of sweep() and sweep_fast()",

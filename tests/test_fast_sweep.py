@@ -31,12 +31,13 @@ def _fast_and_careful(mech, ts, guess=None):
     q0 = mech._start(guess)
     out = []
     for fn in ("sweep_fast", "sweep"):
-        Q, QD, QDD, INFO = (np.zeros((N, n)), np.zeros((N, n)), np.zeros((N, n)),
-                            np.zeros((N, 7)))
+        Q, QD, QDD = np.zeros((N, n)), np.zeros((N, n)), np.zeros((N, n))
+        STATUS = np.zeros((N, 2), dtype=np.int16)
         if fn == "sweep_fast":
-            done = mod.sweep_fast(ts, q0, mech.p, 1e-10, 1e-10, 50, Q, QD, QDD, INFO)
+            done = mod.sweep_fast(ts, q0, mech.p, 1e-10, 1e-10, 50, Q, QD, QDD, STATUS)
         else:
-            done = mod.sweep(ts, q0, mech.p, 2, 1e-10, 1e-10, 50, 1, Q, QD, QDD, INFO)
+            done = mod.sweep(ts, q0, mech.p, 2, 1e-10, 1e-10, 50, 1, Q, QD, QDD, STATUS,
+                             np.zeros(8))
         assert done == N, f"{fn} stopped at point {done}"
         out.append((Q, QD, QDD))
     return out

@@ -199,7 +199,7 @@ def test_header_constants_are_the_protocol_s(path):
     from mechgen import protocol
     values, _ = _top_level(_read(path))
     names = [n for _, group in protocol.HEADER_CONSTANTS for n in group]
-    assert {"OK", "GAVE_UP", "INFO_STATUS", "SING_RTOL", "BRANCH_NEAR"} <= set(names)
+    assert {"OK", "GAVE_UP", "STATUS_CODE", "SING_RTOL", "BRANCH_NEAR"} <= set(names)
     for name in names:
         assert name in values, f"{name} missing from the header of {os.path.basename(path)}"
         want = getattr(protocol, name)

@@ -48,10 +48,11 @@ def exact(t, p=P):
 def run_sweep(mod, ts, p=P, q0=GUESS, level=2, method=protocol.METHOD_AUTO):
     N, n = ts.size, toy.N_COORDS
     Q, QD, QDD = np.zeros((N, n)), np.zeros((N, n)), np.zeros((N, n))
-    INFO = np.zeros((N, protocol.INFO_COLUMNS))
+    STATUS = np.full((N, protocol.STATUS_COLUMNS), -1, dtype=np.int16)
+    REPORT = np.full(protocol.REPORT_SIZE, -1.0)
     count = mod.sweep(ts, np.array(q0, dtype=float), np.asarray(p, dtype=float), level, TOL,
-                      TOL, 50, method, Q, QD, QDD, INFO)
-    return count, Q, QD, QDD, INFO
+                      TOL, 50, method, Q, QD, QDD, STATUS, REPORT)
+    return count, Q, QD, QDD, (STATUS, REPORT)
 
 
 # -- linear algebra ----------------------------------------------------------------------
@@ -216,9 +217,12 @@ def test_jacobian_det_full_is_the_toy_s():
 def test_sweep_follows_the_closed_form():
     ts = np.linspace(0.0, 2 * math.pi, 65)
     for level in (0, 1, 2):
-        count, Q, QD, QDD, INFO = run_sweep(continuation, ts, level=level)
+        count, Q, QD, QDD, (STATUS, REPORT) = run_sweep(continuation, ts, level=level)
         assert count == ts.size
-        assert np.all(INFO[:, protocol.INFO_STATUS] == protocol.OK)
+        assert np.all(STATUS[:, protocol.STATUS_CODE] == protocol.OK)
+        assert np.all((1 <= STATUS[:, protocol.STATUS_ITERATIONS]) &
+                      (STATUS[:, protocol.STATUS_ITERATIONS] <= 50))
+        assert not REPORT.any()                 # no failure, no jump
         for k, t in enumerate(ts):
             q_, qd_, qdd_ = exact(t)
             np.testing.assert_allclose(Q[k], q_, atol=1e-9)
@@ -227,7 +231,7 @@ def test_sweep_follows_the_closed_form():
             if level >= 2:
                 np.testing.assert_allclose(QDD[k], qdd_, atol=1e-8)
             else:
-                assert not QDD[k].any()
+                assert not QDD[k].any()             # a level not asked for: not written
 
 
 def test_sweep_stops_where_the_mechanism_locks():
@@ -235,11 +239,14 @@ def test_sweep_stops_where_the_mechanism_locks():
     before it and the failing point's status, the time reached and the time that failed."""
     ts = np.linspace(0.0, 1.5, 31)
     lock = math.asin(1.0 / 1.2)
-    count, Q, _, _, INFO = run_sweep(continuation, ts, p=(1.2, 1.0, 1.0))
+    count, Q, _, _, (STATUS, REPORT) = run_sweep(continuation, ts, p=(1.2, 1.0, 1.0))
     assert count == int(lock / 0.05) + 1
-    assert INFO[count, protocol.INFO_STATUS] == protocol.NO_CONVERGENCE
-    assert ts[count - 1] <= INFO[count, protocol.INFO_SUBSTEPS] <= lock
-    assert lock <= INFO[count, protocol.INFO_JUMP] <= ts[count]
+    assert STATUS[count, protocol.STATUS_CODE] == protocol.NO_CONVERGENCE
+    assert REPORT[protocol.REPORT_STATUS] == protocol.NO_CONVERGENCE
+    assert ts[count - 1] <= REPORT[protocol.REPORT_REACHED] <= lock
+    assert lock <= REPORT[protocol.REPORT_FAILED] <= ts[count]
+    assert REPORT[protocol.INFO_ITERATIONS] >= 1 and REPORT[protocol.INFO_RESIDUAL] > TOL
+    assert np.all(STATUS[count + 1:] == -1)     # nothing written past the failure
     for k in range(count):
         np.testing.assert_allclose(Q[k], exact(ts[k], (1.2, 1.0, 1.0))[0], atol=1e-9)
 
@@ -248,12 +255,14 @@ def test_sweep_flags_the_points_past_a_branch_point():
     """Crank = rod: the branches ph = -th and ph = th - π meet at th = π/2 (a toggle); the
     sweep gets through, and flags what it reached there (a jump or a singular crossing)."""
     ts = np.linspace(0.0, math.pi, 41)
-    count, _, _, _, INFO = run_sweep(continuation, ts, p=(1.0, 1.0, 1.0))
+    count, _, _, _, (STATUS, REPORT) = run_sweep(continuation, ts, p=(1.0, 1.0, 1.0))
     assert count == ts.size
-    status = INFO[:, protocol.INFO_STATUS]
+    status = STATUS[:, protocol.STATUS_CODE]
     flagged = np.flatnonzero(status != protocol.OK)
     assert flagged.size and set(status[flagged]) <= {protocol.JUMP, protocol.THROUGH_SINGULAR}
     assert np.all(np.abs(ts[flagged] - math.pi / 2) < 0.2)
+    assert (REPORT[protocol.REPORT_JUMP] > 0.0) == np.any(status == protocol.JUMP)
+    assert REPORT[protocol.REPORT_STATUS] == protocol.OK
 
 
 def test_sweep_designs_is_a_sweep_per_design():
@@ -261,9 +270,9 @@ def test_sweep_designs_is_a_sweep_per_design():
     P2 = np.array([P, [1.0, 2.5, 1.5]])
     N, n = ts.size, toy.N_COORDS
     Q, QD, QDD = np.zeros((2, N, n)), np.zeros((2, N, n)), np.zeros((2, N, n))
-    INFO = np.zeros((2, N, protocol.INFO_COLUMNS))
+    STATUS = np.zeros((2, N, protocol.STATUS_COLUMNS), dtype=np.int16)
     done = continuation.sweep_designs(ts, GUESS.copy(), P2, 2, TOL, TOL, 50,
-                                      protocol.METHOD_AUTO, Q, QD, QDD, INFO)
+                                      protocol.METHOD_AUTO, Q, QD, QDD, STATUS)
     assert list(done) == [N, N]
     for d in range(2):
         for k, t in enumerate(ts):
@@ -345,9 +354,10 @@ NOJIT = textwrap.dedent("""
     q, qd, qdd, info = np.array(toy.GUESS), np.zeros(3), np.zeros(3), np.zeros(6)
     status = solve.solve_point_derivatives(q, 0.9, p, 1e-10, 1e-10, 50, 0, 2, qd, qdd, info)
     ts = np.linspace(0.0, 2.0, 11)
-    Q, QD, QDD, INFO = np.zeros((11, 3)), np.zeros((11, 3)), np.zeros((11, 3)), np.zeros((11, 7))
+    Q, QD, QDD = np.zeros((11, 3)), np.zeros((11, 3)), np.zeros((11, 3))
+    S, R = np.zeros((11, 2), dtype=np.int16), np.zeros(8)
     count = continuation.sweep(ts, np.array(toy.GUESS), p, 2, 1e-10, 1e-10, 50, 0,
-                               Q, QD, QDD, INFO)
+                               Q, QD, QDD, S, R)
     jitted = hasattr(solve.solve_point_derivatives, "py_func")
     print(json.dumps(dict(status=status, q=list(q) + list(qd) + list(qdd), count=count,
                           Q=Q.ravel().tolist(), QDD=QDD.ravel().tolist(), jitted=jitted)))

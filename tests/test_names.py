@@ -33,7 +33,7 @@ AS_COORDINATES = dict(ORDINARY, slide="q", twice="t", swing="k", kepler="i", str
 AS_LOCALS = dict(ORDINARY, **dict(zip(PARAMS, ("out", "math", "np", "njit", "abs", "range",
                                               "info", "piv", "_t0", "_sin_Th3", "N_COORDS",
                                               "_iters", "__x"))),
-                 slide="qp", twice="_u", swing="qd_", kepler="det", stroke="ts", rate="INFO",
+                 slide="qp", twice="_u", swing="qd_", kepler="det", stroke="ts", rate="STATUS",
                  turn="Q", lag="maxit", ratio="xtol")
 
 
@@ -141,17 +141,16 @@ def test_same_numbers_as_with_ordinary_names(built, key):
     assert np.abs(sw.Q - rw.Q).max() <= 1e-12
     assert np.abs(sw.QD - rw.QD).max() <= 1e-12 * (1 + np.abs(rw.QD).max())
     assert np.abs(sw.QDD - rw.QDD).max() <= 1e-12 * (1 + np.abs(rw.QDD).max())
-    assert sw.info[:, 4].max() == 0
+    assert sw.status.max() == 0 and sw.info[:, 4].max() == 0
 
 
 def test_the_fast_path_is_taken_with_any_names(built):
     """The written-out step (and its turned sin and cos) serves all four models."""
     for key, (names, mech) in built.items():
         n, ts = mech.n, np.linspace(0.0, 1.0, 81)
-        Q, QD, QDD, INFO = (np.zeros((81, n)), np.zeros((81, n)), np.zeros((81, n)),
-                            np.zeros((81, 7)))
+        Q, QD, QDD = np.zeros((81, n)), np.zeros((81, n)), np.zeros((81, n))
         done = mech.module.sweep_fast(ts, mech._start(None), mech.p, 1e-10, 1e-10, 50,
-                                      Q, QD, QDD, INFO)
+                                      Q, QD, QDD, np.zeros((81, 2), dtype=np.int16))
         assert done == 81, key
 
 
@@ -179,7 +178,7 @@ def test_names_of_the_module_are_read_from_its_sources():
     from mechgen.compiler.names import identifiers, module_words
     words = module_words()
     for name in ("q", "t", "p", "out", "tol", "xtol", "maxit", "info", "piv", "ts", "q0",
-                 "Q", "QD", "QDD", "INFO", "math", "np", "njit", "abs", "range", "N_COORDS",
+                 "Q", "QD", "QDD", "STATUS", "math", "np", "njit", "abs", "range", "N_COORDS",
                  "_turn", "_gauss", "sweep", "SING_RTOL", "GAVE_UP", "BRANCH_RATIO"):
         assert name in words, name
     # the library's own locals are not: they never share a scope with a model's names

@@ -77,9 +77,10 @@ STANDALONE = textwrap.dedent("""
 
     ts = np.linspace(0.0, 1.0, 21)
     N, n = ts.size, m.N_COORDS
-    Q, QD, QDD, INFO = np.zeros((N, n)), np.zeros((N, n)), np.zeros((N, n)), np.zeros((N, 7))
+    Q, QD, QDD = np.zeros((N, n)), np.zeros((N, n)), np.zeros((N, n))
+    S, R = np.zeros((N, m.STATUS_COLUMNS), dtype=np.int16), np.zeros(m.REPORT_SIZE)
     done = m.sweep(ts, np.array(m.GUESS, dtype=np.float64), p, 2, 1e-10, 1e-10, 50, 0,
-                   Q, QD, QDD, INFO)
+                   Q, QD, QDD, S, R)
     out["sweep_done"] = int(done)
     out["sweep_X4"] = Q[:, idx["X4"]].tolist()
     out["sweep_X4d_3"] = QD[3, idx["X4"]]

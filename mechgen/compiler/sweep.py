@@ -1,5 +1,7 @@
 """The fast sweep: the whole body of ``sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD,
-INFO)``, the quick path of a sweep for the stretches where nothing is hard.
+STATUS)``, the quick path of a sweep for the stretches where nothing is hard. It stores
+what the caller gives arrays for: QD and QDD with no rows (a position sweep) are not
+written, nor the STATUS columns it does not have (protocol.STATUS_*).
 
 Per point: a Taylor predictor from the last point's velocity and acceleration, the sorted
 position solve and the combined velocity/acceleration pass, then sweep()'s branch test.
@@ -97,12 +99,15 @@ def sweep_fast_body(step=None, pairs=()):
             If(Code("piv[0] * _sw_det <= 0.0"), (Code("return k"),),
                tail="        # a sign change: a singular point between"))),
         Code("_sw_det = piv[0]"),
-        Loop(Code("for j in range(N_COORDS)"), (
-            Code("Q[k, j] = q[j]"),
-            Code("QD[k, j] = qd[j]"),
-            Code("QDD[k, j] = qdd[j]"))),
-        Code("INFO[k, 0] = info[0]"),
-        Code("INFO[k, 2] = N_COORDS"),
+        Loop(Code("for j in range(N_COORDS)"), (Code("Q[k, j] = q[j]"),)),
+        If(Code("_sw_keep_d"), (
+            Loop(Code("for j in range(N_COORDS)"), (Code("QD[k, j] = qd[j]"),)),)),
+        If(Code("_sw_keep_dd"), (
+            Loop(Code("for j in range(N_COORDS)"), (Code("QDD[k, j] = qdd[j]"),)),)),
+        Code("STATUS[k, STATUS_CODE] = OK"),
+        If(Code("_sw_iterations"), (
+            Code("STATUS[k, STATUS_ITERATIONS] = min(info[0], STATUS_MAX)"),)),
+        If(Code("_sw_substeps"), (Code("STATUS[k, STATUS_SUBSTEPS] = 0"),)),
     ]
     loop = Loop(Code("for k in range(ts.shape[0])"),
                 tuple([Code("t = ts[k]")] + warm + [predictor] + solve + checks + keep))
@@ -119,6 +124,11 @@ def sweep_fast_body(step=None, pairs=()):
         Code("_sw_det = 0.0"),
         Code("_sw_move = 0.0"),
         Code("_sw_size = 0.0"),
+        Code("_sw_keep_d = QD.shape[0] > 0       # velocities stored (no rows: a position "
+             "sweep)"),
+        Code("_sw_keep_dd = QDD.shape[0] > 0"),
+        Code("_sw_iterations = STATUS.shape[1] > STATUS_ITERATIONS"),
+        Code("_sw_substeps = STATUS.shape[1] > STATUS_SUBSTEPS"),
         *init,
         loop,
         Code("return ts.shape[0]"),

@@ -15,15 +15,14 @@ import warnings
 import numpy as np
 
 from ..errors import MechgenError
-from ..protocol import INFO_STATUS, INFO_SUBSTEPS, LEVEL, LEVELS
+from ..protocol import LEVEL, LEVELS, STATUS_CODE
 from .guards import finite
 from .quantity import _lookup, column_names
 from .results import Sweep, pandas, write_csv
 
-# A design table's info keeps the columns before INFO_SUBSTEPS (iterations, residual,
-# rank, method, status): the generated sweep writes the substep and jump columns only
-# where its INFO is wide enough for them.
-DESIGN_INFO_COLUMNS = INFO_SUBSTEPS
+# A design table's per-point record: the first column of a sweep's STATUS rows (int16: the
+# status code, protocol.STATUS_*), 2 bytes a point. INFO is its name in a DesignTable.
+DESIGN_INFO_COLUMNS = STATUS_CODE + 1
 ON_FAIL = ("warn", "raise", "ignore")
 
 
@@ -71,7 +70,7 @@ class DesignTable:
         for d in np.nonzero(self.done < len(self.t))[0]:
             k = int(self.done[d])
             values = {n: float(self.P[d, self._column[n]]) for n in self.names}
-            out.append((values, float(self.t[k]), int(self.INFO[d, k, INFO_STATUS])))
+            out.append((values, float(self.t[k]), int(self.INFO[d, k, STATUS_CODE])))
         return out
 
     def __len__(self):
@@ -205,7 +204,7 @@ def run_designs(module, ts, q0, P, lev, tol, xtol, maxit, meth, progress=None):
     between them (see _progress_reporter)."""
     D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
     Q, QD, QDD = np.zeros((D, N, nq)), np.zeros((D, N, nq)), np.zeros((D, N, nq))
-    INFO = np.zeros((D, N, DESIGN_INFO_COLUMNS))
+    INFO = np.zeros((D, N, DESIGN_INFO_COLUMNS), dtype=np.int16)
     done = np.zeros(D, dtype=np.int64)
     report = _progress_reporter(progress, D)
     # about 50 reports, and no chunk much over 200,000 solved points between two of them

@@ -27,8 +27,9 @@ import math
 import numpy as np
 
 from ..errors import ConvergenceError, SingularError
-from ..protocol import (GAVE_UP, METHOD_AUTO, INFO_COLUMNS, INFO_ITERATIONS, INFO_RESIDUAL,
-                        INFO_SUBSTEPS, LEVEL, NO_CONVERGENCE, NOT_FINITE, SING_RTOL)
+from ..protocol import (GAVE_UP, METHOD_AUTO, INFO_ITERATIONS, INFO_RESIDUAL, LEVEL,
+                        NO_CONVERGENCE, NOT_FINITE, REPORT_REACHED, REPORT_SIZE, SING_RTOL,
+                        STATUS_COLUMNS)
 from .results import Solution
 from .singular import (NullSpace, assemble_near, det_indicator, independent_rows,
                        least_squares, null_space, residual_vector, smallest_sv, solve_q)
@@ -209,14 +210,16 @@ def _lock_from(mech, q, t, t_far):
 
 def _continue(mech, q0, times):
     """The compiled, step-controlled sweep from q0 over ``times`` at position level:
-    (count reached, Q, INFO) without raising."""
+    (count reached, Q, the sweep's report) without raising. Where it stops, Q[count] is
+    the last configuration reached and report[REPORT_REACHED] its time."""
     times = np.asarray(times, dtype=np.float64)
     N = times.shape[0]
-    Q, QD, QDD = np.zeros((N, mech.n)), np.zeros((N, mech.n)), np.zeros((N, mech.n))
-    INFO = np.zeros((N, INFO_COLUMNS))
+    Q, none = np.zeros((N, mech.n)), np.zeros((0, mech.n))
+    report = np.zeros(REPORT_SIZE)
     done = mech.module.sweep(times, np.array(q0, dtype=np.float64), mech.p, LEVEL["position"],
-                             mech.tol, mech.xtol, mech.maxit, METHOD_AUTO, Q, QD, QDD, INFO)
-    return int(done), Q, INFO
+                             mech.tol, mech.xtol, mech.maxit, METHOD_AUTO, Q, none, none,
+                             np.zeros((N, STATUS_COLUMNS), dtype=np.int16), report)
+    return int(done), Q, report
 
 
 def lock_between(mech, q_good, t_good, t_bad):
@@ -224,12 +227,12 @@ def lock_between(mech, q_good, t_good, t_bad):
     the branch does not assemble: step-controlled continuation to the last configuration
     reachable, then the augmented Newton. None when none is found."""
     times = [t_good, t_bad]
-    done, Q, INFO = _continue(mech, q_good, times)
+    done, Q, report = _continue(mech, q_good, times)
     if done == len(times) or done == 0:     # it assembles at t_bad after all, or not at t_good
         return None
     # on failure the sweep leaves the last configuration it reached in Q[1] and its time
-    # in INFO[1, INFO_SUBSTEPS]
-    return _lock_from(mech, Q[1], float(INFO[1, INFO_SUBSTEPS]), t_bad)
+    # in the report
+    return _lock_from(mech, Q[1], float(report[REPORT_REACHED]), t_bad)
 
 
 def singularities(mech, ts, q):
@@ -242,7 +245,7 @@ def singularities(mech, ts, q):
     i = 0
     rows = None
     while i < len(ts):
-        done, Q, INFO = _continue(mech, q, ts[i:])
+        done, Q, report = _continue(mech, q, ts[i:])
         if done and rows is None:
             rows = independent_rows(mech, Q[0], ts[i])
         seg_t = ts[i:i + done]
@@ -270,7 +273,7 @@ def singularities(mech, ts, q):
         near = q
         if done:
             near = Q[done]
-            lock = _lock_from(mech, Q[done], float(INFO[done, INFO_SUBSTEPS]), t_fail)
+            lock = _lock_from(mech, Q[done], float(report[REPORT_REACHED]), t_fail)
             if lock is not None:
                 found.append(lock)
                 near = lock.q

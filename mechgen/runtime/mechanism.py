@@ -14,11 +14,9 @@ import warnings
 
 import numpy as np
 
-from ..errors import BranchJumpWarning, MechgenError, RedundancyWarning
-from ..protocol import (ACCELERATION, INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP, INFO_METHOD,
-                        INFO_RANK, INFO_STATUS, INFO_SUBSTEPS, JUMP, LEVEL, LEVELS, METHOD, OK,
-                        POINT_INFO_SIZE, POINT_PIVOT, POINT_RESIDUAL, SING_RTOL,
-                        THROUGH_SINGULAR, VELOCITY)
+from ..errors import RedundancyWarning
+from ..protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, LEVEL, LEVELS,
+                        OK, POINT_INFO_SIZE, POINT_PIVOT, POINT_RESIDUAL, SING_RTOL, VELOCITY)
 from .assembly import assemblies as find_assemblies
 from .design import (ON_FAIL, DesignTable, design_grid, report_failures, run_designs,
                      split_params)
@@ -29,8 +27,10 @@ from .locks import convergence_error, singular_error
 from .locks import singularities as find_singularities
 from .quantity import symbolic_side
 from .results import Solution, Sweep
-from .singular import null_space, solve_q
+from .singular import null_space
 from .stages import staged_singularities, staged_sweep
+from .sweeping import times as sweep_times_of
+from .sweeping import run as run_sweep
 
 
 def load(path_or_module, tier=None, **kwargs) -> "Mechanism":
@@ -63,6 +63,7 @@ class Mechanism:
         # what this build computes: its highest level, and the coordinates a pruned build
         # (mechgen build --outputs ...) solves
         self.built_level = int(module.LEVEL)
+        self._levels = {name: k for k, name in enumerate(LEVELS) if k <= self.built_level}
         self.solved = tuple(bool(x) for x in module.SOLVED)
         self._param_index = {name: k for k, name in enumerate(self.parameter_names)}
         self.p = np.array(module.PARAMETER_DEFAULTS, dtype=np.float64)
@@ -74,7 +75,7 @@ class Mechanism:
         self.method = method
         self.model = None      # the symbolic model, when built by mechgen.compile
         self.symbolic = None   # its evaluator (evaluate, derivative, level), attached there
-        self.last: Solution | None = None
+        self._last = None      # a Solution, or (t, q, qd, qdd) until asked for (see last)
         self._info = np.zeros(POINT_INFO_SIZE)
         self._none = np.empty(0)    # qd, qdd of a solve that does not ask for them
 
@@ -95,6 +96,19 @@ class Mechanism:
     def __repr__(self):
         return (f"<Mechanism {self.name!r}: {self.n} coordinates, {self.m} equations, "
                 f"parameters {self.parameters}>")
+
+    @property
+    def last(self):
+        """The last configuration solved (Mech's LastSolve[]): a Solution, or None. After
+        a sweep it is the sweep's last point, made into a Solution when first asked for."""
+        last = self._last
+        if last.__class__ is tuple:
+            last = self._last = Solution(self, *last)
+        return last
+
+    @last.setter
+    def last(self, value):
+        self._last = value
 
     # -- parameters -------------------------------------------------------------------
     @property
@@ -289,11 +303,21 @@ class Mechanism:
 
     # -- sweeps -----------------------------------------------------------------------
     def sweep(self, t0, t1, n, level="position", guess=None, method=None, tol=None,
-              maxit=None, times=None, params=None) -> Sweep:
+              maxit=None, times=None, params=None, out=None) -> Sweep:
         """Solve at n times from t0 to t1, both ends included (Mech's SolveMech[{t0, t1}, n]),
         each warm-started from the previous one. Raises on the first failure; the error
         carries the points solved before it as ``.sweep``. With ``params`` (a dict in which a
-        sequence varies a parameter) it returns a design table (see design_sweep)."""
+        sequence varies a parameter) it returns a design table (see design_sweep).
+
+        Only the level's arrays are filled: a position sweep has no velocities (``sw.QD``
+        is None, ``sw["X4d"]`` raises KeyError). ``out`` writes the results into arrays
+        the caller owns instead of fresh ones: a dict ``{"q": Q, "qd": QD, "qdd": QDD,
+        "status": S}`` (any of them; Q, QD, QDD float64 of shape (n, coordinates), S int16
+        of shape (n, 3): status code, iterations, substeps, or its first 1 or 2 columns;
+        all C-contiguous), a tuple ``(Q,)``, ``(Q, QD)`` or
+        ``(Q, QD, QDD)``, or a Sweep of as many points and at least this level from an
+        earlier call, whose arrays are then overwritten. The result's arrays are views of
+        them."""
         if params is not None:
             return self.design_sweep(t0, t1, n, params, level=level, guess=guess,
                                      method=method, tol=tol, maxit=maxit, times=times)
@@ -303,90 +327,21 @@ class Mechanism:
                                   method=method, tol=tol, maxit=maxit)
             if staged is not None:
                 return staged
-        lev = self._level(level)
+        lev = self._levels.get(level) if level.__class__ is str else None
+        if lev is None:
+            lev = self._level(level)
         meth = self._method(method)
-        ts = sweep_times(t0, t1, n, times)
-        tol = self._tol(tol)
-        maxit = self._maxit(maxit)
-        q0 = self._start(guess)
-        N = ts.shape[0]
-        Q, QD, QDD = np.zeros((N, self.n)), np.zeros((N, self.n)), np.zeros((N, self.n))
-        INFO = np.zeros((N, INFO_COLUMNS))
-        self._tiers.expect(self, N)
-        done = self._compiled_sweep(ts, q0, lev, tol, maxit, meth, Q, QD, QDD, INFO)
-        sw = Sweep(self, ts[:done], Q[:done], QD[:done] if lev >= LEVEL["velocity"] else None,
-                   QDD[:done] if lev >= LEVEL["acceleration"] else None, INFO[:done])
-        status = INFO[:done, INFO_STATUS]
-        jumped, crossed = status == JUMP, status == THROUGH_SINGULAR
-        sw.jumps, sw.crossings = ts[:done][jumped], ts[:done][crossed]
-        if np.any(jumped):
-            k = int(np.argmax(jumped))
-            warnings.warn(
-                f"sweep of '{self.name}': the step control could not keep the assembly mode at "
-                f"{int(jumped.sum())} point(s) (first at t={ts[k]:.10g}, a jump of "
-                f"{INFO[k, INFO_JUMP]:.3g}): the solutions after it may lie on another branch "
-                "(sw.jumps lists the times)", BranchJumpWarning, stacklevel=2)
-        if np.any(crossed):
-            k = int(np.argmax(crossed))
-            more = "" if crossed.sum() == 1 else f" ({int(crossed.sum())} such points)"
-            warnings.warn(
-                f"sweep of '{self.name}': the way to t={ts[k]:.10g} reaches or passes a singular "
-                f"configuration (dead centre, lock or branch point){more}: "
-                "there the mechanism may continue in another assembly mode "
-                "(sw.crossings lists the times; mech.singularities locates them)",
-                BranchJumpWarning, stacklevel=2)
-        if done < N:
-            try:
-                raise self._sweep_failure(ts, done, Q, INFO, q0)
-            except MechgenError as exc:
-                exc.sweep = sw
-                raise
-        if done:
-            self._report_redundancy(Q[0], ts[0])
-            self.last = sw[done - 1]
-        return sw
-
-    def _sweep_failure(self, ts, done, Q, INFO, q0) -> MechgenError:
-        """The error of a sweep that stopped at ts[done]: SingularError where the
-        derivatives are not determined, else ConvergenceError (with the lock the branch
-        ran into, where there is one)."""
-        status = int(INFO[done, INFO_STATUS])
-        t = float(ts[done])
-        # on failure the generated sweep leaves the last configuration it reached in
-        # Q[done], its time in the substeps column and the time that failed in the jump one
-        t_last, t_try = float(INFO[done, INFO_SUBSTEPS]), float(INFO[done, INFO_JUMP])
-        q_last = Q[done].copy()
-        if status >= VELOCITY:
-            q_s, ok = q_last, True
-            if t_try != t_last:
-                q_s, ok = solve_q(self, q_last, t_try)
-            where = "" if t_try == t else f" (on the way to t={t:.10g})"
-            level = "velocity" if status < ACCELERATION else "acceleration"
-            return singular_error(self, t_try if ok else t_last, q_s, level, where)
-        if done:
-            where = "" if t_try == t else \
-                f" (the sweep reached t={t_last:.10g} on the way and could go no further)"
-            return convergence_error(self, status, t, q_last, INFO[done], t_good=t_last,
-                                     q_good=q_last, where=where)
-        return convergence_error(self, status, t, q0, INFO[done])
-
-    def _compiled_sweep(self, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, INFO) -> int:
-        """The module's quick path (sweep_fast) while nothing is hard, then its careful
-        continuation (sweep) from the last point the quick path accepted."""
-        mod = self.module
-        start = 0
-        # only a sorted module built to acceleration level has the quick path
-        fast = getattr(mod, "sweep_fast", None)
-        if meth != METHOD["full"] and fast is not None:
-            start = fast(ts, q0, self.p, tol, self.xtol, maxit, Q, QD, QDD, INFO)
-            if start == ts.shape[0]:
-                return start
-            start = max(start - 1, 0)         # resume from the last accepted point
-            if start:
-                q0 = Q[start].copy()
-        done = mod.sweep(ts[start:], q0, self.p, lev, tol, self.xtol, maxit, meth,
-                         Q[start:], QD[start:], QDD[start:], INFO[start:])
-        return start + done
+        shared = times is None and t0.__class__ is float and t1.__class__ is float and \
+            n.__class__ is int and n >= 1 and t0 - t0 == 0.0 and t1 - t1 == 0.0
+        if shared:
+            ts = sweep_times_of(t0, t1, n)          # plain numbers: no further checks
+        else:
+            ts = sweep_times(t0, t1, n, times)
+        tol = self.tol if tol is None else positive_tol(tol)
+        maxit = self.maxit if maxit is None else positive_count(maxit, "maxit")
+        q0 = self.guess.copy() if guess is None else self._start(guess)
+        self._tiers.expect(self, ts.shape[0])
+        return run_sweep(self, ts, q0, lev, tol, maxit, meth, out, shared)
 
     def design_sweep(self, t0, t1, n, params, level="position", guess=None, method=None,
                      tol=None, maxit=None, times=None, progress=None, on_fail="warn"):

@@ -7,12 +7,34 @@ import csv
 
 import numpy as np
 
-from ..protocol import LEVEL, LEVELS
+from ..protocol import (INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP, INFO_STATUS, JUMP, LEVEL,
+                        LEVELS, REPORT_JUMP, STATUS_CODE, STATUS_COLUMNS, STATUS_ITERATIONS,
+                        STATUS_SUBSTEPS, INFO_SUBSTEPS)
 from .events import extrema as _extrema, roots as _roots
 from .interpolate import interpolate as _interpolate
 from .quantity import _lookup, column_names, level_of
 
 __all__ = ["Solution", "Sweep", "write_csv", "_lookup"]
+
+_NONE = np.empty(0)             # the jumps and crossings of a sweep that has none
+_NONE.flags.writeable = False
+_INT16 = np.dtype(np.int16)
+
+
+def _status_rows(status, N):
+    """A sweep's STATUS rows (int16, protocol.STATUS_*) from what was given: those rows,
+    None (all OK, iterations unknown) or the wide float INFO rows of format 2."""
+    if status is None:
+        return np.zeros((N, 1), dtype=np.int16)
+    status = np.asarray(status)
+    if status.ndim == 2 and status.dtype.kind == "f" and status.shape[1] > INFO_STATUS:
+        rows = np.empty((status.shape[0], STATUS_COLUMNS), dtype=np.int16)
+        rows[:, STATUS_CODE] = status[:, INFO_STATUS]
+        rows[:, STATUS_ITERATIONS] = status[:, INFO_ITERATIONS]
+        rows[:, STATUS_SUBSTEPS] = status[:, INFO_SUBSTEPS] if status.shape[1] > INFO_SUBSTEPS \
+            else 0
+        return rows
+    return status
 
 
 def write_csv(path, header, data):
@@ -101,17 +123,60 @@ class Solution:
 class Sweep:
     """Solutions at many times: ``sw.t`` and ``sw["X4"]`` are numpy arrays.
 
-    ``sw.jumps`` and ``sw.crossings`` are the times a sweep reached by a branch jump or
-    at or through a singular configuration (Mechanism.sweep fills them in)."""
+    ``sw.Q`` (and ``sw.QD``, ``sw.QDD`` at the levels solved, else None) are the solved
+    rows; ``sw.status`` is each point's status code (protocol: OK, JUMP,
+    THROUGH_SINGULAR) and ``sw.iterations`` its Newton iterations. ``sw.jumps`` and
+    ``sw.crossings`` are the times a sweep reached by a branch jump or at or through a
+    singular configuration (Mechanism.sweep fills them in)."""
 
-    def __init__(self, mech, t, Q, QD=None, QDD=None, info=None):
+    def __init__(self, mech, t, Q, QD=None, QDD=None, status=None, report=None):
         self.mechanism = mech
         self.t = t
         self.Q = Q
         self.QD = QD
         self.QDD = QDD
-        self.info = info
-        self.jumps = self.crossings = np.empty(0)
+        self._status = status if status.__class__ is np.ndarray and status.dtype is _INT16 \
+            else _status_rows(status, Q.shape[0])
+        self._report = report
+        self.jumps = self.crossings = _NONE
+
+    @property
+    def status(self) -> np.ndarray:
+        """Each point's status code (int16): OK (0), JUMP or THROUGH_SINGULAR."""
+        return self._status[:, STATUS_CODE]
+
+    @property
+    def iterations(self):
+        """Each point's Newton iterations (int16), or None where not recorded."""
+        if self._status.shape[1] <= STATUS_ITERATIONS:
+            return None
+        return self._status[:, STATUS_ITERATIONS]
+
+    @property
+    def substeps(self):
+        """The substeps each point took on the way to it (int16), or None where not
+        recorded."""
+        if self._status.shape[1] <= STATUS_SUBSTEPS:
+            return None
+        return self._status[:, STATUS_SUBSTEPS]
+
+    @property
+    def info(self) -> np.ndarray:
+        """The wide per-point rows of earlier versions (float, protocol.INFO_COLUMNS):
+        iterations, status and substeps filled, the size of the first jump at its point,
+        NaN in the columns a sweep no longer records (residual, rank, method)."""
+        N = len(self)
+        info = np.full((N, INFO_COLUMNS), np.nan)
+        info[:, INFO_STATUS] = self.status
+        its = self.iterations
+        info[:, INFO_ITERATIONS] = np.nan if its is None else its
+        sub = self.substeps
+        info[:, INFO_SUBSTEPS] = np.nan if sub is None else sub
+        info[:, INFO_JUMP] = 0.0
+        jumped = self.status == JUMP
+        if self._report is not None and np.any(jumped):
+            info[int(np.argmax(jumped)), INFO_JUMP] = self._report[REPORT_JUMP]
+        return info
 
     @property
     def level(self) -> str:
@@ -188,7 +253,7 @@ class Sweep:
         already are kept; raises SingularError at a point where they are not determined."""
         lev = LEVEL[level] if isinstance(level, str) else int(level)
         QD, QDD = self.mechanism.solve_derivatives(self.t, self.Q, self.QD, self.QDD, lev)
-        out = Sweep(self.mechanism, self.t, self.Q, QD, QDD, self.info)
+        out = Sweep(self.mechanism, self.t, self.Q, QD, QDD, self._status, self._report)
         out.jumps, out.crossings = self.jumps, self.crossings
         return out
 

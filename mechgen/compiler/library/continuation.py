@@ -11,9 +11,10 @@ import numpy as np
 
 from .solve import _fin, pivot_ratio, solve_position, solve_velocity, solve_acceleration
 from .toy import (ACCELERATION, BRANCH_ATOL, BRANCH_HMIN, BRANCH_NEAR, BRANCH_RATIO,
-                  BRANCH_TURN, INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP, INFO_STATUS,
-                  INFO_SUBSTEPS, JUMP, LEVEL, METHOD_FULL, N_COORDS, N_EQS, OK,
-                  POSITION_INFO_SIZE, SORTED, THROUGH_SINGULAR, TINY, VELOCITY,
+                  BRANCH_TURN, INFO_ITERATIONS, JUMP, LEVEL, METHOD_FULL, N_COORDS, N_EQS,
+                  OK, POSITION_INFO_SIZE, REPORT_FAILED, REPORT_JUMP, REPORT_REACHED,
+                  REPORT_SIZE, REPORT_STATUS, SORTED, STATUS_CODE, STATUS_ITERATIONS,
+                  STATUS_MAX, STATUS_SUBSTEPS, THROUGH_SINGULAR, TINY, VELOCITY,
                   derivatives_sorted, jacobian_det, outputs, outputs_d, outputs_dd, phi,
                   points, sweep_fast, njit)
 
@@ -22,7 +23,7 @@ from .toy import (ACCELERATION, BRANCH_ATOL, BRANCH_HMIN, BRANCH_NEAR, BRANCH_RA
 # Sweeps
 # ---------------------------------------------------------------------------------------
 @njit(cache=True, error_model="numpy")
-def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, INFO):
+def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT):
     """Solve at every time of ts by continuation along the assembly mode of the first point.
 
     Each point starts from a predictor: Taylor with velocity and acceleration (level 2), a
@@ -39,17 +40,23 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, INFO):
     assemble, fails them: the step is then halved, down to BRANCH_HMIN of the sweep's
     step, and the way is taken in substeps (not recorded) that grow again as they pass.
 
-    Rows of Q, QD, QDD, INFO are filled up to the returned count, INFO[k] = [iterations,
-    residual, rank, method, status] and, when INFO has INFO_COLUMNS columns, [substeps,
-    jump]. Status JUMP marks a point reached by a jump the step control could not avoid
-    (its size in INFO[k, INFO_JUMP]), THROUGH_SINGULAR a point reached at or through a
-    singular configuration (det Φ_q changed sign, or the tests failed next to one, even at
-    the smallest step: a dead centre, lock or branch point). A count below len(ts) means
-    the solve at ts[count] failed with status INFO[count, INFO_STATUS]; Q[count] (QD, QDD)
-    then hold the last configuration reached on the way and, with INFO_COLUMNS columns,
-    INFO[count, INFO_SUBSTEPS] its time and INFO[count, INFO_JUMP] the time that failed."""
+    Rows of Q (QD at level >= 1, QDD at level 2: below it they may have no rows) and
+    STATUS are filled up to the returned count: STATUS[k, STATUS_CODE] the point's status
+    and, where STATUS has those columns, STATUS[k, STATUS_ITERATIONS] its Newton iterations
+    and STATUS[k, STATUS_SUBSTEPS] the substeps taken on the way to it.
+    Status JUMP marks a point reached by a jump the step control could not avoid (the
+    first jump's size goes to REPORT[REPORT_JUMP]), THROUGH_SINGULAR a point reached at or
+    through a singular configuration (det Φ_q changed sign, or the tests failed next to
+    one, even at the smallest step: a dead centre, lock or branch point). A count below
+    len(ts) means the solve at ts[count] failed: its status goes to STATUS[count] and
+    REPORT[REPORT_STATUS], the info vector of that solve to REPORT[:POSITION_INFO_SIZE],
+    Q[count] (QD, QDD) then hold the last configuration reached on the way,
+    REPORT[REPORT_REACHED] its time and REPORT[REPORT_FAILED] the time that failed."""
     n = N_COORDS
-    wide = INFO.shape[1] >= INFO_COLUMNS
+    iterations = STATUS.shape[1] > STATUS_ITERATIONS
+    substeps_kept = STATUS.shape[1] > STATUS_SUBSTEPS
+    for j in range(REPORT_SIZE):
+        REPORT[j] = 0.0
     q = q0.copy()
     qd = np.zeros(n)
     qdd = np.zeros(n)
@@ -222,15 +229,23 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, INFO):
                     continue
                 if status != OK:
                     for j in range(POSITION_INFO_SIZE):
-                        INFO[k, j] = info[j]
-                    INFO[k, INFO_STATUS] = status
-                    if wide:
-                        INFO[k, INFO_SUBSTEPS] = ta
-                        INFO[k, INFO_JUMP] = tc
+                        REPORT[j] = info[j]
+                    REPORT[REPORT_STATUS] = status
+                    REPORT[REPORT_REACHED] = ta
+                    REPORT[REPORT_FAILED] = tc
+                    STATUS[k, STATUS_CODE] = status
+                    if iterations:
+                        STATUS[k, STATUS_ITERATIONS] = min(info[INFO_ITERATIONS], STATUS_MAX)
+                    if substeps_kept:
+                        STATUS[k, STATUS_SUBSTEPS] = min(substeps, STATUS_MAX)
                     for j in range(n):
                         Q[k, j] = qa[j]
-                        QD[k, j] = qda[j] if level >= 1 else 0.0
-                        QDD[k, j] = qdda[j] if level >= 2 else 0.0
+                    if level >= 1:
+                        for j in range(n):
+                            QD[k, j] = qda[j]
+                    if level >= 2:
+                        for j in range(n):
+                            QDD[k, j] = qdda[j]
                     return k
                 if leaping or pivot_ratio(q, tc, p) < BRANCH_NEAR or \
                         pivot_ratio(qa, ta, p) < BRANCH_NEAR:
@@ -273,16 +288,21 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, INFO):
                 full = True
             else:
                 h *= 2.0
-        for j in range(POSITION_INFO_SIZE):
-            INFO[k, j] = info[j]
-        INFO[k, INFO_STATUS] = JUMP if jump > 0.0 else THROUGH_SINGULAR if crossed else OK
-        if wide:
-            INFO[k, INFO_SUBSTEPS] = substeps
-            INFO[k, INFO_JUMP] = jump
+        if jump > 0.0 and REPORT[REPORT_JUMP] == 0.0:
+            REPORT[REPORT_JUMP] = jump
+        STATUS[k, STATUS_CODE] = JUMP if jump > 0.0 else THROUGH_SINGULAR if crossed else OK
+        if iterations:
+            STATUS[k, STATUS_ITERATIONS] = min(info[INFO_ITERATIONS], STATUS_MAX)
+        if substeps_kept:
+            STATUS[k, STATUS_SUBSTEPS] = min(substeps, STATUS_MAX)
         for j in range(n):
             Q[k, j] = qa[j]
-            QD[k, j] = qda[j] if level >= 1 else 0.0
-            QDD[k, j] = qdda[j] if level >= 2 else 0.0
+        if level >= 1:
+            for j in range(n):
+                QD[k, j] = qda[j]
+        if level >= 2:
+            for j in range(n):
+                QDD[k, j] = qdda[j]
     return ts.shape[0]
 
 
@@ -306,18 +326,20 @@ def eval_outputs(Q, QD, QDD, ts, p, order, OUT):
 
 
 @njit(cache=True)
-def sweep_designs(ts, q0, P, level, tol, xtol, maxit, method, Q, QD, QDD, INFO):
+def sweep_designs(ts, q0, P, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS):
     """sweep() for every design: row d of P is a parameter vector, and Q[d], QD[d], QDD[d],
-    INFO[d] receive its sweep. Every design starts from q0 (Mech's Table[SetGuess[];
+    STATUS[d] receive its sweep (as sweep() fills them: QD and QDD may have no rows below
+    the levels that need them). Every design starts from q0 (Mech's Table[SetGuess[];
     SolveMech[...], {param, ...}]). Each design goes as a single sweep does in mechgen:
     sweep_fast() while nothing is hard, then sweep() from its last accepted point.
     Returns the count of solved times of each design."""
     done = np.zeros(P.shape[0], dtype=np.int64)
+    report = np.zeros(REPORT_SIZE)
     for d in range(P.shape[0]):
         start = 0
         q_start = q0
         if SORTED and LEVEL >= 2 and method != METHOD_FULL:
-            start = sweep_fast(ts, q0, P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d], INFO[d])
+            start = sweep_fast(ts, q0, P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d], STATUS[d])
             if start == ts.shape[0]:
                 done[d] = start
                 continue
@@ -325,5 +347,6 @@ def sweep_designs(ts, q0, P, level, tol, xtol, maxit, method, Q, QD, QDD, INFO):
             if start > 0:
                 q_start = Q[d, start].copy()
         done[d] = start + sweep(ts[start:], q_start, P[d], level, tol, xtol, maxit, method,
-                                Q[d, start:], QD[d, start:], QDD[d, start:], INFO[d, start:])
+                                Q[d, start:], QD[d, start:], QDD[d, start:], STATUS[d, start:],
+                                report)
     return done

@@ -23,21 +23,24 @@ import numba
 import numpy as np
 
 from ...protocol import (ACCELERATION, BRANCH_ATOL, BRANCH_HMIN, BRANCH_NEAR, BRANCH_RATIO,
-                         BRANCH_TURN, GAVE_UP, INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP,
-                         INFO_METHOD, INFO_RANK, INFO_RESIDUAL, INFO_STATUS, INFO_SUBSTEPS,
-                         JUMP, METHOD_AUTO, METHOD_FULL, METHOD_SORTED, NO_CONVERGENCE,
-                         NOT_FINITE, OK, PIVOT_RTOL, POINT_INFO_SIZE, POINT_PIVOT,
-                         POINT_RESIDUAL, POSITION_INFO_SIZE, SING_RTOL, SINGULAR,
+                         BRANCH_TURN, GAVE_UP, INFO_ITERATIONS, INFO_METHOD, INFO_RANK,
+                         INFO_RESIDUAL, JUMP, METHOD_AUTO, METHOD_FULL, METHOD_SORTED,
+                         NO_CONVERGENCE, NOT_FINITE, OK, PIVOT_RTOL, POINT_INFO_SIZE,
+                         POINT_PIVOT, POINT_RESIDUAL, POSITION_INFO_SIZE, REPORT_FAILED,
+                         REPORT_JUMP, REPORT_REACHED, REPORT_SIZE, REPORT_STATUS, SING_RTOL,
+                         SINGULAR, STATUS_CODE, STATUS_COLUMNS, STATUS_ITERATIONS, STATUS_MAX,
+                         STATUS_SUBSTEPS,
                          THROUGH_SINGULAR, TINY, VELOCITY)
 
 __all__ = [
     # the header constants
     "ACCELERATION", "BRANCH_ATOL", "BRANCH_HMIN", "BRANCH_NEAR", "BRANCH_RATIO", "BRANCH_TURN",
-    "GAVE_UP", "INFO_COLUMNS", "INFO_ITERATIONS", "INFO_JUMP", "INFO_METHOD", "INFO_RANK",
-    "INFO_RESIDUAL", "INFO_STATUS", "INFO_SUBSTEPS", "JUMP", "METHOD_AUTO", "METHOD_FULL",
-    "METHOD_SORTED", "NO_CONVERGENCE", "NOT_FINITE", "OK", "PIVOT_RTOL", "POINT_INFO_SIZE",
-    "POINT_PIVOT", "POINT_RESIDUAL", "POSITION_INFO_SIZE", "SING_RTOL", "SINGULAR",
-    "THROUGH_SINGULAR", "TINY", "VELOCITY",
+    "GAVE_UP", "INFO_ITERATIONS", "INFO_METHOD", "INFO_RANK", "INFO_RESIDUAL", "JUMP",
+    "METHOD_AUTO", "METHOD_FULL", "METHOD_SORTED", "NO_CONVERGENCE", "NOT_FINITE", "OK",
+    "PIVOT_RTOL", "POINT_INFO_SIZE", "POINT_PIVOT", "POINT_RESIDUAL", "POSITION_INFO_SIZE",
+    "REPORT_FAILED", "REPORT_JUMP", "REPORT_REACHED", "REPORT_SIZE", "REPORT_STATUS",
+    "SING_RTOL", "SINGULAR", "STATUS_CODE", "STATUS_COLUMNS", "STATUS_ITERATIONS",
+    "STATUS_MAX", "STATUS_SUBSTEPS", "THROUGH_SINGULAR", "TINY", "VELOCITY",
     # the model constants
     "N_COORDS", "N_EQS", "SORTED", "LEVEL", "ALL_SOLVED", "INLINE",
     # the model functions
@@ -204,10 +207,11 @@ def derivatives_sorted(q, t, p, qd, qdd, piv):
 
 
 @njit(cache=True)
-def sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, INFO):
+def sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS):
     """The quick path: a Taylor predictor, the sorted solvers; the count of points
     accepted before the first that fails, corrects its predictor too much or changes
-    the sign of det Φ_q."""
+    the sign of det Φ_q. QD and QDD with no rows are not written, nor STATUS's
+    iterations when it has one column."""
     q = q0.copy()
     qd = np.zeros(N_COORDS)
     qdd = np.zeros(N_COORDS)
@@ -239,8 +243,15 @@ def sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, INFO):
         det = piv[0]
         for j in range(N_COORDS):
             Q[k, j] = q[j]
-            QD[k, j] = qd[j]
-            QDD[k, j] = qdd[j]
-        INFO[k, INFO_ITERATIONS] = info[INFO_ITERATIONS]
-        INFO[k, INFO_RANK] = N_COORDS
+        if QD.shape[0] > 0:
+            for j in range(N_COORDS):
+                QD[k, j] = qd[j]
+        if QDD.shape[0] > 0:
+            for j in range(N_COORDS):
+                QDD[k, j] = qdd[j]
+        STATUS[k, STATUS_CODE] = OK
+        if STATUS.shape[1] > STATUS_ITERATIONS:
+            STATUS[k, STATUS_ITERATIONS] = min(info[INFO_ITERATIONS], STATUS_MAX)
+        if STATUS.shape[1] > STATUS_SUBSTEPS:
+            STATUS[k, STATUS_SUBSTEPS] = 0
     return ts.shape[0]
