@@ -41,7 +41,13 @@ class Rows:
     for the whole planning pass (the plan and the position code read the same rows)."""
 
     def __init__(self, eq):
-        self.phi, self.cache = eq.phi, {}
+        self.phi, self.cache, self._symbols = eq.phi, {}, {}
+
+    def symbols(self, e):
+        """The free symbols of row e (computed once)."""
+        if e not in self._symbols:
+            self._symbols[e] = self.phi[e].free_symbols
+        return self._symbols[e]
 
     def at(self, known):
         return _RowsAt(self, dict(known))
@@ -52,12 +58,18 @@ class _RowsAt:
         self.rows, self.known, self.key = rows, known, tuple(known)
 
     def __getitem__(self, e):
+        row = self.rows.phi[e]
         if not self.known:
-            return self.rows.phi[e]
+            return row
+        # only the constants this row holds: most rows hold none, and a row's substituted
+        # form is then shared by every later block (the same result as substituting all)
+        mine = tuple(s for s in self.key if s in self.rows.symbols(e))
+        if not mine:
+            return row
         cache = self.rows.cache
-        if (e, self.key) not in cache:
-            cache[e, self.key] = self.rows.phi[e].subs(self.known)
-        return cache[e, self.key]
+        if (e, mine) not in cache:
+            cache[e, mine] = row.subs({s: self.known[s] for s in mine})
+        return cache[e, mine]
 
 
 @dataclass(frozen=True)
