@@ -39,13 +39,11 @@ def linear_blocks(plan, eq, order, known=None) -> LinearCode:
     Unknowns that come out as constants (``X2d = 0``) are substituted forward so that
     nothing is multiplied by a known zero; only constants found here are used, so it stays
     exact for any (q, q̇) it is given. ``known``: rows of the right side known constant."""
-    J = eq.phi_q
-    xs = eq.qd if order == 1 else eq.qdd
+    xs = list(eq.qd if order == 1 else eq.qdd)
     jsym, consts, out = {}, {}, []
-    for i in range(J.rows):
-        for j in range(J.cols):
-            if J[i, j] != 0:
-                jsym[i, j] = J[i, j] if J[i, j].is_number else sym(f"_j{i}_{j}")
+    for (i, j), x in eq.nonzeros.items():
+        jsym[i, j] = x if x.is_number else sym(f"_j{i}_{j}")
+    cols = eq.row_columns
     rsym = _rhs_symbols(eq, order)
     rsym.update(known or {})      # right sides known to be constants
     for b in plan.blocks:
@@ -54,12 +52,12 @@ def linear_blocks(plan, eq, order, known=None) -> LinearCode:
         bvec = []
         for e in b.rows:
             acc = rsym[e]
-            for j in range(J.cols):
-                if (e, j) in jsym and j not in inside:
+            for j in cols[e]:
+                if j not in inside:
                     acc -= jsym[e, j] * consts.get(xs[j], xs[j])
             bvec.append(acc)
         A = [[jsym.get((e, v), sp.Integer(0)) for v in b.vars] for e in b.rows]
-        scale = [sum(sp.Abs(jsym[e, j]) for j in range(J.cols) if (e, j) in jsym) for e in b.rows]
+        scale = [sum(sp.Abs(jsym[e, j]) for j in cols[e]) for e in b.rows]
         k = b.size
         if k == 1:
             a, x = A[0][0], xs[b.vars[0]]
@@ -96,7 +94,7 @@ def _guards_and_exprs(body):
 
 def linear_head(eq, order, body, jsym, rsym):
     """Assignments of the Jacobian entries and right sides that ``body`` uses."""
-    J = eq.phi_q
+    J = eq.nonzeros
     rhs = eq.nu if order == 1 else eq.gamma
     used = free(_guards_and_exprs(body))
     head = [Assign(s, J[i, j]) for (i, j), s in jsym.items()

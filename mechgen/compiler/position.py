@@ -353,10 +353,10 @@ class _Writer:
         of its row's size (the caller flags it singular)."""
         if len(b.tears) != 1:
             return [Return(1)]
-        J = self.eq.phi_q
+        J = self.eq.nonzeros
         e, y = b.residuals[0], self.q[b.tears[0]]
         # the row's size as the velocity pass measures it (Φ_q is already expanded)
-        scale = sum(sp.Abs(J[e, j]) for j in range(J.cols) if J[e, j] != 0)
+        scale = sum(sp.Abs(J[e, j]) for j in self.eq.row_columns[e])
         known = dict(self.shared or {})
         for pair in turns:
             known[sp.sin(pair.angle)], known[sp.cos(pair.angle)] = pair.sin, pair.cos

@@ -20,6 +20,7 @@ from ..protocol import (ACCELERATION, INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP, 
                         POINT_INFO_SIZE, POINT_PIVOT, POINT_RESIDUAL, SING_RTOL,
                         THROUGH_SINGULAR, VELOCITY)
 from .assembly import assemblies as find_assemblies
+from . import entry
 from .design import (ON_FAIL, DesignTable, design_grid, report_failures, run_designs,
                      split_params)
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
@@ -171,13 +172,11 @@ class Mechanism:
         vel, acc = LEVEL["velocity"], LEVEL["acceleration"]
         qd = np.empty(self.n) if lev >= vel else self._none
         qdd = np.empty(self.n) if lev >= acc else self._none
-        if lev == LEVEL["position"]:
-            # a function of its own, so that position-only use never compiles the
-            # derivative solvers
-            status = mod.solve_point(q, t, self.p, tol, self.xtol, maxit, meth, info)
-        else:
-            status = mod.solve_point_derivatives(q, t, self.p, tol, self.xtol, maxit, meth, lev,
-                                                 qd, qdd, info)
+        # one small compiled call at a time (mechgen.runtime.entry): a position solve
+        # compiles neither the full Newton (unless the sorted solver gives up) nor the
+        # derivative passes
+        status = entry.solve_point_derivatives(mod, q, t, self.p, tol, self.xtol, maxit,
+                                               meth, lev, qd, qdd, info)
         if OK < status < VELOCITY:
             raise convergence_error(self, status, t, q, info)
         if status >= ACCELERATION:
@@ -200,12 +199,13 @@ class Mechanism:
         if lev >= LEVEL["velocity"] and QD is None:
             QD = np.empty((N, self.n))
             for k in range(N):
-                if mod.solve_velocity(Q[k], float(ts[k]), self.p, meth, QD[k]) != OK:
+                if entry.solve_velocity(mod, Q[k], float(ts[k]), self.p, meth, QD[k]) != OK:
                     raise singular_error(self, float(ts[k]), Q[k], "velocity")
         if lev >= LEVEL["acceleration"] and QDD is None:
             QDD = np.empty((N, self.n))
             for k in range(N):
-                if mod.solve_acceleration(Q[k], QD[k], float(ts[k]), self.p, meth, QDD[k]) != OK:
+                if entry.solve_acceleration(mod, Q[k], QD[k], float(ts[k]), self.p, meth,
+                                            QDD[k]) != OK:
                     raise singular_error(self, float(ts[k]), Q[k], "acceleration")
         return QD, QDD
 
