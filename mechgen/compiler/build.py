@@ -6,7 +6,8 @@ import tempfile
 
 from .render import PREAMBLE, STAMP, environment, render
 
-__all__ = ["PREAMBLE", "STAMP", "build", "environment", "render", "write_module"]
+__all__ = ["PREAMBLE", "STAMP", "build", "build_if_changed", "environment", "render",
+           "write_module"]
 
 
 def write_module(text: str, path: str) -> str:
@@ -33,3 +34,30 @@ def build(model, outdir="generated", **kwargs) -> str:
     """Render ``model`` and write ``outdir/<name>.py``; returns the path."""
     text = render(model, **kwargs)
     return write_module(text, os.path.join(outdir, f"{model.name}.py"))
+
+
+def build_if_changed(model, outdir, **kwargs) -> str:
+    """Write ``outdir/<name>.py`` unless it already holds this model's module: a rewrite
+    would change the file's time stamp and throw away numba's compiled cache beside it.
+    A model unchanged since the module was written (the same build fingerprint,
+    mechgen.compiler.fingerprint) is not even rendered again; otherwise the module is
+    rendered and written only where its text differs."""
+    from . import fingerprint as fp
+    path = os.path.join(outdir, f"{model.name}.py")
+    try:
+        digest = fp.fingerprint(model, **kwargs)
+    except Exception:  # noqa: BLE001 - a model the digest cannot read: render it
+        digest = None
+    if digest is not None and fp.up_to_date(path, digest):
+        return path
+    text = render(model, **kwargs)
+    try:
+        with open(path, encoding="utf-8") as fh:
+            same = fh.read() == text
+    except OSError:
+        same = False
+    if not same:
+        write_module(text, path)
+    if digest is not None:
+        fp.record(path, digest, text)
+    return path
