@@ -1,5 +1,5 @@
-"""Jansen's leg (the Strandbeest linkage, his "holy numbers"): a crank, seven links and a
-foot, 24 coordinates. The guesses are the exact assembly at crank angle 0, computed from
+"""Jansen's leg (the Strandbeest linkage, his "holy numbers"): seven moving bodies (the
+crank, five links and the foot), 21 coordinates. The guesses are the exact assembly at crank angle 0, computed from
 the link lengths by intersecting circles; a Strandbeest-size model for benchmarks."""
 import math
 
