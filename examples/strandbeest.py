@@ -1,6 +1,7 @@
 """Jansen's leg (the Strandbeest linkage, his "holy numbers"): seven moving bodies (the
-crank, five links and the foot), 21 coordinates. The guesses are the exact assembly at crank angle 0, computed from
-the link lengths by intersecting circles; a Strandbeest-size model for benchmarks."""
+crank, five links and the foot), 21 coordinates. The guesses are the exact assembly at
+crank angle 0, computed from the link lengths by intersecting circles; a Strandbeest-size
+model for benchmarks."""
 import math
 
 from mechgen import Model, T, pi

@@ -4,6 +4,7 @@ from __future__ import annotations
 import os
 import tempfile
 
+from .fingerprint import fingerprint, record, up_to_date
 from .render import PREAMBLE, STAMP, environment, render
 
 __all__ = ["PREAMBLE", "STAMP", "build", "build_if_changed", "environment", "render",
@@ -42,13 +43,12 @@ def build_if_changed(model, outdir, **kwargs) -> str:
     A model unchanged since the module was written (the same build fingerprint,
     mechgen.compiler.fingerprint) is not even rendered again; otherwise the module is
     rendered and written only where its text differs."""
-    from . import fingerprint as fp
     path = os.path.join(outdir, f"{model.name}.py")
     try:
-        digest = fp.fingerprint(model, **kwargs)
+        digest = fingerprint(model, **kwargs)
     except Exception:  # noqa: BLE001 - a model the digest cannot read: render it
         digest = None
-    if digest is not None and fp.up_to_date(path, digest):
+    if digest is not None and up_to_date(path, digest):
         return path
     text = render(model, **kwargs)
     try:
@@ -59,5 +59,5 @@ def build_if_changed(model, outdir, **kwargs) -> str:
     if not same:
         write_module(text, path)
     if digest is not None:
-        fp.record(path, digest, text)
+        record(path, digest, text)
     return path

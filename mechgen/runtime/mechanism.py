@@ -20,7 +20,7 @@ from ..protocol import (ACCELERATION, INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP, 
                         POINT_INFO_SIZE, POINT_PIVOT, POINT_RESIDUAL, SING_RTOL,
                         THROUGH_SINGULAR, VELOCITY)
 from .assembly import assemblies as find_assemblies
-from . import entry
+from .entry import solve_acceleration, solve_point_derivatives, solve_velocity
 from .design import (ON_FAIL, DesignTable, design_grid, report_failures, run_designs,
                      split_params)
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
@@ -165,9 +165,9 @@ class Mechanism:
         return sol
 
     def _solve_point(self, t, q, lev, meth, tol, maxit):
-        """The position (in place), its checks and the derivatives asked for, in one
-        compiled call (the module's solve_point / solve_point_derivatives):
-        (qd, qdd, residual, singular)."""
+        """The position (in place), its checks and the derivatives asked for, as the
+        module's solve_point_derivatives makes them, one compiled call per step
+        (mechgen.runtime.entry): (qd, qdd, residual, singular)."""
         info, mod = self._info, self.module
         vel, acc = LEVEL["velocity"], LEVEL["acceleration"]
         qd = np.empty(self.n) if lev >= vel else self._none
@@ -175,7 +175,7 @@ class Mechanism:
         # one small compiled call at a time (mechgen.runtime.entry): a position solve
         # compiles neither the full Newton (unless the sorted solver gives up) nor the
         # derivative passes
-        status = entry.solve_point_derivatives(mod, q, t, self.p, tol, self.xtol, maxit,
+        status = solve_point_derivatives(mod, q, t, self.p, tol, self.xtol, maxit,
                                                meth, lev, qd, qdd, info)
         if OK < status < VELOCITY:
             raise convergence_error(self, status, t, q, info)
@@ -199,12 +199,12 @@ class Mechanism:
         if lev >= LEVEL["velocity"] and QD is None:
             QD = np.empty((N, self.n))
             for k in range(N):
-                if entry.solve_velocity(mod, Q[k], float(ts[k]), self.p, meth, QD[k]) != OK:
+                if solve_velocity(mod, Q[k], float(ts[k]), self.p, meth, QD[k]) != OK:
                     raise singular_error(self, float(ts[k]), Q[k], "velocity")
         if lev >= LEVEL["acceleration"] and QDD is None:
             QDD = np.empty((N, self.n))
             for k in range(N):
-                if entry.solve_acceleration(mod, Q[k], QD[k], float(ts[k]), self.p, meth,
+                if solve_acceleration(mod, Q[k], QD[k], float(ts[k]), self.p, meth,
                                             QDD[k]) != OK:
                     raise singular_error(self, float(ts[k]), Q[k], "acceleration")
         return QD, QDD
