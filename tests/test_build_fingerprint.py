@@ -15,7 +15,7 @@ from mechgen.compiler.fingerprint import fingerprint, record_path
 def counting(monkeypatch):
     """Counts the renders build_if_changed makes."""
     calls = []
-    build_mod = importlib.import_module("mechgen.compiler.build")
+    build_mod = importlib.import_module("mechgen.compiler.render")
     real = build_mod.render
 
     def spy(model, **kw):

@@ -5,7 +5,19 @@ import os
 import tempfile
 
 from .fingerprint import fingerprint, record, up_to_date
-from .render import PREAMBLE, STAMP, environment, render
+
+_RENDER_NAMES = ("PREAMBLE", "STAMP", "environment", "render")
+
+
+def __getattr__(name):
+    """The renderer's names (mechgen.compiler.render), imported when first used: finding
+    an up-to-date module needs neither jinja2 nor the emitters."""
+    if name in _RENDER_NAMES:
+        from .render import PREAMBLE, STAMP, environment, render
+        return {"PREAMBLE": PREAMBLE, "STAMP": STAMP, "environment": environment,
+                "render": render}[name]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = ["PREAMBLE", "STAMP", "build", "build_if_changed", "environment", "render",
            "write_module"]
@@ -33,6 +45,7 @@ def write_module(text: str, path: str) -> str:
 
 def build(model, outdir="generated", **kwargs) -> str:
     """Render ``model`` and write ``outdir/<name>.py``; returns the path."""
+    from .render import render
     text = render(model, **kwargs)
     return write_module(text, os.path.join(outdir, f"{model.name}.py"))
 
@@ -50,6 +63,7 @@ def build_if_changed(model, outdir, **kwargs) -> str:
         digest = None
     if digest is not None and up_to_date(path, digest):
         return path
+    from .render import render
     text = render(model, **kwargs)
     try:
         with open(path, encoding="utf-8") as fh:
