@@ -34,7 +34,25 @@ def _rhs_symbols(eq, order):
     return {i: rhs[i] if rhs[i].is_number else sym(f"{prefix}{i}") for i in range(rhs.rows)}
 
 
+_LAST = {}      # the passes of the last (plan, eq) without ``known``, by order: the velocity
+                # pass is laid out for velocity_sorted and again for derivatives_sorted
+
+
 def linear_blocks(plan, eq, order, known=None) -> LinearCode:
+    """linear_code, its results without ``known`` kept for the last plan and equations
+    (the same objects) and reused."""
+    if known:
+        return linear_code(plan, eq, order, known)
+    last = _LAST.get("for")
+    if last is None or last[0] is not plan or last[1] is not eq:
+        _LAST.clear()
+        _LAST["for"] = (plan, eq)
+    if order not in _LAST:
+        _LAST[order] = linear_code(plan, eq, order)
+    return _LAST[order]
+
+
+def linear_code(plan, eq, order, known=None) -> LinearCode:
     """The block forward substitution for Φ_q x = rhs (ν for order 1, γ for order 2).
     Unknowns that come out as constants (``X2d = 0``) are substituted forward so that
     nothing is multiplied by a known zero; only constants found here are used, so it stays
