@@ -65,8 +65,8 @@ after_position = {name: len(getattr(mod, name).signatures) for name in
                    "solve_point", "solve_point_derivatives", "sweep_fast")}
 mech.solve(0.15, level="acceleration")
 after_acceleration = {name: len(getattr(mod, name).signatures) for name in
-                      ("newton_full", "velocity_full", "acceleration_full", "velocity_sorted",
-                       "acceleration_sorted", "solve_point_derivatives")}
+                      ("newton_full", "velocity_full", "acceleration_full",
+                       "solve_derivatives_sorted", "solve_point_derivatives")}
 print(json.dumps([after_position, after_acceleration]))
 """
 
@@ -74,7 +74,7 @@ print(json.dumps([after_position, after_acceleration]))
 def test_a_position_solve_compiles_only_the_position_path(tmp_path):
     """In a fresh process with an empty numba cache: after solve(), the full Newton, the
     derivative passes and the sweep have no compiled version; after an acceleration solve
-    the sorted passes have one and the full fallbacks still none."""
+    the sorted passes (in one call) have one and the full fallbacks still none."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba"),
                PYTHONPATH=ROOT + os.pathsep + os.environ.get("PYTHONPATH", ""))
     out = subprocess.run([sys.executable, "-c", SCRIPT, QR], capture_output=True, text=True,
@@ -85,4 +85,56 @@ def test_a_position_solve_compiles_only_the_position_path(tmp_path):
                    "acceleration_sorted": 0, "solve_point": 0, "solve_point_derivatives": 0,
                    "sweep_fast": 0}
     assert acc == {"newton_full": 0, "velocity_full": 0, "acceleration_full": 0,
-                   "velocity_sorted": 1, "acceleration_sorted": 1, "solve_point_derivatives": 0}
+                   "solve_derivatives_sorted": 1, "solve_point_derivatives": 0}
+
+
+class _Fake:
+    """A module whose sorted passes give up where told: records the calls it gets."""
+    SORTED, LEVEL = True, 2
+
+    def __init__(self, fails):
+        self.fails, self.calls = fails, []
+
+    def _call(self, name, status=0):
+        self.calls.append(name)
+        return status
+
+    def solve_point_sorted(self, q, t, p, tol, xtol, maxit, info):
+        info[:] = [1, 0.0, len(q), 0, 0.0, 1.0]
+        return self._call("solve_point_sorted")
+
+    def solve_derivatives_sorted(self, q, t, p, qd, qdd):
+        from mechgen.protocol import ACCELERATION, SINGULAR, VELOCITY
+        code = {"velocity": VELOCITY + SINGULAR, "acceleration": ACCELERATION + SINGULAR}
+        return self._call("solve_derivatives_sorted", code.get(self.fails, 0))
+
+    def acceleration_sorted(self, q, qd, t, p, out):
+        return self._call("acceleration_sorted")
+
+    def velocity_full(self, q, t, p, out):
+        return self._call("velocity_full")
+
+    def acceleration_full(self, q, qd, t, p, out):
+        return self._call("acceleration_full")
+
+
+@pytest.mark.parametrize("fails,method,calls,status", [
+    (None, "auto", ["solve_point_sorted", "solve_derivatives_sorted"], 0),
+    ("velocity", "auto", ["solve_point_sorted", "solve_derivatives_sorted", "velocity_full",
+                          "acceleration_sorted"], 0),
+    ("acceleration", "auto", ["solve_point_sorted", "solve_derivatives_sorted",
+                              "acceleration_full"], 0),
+    ("velocity", "sorted", ["solve_point_sorted", "solve_derivatives_sorted"], 12),
+    ("acceleration", "sorted", ["solve_point_sorted", "solve_derivatives_sorted"], 22),
+])
+def test_a_sorted_pass_that_gives_up_falls_back_level_by_level(fails, method, calls, status):
+    """As the library's solve_velocity and solve_acceleration: the full solve of the level
+    that gave up (method auto), the sorted pass of the next level again; with method
+    sorted the status of the pass that gave up."""
+    from mechgen.protocol import ACCELERATION, SINGULAR, VELOCITY
+    assert (VELOCITY + SINGULAR, ACCELERATION + SINGULAR) == (12, 22)
+    mod = _Fake(fails)
+    q, info = np.zeros(3), np.zeros(POINT_INFO_SIZE)
+    got = entry.solve_point_derivatives(mod, q, 0.0, np.zeros(0), 1e-10, 1e-12, 50,
+                                        METHOD[method], 2, np.zeros(3), np.zeros(3), info)
+    assert (mod.calls, got) == (calls, status)

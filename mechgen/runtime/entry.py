@@ -7,8 +7,9 @@ entries (solve_point_derivatives: the sorted solver, the full Newton, both deriv
 passes and their full fallbacks) cost several seconds of compiling on first use. The
 functions here make the same decisions in Python, one small compiled call at a time: the
 sorted solver first (solve_point_sorted), the full Newton (solve_point_full) only when
-the sorted solver gave up or the method asks for it, the velocity and acceleration passes
-each on their own, with their rank-revealing fallbacks compiled only when needed. The
+the sorted solver gave up or the method asks for it, the sorted velocity and acceleration
+passes (both in one call, solve_derivatives_sorted, for an acceleration solve), with
+their rank-revealing fallbacks compiled only when needed. The
 numbers and statuses are those of the library's entries (mechgen.compiler.library.solve).
 """
 from __future__ import annotations
@@ -59,6 +60,9 @@ def solve_point_derivatives(mod, q, t, p, tol, xtol, maxit, meth, level, qd, qdd
     if level >= 1:
         if info[INFO_RANK] < len(q) or not info[POINT_PIVOT] >= SING_RTOL:
             return VELOCITY + SINGULAR
+        both = getattr(mod, "solve_derivatives_sorted", None)
+        if level >= 2 and both is not None and mod.SORTED and mod.LEVEL >= 2 and meth != FULL:
+            return _derivatives(mod, both, q, t, p, meth, qd, qdd)
         status = solve_velocity(mod, q, t, p, meth, qd)
         if status != OK:
             return VELOCITY + status
@@ -67,3 +71,20 @@ def solve_point_derivatives(mod, q, t, p, tol, xtol, maxit, meth, level, qd, qdd
         if status != OK:
             return ACCELERATION + status
     return OK
+
+
+def _derivatives(mod, both, q, t, p, meth, qd, qdd) -> int:
+    """Both sorted passes in one compiled call; where one gave up and the method allows
+    it, the full solve of that level and what follows it, as solve_velocity and
+    solve_acceleration would have made them."""
+    status = both(q, t, p, qd, qdd)
+    if status == OK or meth == SORTED:
+        return status
+    if status < ACCELERATION:             # the sorted velocity pass gave up
+        status = mod.velocity_full(q, t, p, qd)
+        if status != OK:
+            return VELOCITY + status
+        status = solve_acceleration(mod, q, qd, t, p, meth, qdd)
+    else:                                 # the velocities stand; the accelerations did not
+        status = mod.acceleration_full(q, qd, t, p, qdd)
+    return OK if status == OK else ACCELERATION + status

@@ -244,6 +244,21 @@ def solve_point_full(q, t, p, tol, xtol, maxit, info):
 
 
 @njit(cache=True)
+def solve_derivatives_sorted(q, t, p, qd, qdd):
+    """The sorted velocity and acceleration passes at a solved position, in one call
+    without the full solves (the runtime calls velocity_full / acceleration_full only where
+    a sorted pass gave up). Returns OK, or VELOCITY + the velocity status, or
+    ACCELERATION + the acceleration status. For a module built to acceleration level."""
+    status = velocity_sorted(q, t, p, qd)
+    if status != OK:
+        return VELOCITY + status
+    status = acceleration_sorted(q, qd, t, p, qdd)
+    if status != OK:
+        return ACCELERATION + status
+    return OK
+
+
+@njit(cache=True)
 def solve_point_derivatives(q, t, p, tol, xtol, maxit, method, level, qd, qdd, info):
     """solve_point(), then the velocities into qd (not tried at a singular position) and,
     with level >= 2, the accelerations into qdd. Returns the position status (OK: 0), or
