@@ -140,6 +140,7 @@ def linear_sorted_body(plan, eq, order):
     if len(groups) <= 2:
         groups = [list(code.blocks)]
     done, top, helpers = set(), [], []
+    where = {x: k for k, x in enumerate(xs)}
     for i, group in enumerate(groups):
         body = [x for piece in group for x in piece[0]]
         st = linear_head(eq, order, body, code.jsym, code.rsym) + body
@@ -154,7 +155,7 @@ def linear_sorted_body(plan, eq, order):
             lines += [Store(f"out[{k}]", s) if plan.solved[k] else _not_solved("out", k, s)
                       for k, s in enumerate(xs)]
             return lines + [Return(0)], []
-        lines += [Store(f"out[{xs.index(x)}]", x) for x in solved] + [Return(0)]
+        lines += [Store(f"out[{where[x]}]", x) for x in solved] + [Return(0)]
         helper = f"_{name}_part{i}"
         doc = (f"{name.capitalize()} solver, part {i + 1} of {len(groups)}: "
                + ", ".join(x.name for x in solved) + ".")

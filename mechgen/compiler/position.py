@@ -384,6 +384,7 @@ def position_body(plan, eq):
         st += [Store(f"q[{k}]", s) for k, s in enumerate(q)]
         return st + [Code("info[0] = _iters"), Return(0)], []
     top, helpers = [Code("_w = q.copy()"), Code("info[0] = 0")], []
+    where = {s: k for k, s in enumerate(q)}
     for i, group in enumerate(plan.position_parts):
         used = set().union(*(pieces[k].used for k in group))
         solved = [s for k in group for s in pieces[k].solved]
@@ -393,7 +394,7 @@ def position_body(plan, eq):
         body.append(Code("_iters = 0"))
         for k in group:
             body += pieces[k].statements
-        body += [Store(f"q[{q.index(s)}]", s) for s in solved]
+        body += [Store(f"q[{where[s]}]", s) for s in solved]
         body += [Code("info[0] = max(info[0], _iters)"), Return(0)]
         name = f"_position_part{i}"
         doc = (f"Position solver, part {i + 1} of {len(plan.position_parts)}: "
