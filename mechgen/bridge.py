@@ -221,18 +221,10 @@ def cache_folder() -> str:
 
 
 def build_if_changed(model, outdir, **kwargs) -> str:
-    """Write ``outdir/<name>.py`` unless it already holds exactly this text: a rewrite
-    would change the file's time stamp and throw away numba's compiled cache beside it."""
-    from .compiler.build import render, write_module
-    text = render(model, **kwargs)
-    path = os.path.join(outdir, f"{model.name}.py")
-    try:
-        with open(path, encoding="utf-8") as fh:
-            if fh.read() == text:
-                return path
-    except OSError:
-        pass
-    return write_module(text, path)
+    """Write ``outdir/<name>.py`` unless it already holds this model's module (see
+    mechgen.compiler.build.build_if_changed: an unchanged model is not rendered again)."""
+    from .compiler.build import build_if_changed as _build_if_changed
+    return _build_if_changed(model, outdir, **kwargs)
 
 
 def compile_model(model, outdir=None, tier=None, name=None, **kwargs):

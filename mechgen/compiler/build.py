@@ -4,9 +4,23 @@ from __future__ import annotations
 import os
 import tempfile
 
-from .render import PREAMBLE, STAMP, environment, render
+from .fingerprint import fingerprint, record, up_to_date
 
-__all__ = ["PREAMBLE", "STAMP", "build", "environment", "render", "write_module"]
+_RENDER_NAMES = ("PREAMBLE", "STAMP", "environment", "render")
+
+
+def __getattr__(name):
+    """The renderer's names (mechgen.compiler.render), imported when first used: finding
+    an up-to-date module needs neither jinja2 nor the emitters."""
+    if name in _RENDER_NAMES:
+        from .render import PREAMBLE, STAMP, environment, render
+        return {"PREAMBLE": PREAMBLE, "STAMP": STAMP, "environment": environment,
+                "render": render}[name]
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+__all__ = ["PREAMBLE", "STAMP", "build", "build_if_changed", "environment", "render",
+           "write_module"]
 
 
 def write_module(text: str, path: str) -> str:
@@ -31,5 +45,33 @@ def write_module(text: str, path: str) -> str:
 
 def build(model, outdir="generated", **kwargs) -> str:
     """Render ``model`` and write ``outdir/<name>.py``; returns the path."""
+    from .render import render
     text = render(model, **kwargs)
     return write_module(text, os.path.join(outdir, f"{model.name}.py"))
+
+
+def build_if_changed(model, outdir, **kwargs) -> str:
+    """Write ``outdir/<name>.py`` unless it already holds this model's module: a rewrite
+    would change the file's time stamp and throw away numba's compiled cache beside it.
+    A model unchanged since the module was written (the same build fingerprint,
+    mechgen.compiler.fingerprint) is not even rendered again; otherwise the module is
+    rendered and written only where its text differs."""
+    path = os.path.join(outdir, f"{model.name}.py")
+    try:
+        digest = fingerprint(model, **kwargs)
+    except Exception:  # noqa: BLE001 - a model the digest cannot read: render it
+        digest = None
+    if digest is not None and up_to_date(path, digest):
+        return path
+    from .render import render
+    text = render(model, **kwargs)
+    try:
+        with open(path, encoding="utf-8") as fh:
+            same = fh.read() == text
+    except OSError:
+        same = False
+    if not same:
+        write_module(text, path)
+    if digest is not None:
+        record(path, digest, text)
+    return path

@@ -61,13 +61,10 @@ def phi_body(plan, eq):
 
 def phi_q_body(plan, eq):
     """Φ_q's nonzero entries, each row labelled once (on its first entry)."""
-    J, st = eq.phi_q, []
-    for i in range(J.rows):
-        first = True
-        for j in range(J.cols):
-            if J[i, j] != 0:
-                st.append(Store(f"out[{i}, {j}]", J[i, j], eq.labels[i] if first else ""))
-                first = False
+    st, last = [], None
+    for (i, j), x in eq.nonzeros.items():
+        st.append(Store(f"out[{i}, {j}]", x, eq.labels[i] if i != last else ""))
+        last = i
     return straight_line(plan, eq, st, "phi_q")
 
 

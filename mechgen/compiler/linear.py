@@ -34,18 +34,34 @@ def _rhs_symbols(eq, order):
     return {i: rhs[i] if rhs[i].is_number else sym(f"{prefix}{i}") for i in range(rhs.rows)}
 
 
+_LAST = {}      # the passes of the last (plan, eq) without ``known``, by order: the velocity
+                # pass is laid out for velocity_sorted and again for derivatives_sorted
+
+
 def linear_blocks(plan, eq, order, known=None) -> LinearCode:
+    """linear_code, its results without ``known`` kept for the last plan and equations
+    (the same objects) and reused."""
+    if known:
+        return linear_code(plan, eq, order, known)
+    last = _LAST.get("for")
+    if last is None or last[0] is not plan or last[1] is not eq:
+        _LAST.clear()
+        _LAST["for"] = (plan, eq)
+    if order not in _LAST:
+        _LAST[order] = linear_code(plan, eq, order)
+    return _LAST[order]
+
+
+def linear_code(plan, eq, order, known=None) -> LinearCode:
     """The block forward substitution for Φ_q x = rhs (ν for order 1, γ for order 2).
     Unknowns that come out as constants (``X2d = 0``) are substituted forward so that
     nothing is multiplied by a known zero; only constants found here are used, so it stays
     exact for any (q, q̇) it is given. ``known``: rows of the right side known constant."""
-    J = eq.phi_q
-    xs = eq.qd if order == 1 else eq.qdd
+    xs = list(eq.qd if order == 1 else eq.qdd)
     jsym, consts, out = {}, {}, []
-    for i in range(J.rows):
-        for j in range(J.cols):
-            if J[i, j] != 0:
-                jsym[i, j] = J[i, j] if J[i, j].is_number else sym(f"_j{i}_{j}")
+    for (i, j), x in eq.nonzeros.items():
+        jsym[i, j] = x if x.is_number else sym(f"_j{i}_{j}")
+    cols = eq.row_columns
     rsym = _rhs_symbols(eq, order)
     rsym.update(known or {})      # right sides known to be constants
     for b in plan.blocks:
@@ -54,12 +70,12 @@ def linear_blocks(plan, eq, order, known=None) -> LinearCode:
         bvec = []
         for e in b.rows:
             acc = rsym[e]
-            for j in range(J.cols):
-                if (e, j) in jsym and j not in inside:
+            for j in cols[e]:
+                if j not in inside:
                     acc -= jsym[e, j] * consts.get(xs[j], xs[j])
             bvec.append(acc)
         A = [[jsym.get((e, v), sp.Integer(0)) for v in b.vars] for e in b.rows]
-        scale = [sum(sp.Abs(jsym[e, j]) for j in range(J.cols) if (e, j) in jsym) for e in b.rows]
+        scale = [sum(sp.Abs(jsym[e, j]) for j in cols[e]) for e in b.rows]
         k = b.size
         if k == 1:
             a, x = A[0][0], xs[b.vars[0]]
@@ -96,7 +112,7 @@ def _guards_and_exprs(body):
 
 def linear_head(eq, order, body, jsym, rsym):
     """Assignments of the Jacobian entries and right sides that ``body`` uses."""
-    J = eq.phi_q
+    J = eq.nonzeros
     rhs = eq.nu if order == 1 else eq.gamma
     used = free(_guards_and_exprs(body))
     head = [Assign(s, J[i, j]) for (i, j), s in jsym.items()
@@ -124,6 +140,7 @@ def linear_sorted_body(plan, eq, order):
     if len(groups) <= 2:
         groups = [list(code.blocks)]
     done, top, helpers = set(), [], []
+    where = {x: k for k, x in enumerate(xs)}
     for i, group in enumerate(groups):
         body = [x for piece in group for x in piece[0]]
         st = linear_head(eq, order, body, code.jsym, code.rsym) + body
@@ -138,7 +155,7 @@ def linear_sorted_body(plan, eq, order):
             lines += [Store(f"out[{k}]", s) if plan.solved[k] else _not_solved("out", k, s)
                       for k, s in enumerate(xs)]
             return lines + [Return(0)], []
-        lines += [Store(f"out[{xs.index(x)}]", x) for x in solved] + [Return(0)]
+        lines += [Store(f"out[{where[x]}]", x) for x in solved] + [Return(0)]
         helper = f"_{name}_part{i}"
         doc = (f"{name.capitalize()} solver, part {i + 1} of {len(groups)}: "
                + ", ".join(x.name for x in solved) + ".")

@@ -41,7 +41,13 @@ class Rows:
     for the whole planning pass (the plan and the position code read the same rows)."""
 
     def __init__(self, eq):
-        self.phi, self.cache = eq.phi, {}
+        self.phi, self.cache, self._symbols = eq.phi, {}, {}
+
+    def symbols(self, e):
+        """The free symbols of row e (computed once)."""
+        if e not in self._symbols:
+            self._symbols[e] = self.phi[e].free_symbols
+        return self._symbols[e]
 
     def at(self, known):
         return _RowsAt(self, dict(known))
@@ -52,12 +58,18 @@ class _RowsAt:
         self.rows, self.known, self.key = rows, known, tuple(known)
 
     def __getitem__(self, e):
+        row = self.rows.phi[e]
         if not self.known:
-            return self.rows.phi[e]
+            return row
+        # only the constants this row holds: most rows hold none, and a row's substituted
+        # form is then shared by every later block (the same result as substituting all)
+        mine = tuple(s for s in self.key if s in self.rows.symbols(e))
+        if not mine:
+            return row
         cache = self.rows.cache
-        if (e, self.key) not in cache:
-            cache[e, self.key] = self.rows.phi[e].subs(self.known)
-        return cache[e, self.key]
+        if (e, mine) not in cache:
+            cache[e, mine] = row.subs({s: self.known[s] for s in mine})
+        return cache[e, mine]
 
 
 @dataclass(frozen=True)
@@ -341,10 +353,10 @@ class _Writer:
         of its row's size (the caller flags it singular)."""
         if len(b.tears) != 1:
             return [Return(1)]
-        J = self.eq.phi_q
+        J = self.eq.nonzeros
         e, y = b.residuals[0], self.q[b.tears[0]]
         # the row's size as the velocity pass measures it (Φ_q is already expanded)
-        scale = sum(sp.Abs(J[e, j]) for j in range(J.cols) if J[e, j] != 0)
+        scale = sum(sp.Abs(J[e, j]) for j in self.eq.row_columns[e])
         known = dict(self.shared or {})
         for pair in turns:
             known[sp.sin(pair.angle)], known[sp.cos(pair.angle)] = pair.sin, pair.cos
@@ -372,6 +384,7 @@ def position_body(plan, eq):
         st += [Store(f"q[{k}]", s) for k, s in enumerate(q)]
         return st + [Code("info[0] = _iters"), Return(0)], []
     top, helpers = [Code("_w = q.copy()"), Code("info[0] = 0")], []
+    where = {s: k for k, s in enumerate(q)}
     for i, group in enumerate(plan.position_parts):
         used = set().union(*(pieces[k].used for k in group))
         solved = [s for k in group for s in pieces[k].solved]
@@ -381,7 +394,7 @@ def position_body(plan, eq):
         body.append(Code("_iters = 0"))
         for k in group:
             body += pieces[k].statements
-        body += [Store(f"q[{q.index(s)}]", s) for s in solved]
+        body += [Store(f"q[{where[s]}]", s) for s in solved]
         body += [Code("info[0] = max(info[0], _iters)"), Return(0)]
         name = f"_position_part{i}"
         doc = (f"Position solver, part {i + 1} of {len(plan.position_parts)}: "

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import sympy as sp
 
@@ -46,6 +47,22 @@ class Equations:
     @property
     def shape(self):
         return self.phi_q.shape
+
+    @cached_property
+    def nonzeros(self) -> dict:
+        """Φ_q's nonzero entries, {(i, j): entry} row by row (computed once: reading a
+        large sympy Matrix cell by cell is slow)."""
+        zero = sp.S.Zero
+        return {(i, j): x for i, row in enumerate(self.phi_q.tolist())
+                for j, x in enumerate(row) if x is not zero and x != 0}
+
+    @cached_property
+    def row_columns(self) -> tuple:
+        """Per row of Φ_q, the columns of its nonzero entries (ascending)."""
+        cols = [[] for _ in range(self.phi_q.rows)]
+        for i, j in self.nonzeros:
+            cols[i].append(j)
+        return tuple(tuple(c) for c in cols)
 
 
 def expand(model) -> Equations:

@@ -18,6 +18,7 @@ from ..errors import RedundancyWarning
 from ..protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, LEVEL, LEVELS,
                         OK, POINT_INFO_SIZE, POINT_PIVOT, POINT_RESIDUAL, SING_RTOL, VELOCITY)
 from .assembly import assemblies as find_assemblies
+from .entry import solve_acceleration, solve_point_derivatives, solve_velocity
 from .design import (ON_FAIL, DesignTable, design_grid, report_failures, run_designs,
                      split_params)
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
@@ -199,20 +200,18 @@ class Mechanism:
         return sol
 
     def _solve_point(self, t, q, lev, meth, tol, maxit):
-        """The position (in place), its checks and the derivatives asked for, in one
-        compiled call (the module's solve_point / solve_point_derivatives):
-        (qd, qdd, residual, singular)."""
+        """The position (in place), its checks and the derivatives asked for, as the
+        module's solve_point_derivatives makes them, one compiled call per step
+        (mechgen.runtime.entry): (qd, qdd, residual, singular)."""
         info, mod = self._info, self.module
         vel, acc = LEVEL["velocity"], LEVEL["acceleration"]
         qd = np.empty(self.n) if lev >= vel else self._none
         qdd = np.empty(self.n) if lev >= acc else self._none
-        if lev == LEVEL["position"]:
-            # a function of its own, so that position-only use never compiles the
-            # derivative solvers
-            status = mod.solve_point(q, t, self.p, tol, self.xtol, maxit, meth, info)
-        else:
-            status = mod.solve_point_derivatives(q, t, self.p, tol, self.xtol, maxit, meth, lev,
-                                                 qd, qdd, info)
+        # one small compiled call at a time (mechgen.runtime.entry): a position solve
+        # compiles neither the full Newton (unless the sorted solver gives up) nor the
+        # derivative passes
+        status = solve_point_derivatives(mod, q, t, self.p, tol, self.xtol, maxit,
+                                               meth, lev, qd, qdd, info)
         if OK < status < VELOCITY:
             raise convergence_error(self, status, t, q, info)
         if status >= ACCELERATION:
@@ -235,12 +234,13 @@ class Mechanism:
         if lev >= LEVEL["velocity"] and QD is None:
             QD = np.empty((N, self.n))
             for k in range(N):
-                if mod.solve_velocity(Q[k], float(ts[k]), self.p, meth, QD[k]) != OK:
+                if solve_velocity(mod, Q[k], float(ts[k]), self.p, meth, QD[k]) != OK:
                     raise singular_error(self, float(ts[k]), Q[k], "velocity")
         if lev >= LEVEL["acceleration"] and QDD is None:
             QDD = np.empty((N, self.n))
             for k in range(N):
-                if mod.solve_acceleration(Q[k], QD[k], float(ts[k]), self.p, meth, QDD[k]) != OK:
+                if solve_acceleration(mod, Q[k], QD[k], float(ts[k]), self.p, meth,
+                                            QDD[k]) != OK:
                     raise singular_error(self, float(ts[k]), Q[k], "acceleration")
         return QD, QDD
 

@@ -204,6 +204,61 @@ def solve_point(q, t, p, tol, xtol, maxit, method, info):
 
 
 @njit(cache=True)
+def solve_point_sorted(q, t, p, tol, xtol, maxit, info):
+    """solve_point() with method METHOD_SORTED, in a function of its own: what a first
+    solve compiles is the sorted solver and the checks, not the full Newton (the runtime
+    calls solve_point_full only when this gives up and the method allows it)."""
+    info[INFO_ITERATIONS] = 0.0
+    info[INFO_RESIDUAL] = 0.0
+    info[INFO_RANK] = N_COORDS
+    info[INFO_METHOD] = 0.0
+    status = position_sorted(q, t, p, tol, xtol, maxit, info)
+    if status == OK and not _max_abs(q) < np.inf:
+        status = NOT_FINITE  # an explicit block gave NaN (no real configuration)
+    if status != OK:
+        return status
+    r = np.empty(N_EQS)
+    phi(q, t, p, r)
+    info[POINT_RESIDUAL] = _max_abs(r)
+    info[POINT_PIVOT] = pivot_ratio(q, t, p)
+    return OK
+
+
+@njit(cache=True)
+def solve_point_full(q, t, p, tol, xtol, maxit, info):
+    """solve_point() with method METHOD_FULL (full Newton only), in a function of its own;
+    also the fallback of method METHOD_AUTO after solve_point_sorted gave up, from the q it
+    left (the same numbers as solve_point with METHOD_AUTO)."""
+    info[INFO_ITERATIONS] = 0.0
+    info[INFO_RESIDUAL] = 0.0
+    info[INFO_RANK] = N_COORDS
+    info[INFO_METHOD] = 1.0
+    status = newton_full(q, t, p, tol, xtol, maxit, info)
+    if status != OK:
+        return status
+    r = np.empty(N_EQS)
+    phi(q, t, p, r)
+    info[POINT_RESIDUAL] = _max_abs(r)
+    info[POINT_PIVOT] = pivot_ratio(q, t, p)
+    return OK
+
+
+@njit(cache=True)
+def solve_derivatives_sorted(q, t, p, qd, qdd):
+    """The sorted velocity and acceleration passes at a solved position, in one call
+    without the full solves (the runtime calls velocity_full / acceleration_full only where
+    a sorted pass gave up). Returns OK, or VELOCITY + the velocity status, or
+    ACCELERATION + the acceleration status. For a module built to acceleration level."""
+    status = velocity_sorted(q, t, p, qd)
+    if status != OK:
+        return VELOCITY + status
+    status = acceleration_sorted(q, qd, t, p, qdd)
+    if status != OK:
+        return ACCELERATION + status
+    return OK
+
+
+@njit(cache=True)
 def solve_point_derivatives(q, t, p, tol, xtol, maxit, method, level, qd, qdd, info):
     """solve_point(), then the velocities into qd (not tried at a singular position) and,
     with level >= 2, the accelerations into qdd. Returns the position status (OK: 0), or
