@@ -89,8 +89,9 @@ def parse_guess(items):
 
 def parse_param_option(items) -> dict:
     """``--param`` values of the command line: ``NAME=V`` fixes a parameter,
-    ``NAME=V1,V2,...`` lists values and ``NAME=START:STOP:STEP`` is Mathematica's
-    {name, start, stop, step} (stop included). Each value may be an expression."""
+    ``NAME=V1,V2,...`` lists values, ``NAME=START:STOP:STEP`` is Mathematica's
+    {name, start, stop, step} (stop included) and ``NAME=START:STOP:n=COUNT`` is COUNT
+    values from START to STOP (both included, numpy's linspace). Each value may be an expression."""
     out = {}
     for item in items or ():
         name, sep, text = item.partition("=")
@@ -98,7 +99,15 @@ def parse_param_option(items) -> dict:
         if not sep or not name:
             raise MechgenError(f"--param takes NAME=VALUES, got {item!r}")
         try:
-            if ":" in text:
+            if ":" in text and text.rsplit(":", 1)[1].strip().startswith("n="):
+                # START:STOP:n=COUNT, COUNT values from START to STOP (both included)
+                head, count = text.rsplit(":", 1)
+                start, stop = (number(x) for x in head.split(":"))
+                count = count.strip()[2:].strip()
+                if not count.isdigit() or int(count) < 1 or (int(count) > 1 and stop == start):
+                    raise ValueError
+                values = np.linspace(start, stop, int(count))
+            elif ":" in text:
                 start, stop, step = (number(x) for x in text.split(":"))
                 if not step > 0 or stop < start:
                     raise ValueError
@@ -111,7 +120,7 @@ def parse_param_option(items) -> dict:
                 values = number(text)
         except ValueError:
             raise MechgenError(f"--param {item!r}: give NAME=V, NAME=V1,V2,... or "
-                               "NAME=START:STOP:STEP with STEP > 0") from None
+                               "NAME=START:STOP:STEP with STEP > 0, or NAME=START:STOP:n=COUNT") from None
         out[name] = values
     return out
 

@@ -1,0 +1,215 @@
+"""Where a design table runs: ``backend="cpu"`` (chunks of designs on a pool of threads,
+each chunk one call of the module's compiled sweep_designs, which releases the GIL),
+``"dask"`` (chunks over a dask.distributed cluster, mechgen.runtime.dask_backend) or
+``"cuda"`` (a generated GPU kernel, mechgen.runtime.cuda). Every backend returns a
+TableData: the full arrays, or only the reductions when ``slots`` is given, and the
+count of solved times and the status of every design. Each design is swept on its own
+(the same warm-started continuation and branch keeping as a single sweep), so the
+numbers do not depend on the backend's chunking or on the count of workers.
+"""
+from __future__ import annotations
+
+import os
+import sys
+from concurrent.futures import ThreadPoolExecutor, as_completed
+
+import numpy as np
+
+from ..errors import MechgenError
+from ..protocol import INFO_STATUS, INFO_SUBSTEPS, JUMP, OK, THROUGH_SINGULAR
+from .reduce import design_status, reduce_chunk
+
+BACKENDS = ("cpu", "dask", "cuda")
+# A design table's info keeps the columns before INFO_SUBSTEPS (iterations, residual,
+# rank, method, status): the generated sweep writes the substep and jump columns only
+# where its INFO is wide enough for them.
+DESIGN_INFO_COLUMNS = INFO_SUBSTEPS
+# solved points (designs x times) per chunk: big enough that a call's overhead vanishes,
+# small enough that a reduced table's buffers stay small and progress moves
+CHUNK_POINTS = 100_000
+
+
+class TableData:
+    """What a backend returns: Q, QD, QDD (designs, times, coordinates) and INFO (designs,
+    times, DESIGN_INFO_COLUMNS), or None each when only reductions were kept; ``red``:
+    (min, max, tmin, tmax), each (designs, slots), or None; ``done``: solved times per
+    design; ``status``: per design (mechgen.runtime.reduce.design_status)."""
+
+    def __init__(self, Q, QD, QDD, INFO, done, status, red=None):
+        self.Q, self.QD, self.QDD, self.INFO = Q, QD, QDD, INFO
+        self.done, self.status, self.red = done, status, red
+
+
+def cpu_count() -> int:
+    """The cores this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except (AttributeError, OSError):
+        return os.cpu_count() or 1
+
+
+def check_workers(workers):
+    """None (all cores) or a positive integer."""
+    if workers is None:
+        return None
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise ValueError(f"workers must be a positive integer or None (all cores), got {workers!r}")
+    return int(workers)
+
+
+def chunks(D, N, parts):
+    """[(a, b)] splitting D designs into chunks of about CHUNK_POINTS points, at least
+    ``parts`` of them (when there are that many designs)."""
+    size = max(1, min(-(-D // max(parts, 1)), CHUNK_POINTS // max(N, 1)))
+    return [(a, min(D, a + size)) for a in range(0, D, size)]
+
+
+def solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots):
+    """One chunk of designs through the compiled sweep_designs: (done, status, Q, QD, QDD,
+    INFO) with the full arrays, or (done, status, min, max, tmin, tmax) with ``slots``."""
+    D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
+    Q, QD, QDD = np.zeros((D, N, nq)), np.zeros((D, N, nq)), np.zeros((D, N, nq))
+    INFO = np.zeros((D, N, DESIGN_INFO_COLUMNS))
+    done = np.asarray(module.sweep_designs(ts, q0, P, lev, tol, xtol, maxit, meth,
+                                           Q, QD, QDD, INFO), dtype=np.int64)
+    status = design_status(INFO, done, N)
+    if slots is None:
+        return done, status, Q, QD, QDD, INFO
+    return (done, status) + reduce_chunk(module, slots, ts, P, Q, QD, QDD, done)
+
+
+class Collector:
+    """Gathers the chunks' results into one TableData (full arrays or reductions)."""
+
+    def __init__(self, D, N, nq, slots):
+        self.slots = slots
+        self.done = np.zeros(D, dtype=np.int64)
+        self.status = np.full(D, OK, dtype=np.int64)
+        if slots is None:
+            self.arrays = [np.zeros((D, N, nq)), np.zeros((D, N, nq)), np.zeros((D, N, nq)),
+                           np.zeros((D, N, DESIGN_INFO_COLUMNS))]
+        else:
+            self.arrays = [np.full((D, slots.shape[0]), np.nan) for _ in range(4)]
+
+    def put(self, a, b, result):
+        self.done[a:b], self.status[a:b] = result[0], result[1]
+        for arr, part in zip(self.arrays, result[2:]):
+            arr[a:b] = part
+
+    def table(self) -> TableData:
+        if self.slots is None:
+            return TableData(*self.arrays, self.done, self.status)
+        return TableData(None, None, None, None, self.done, self.status, tuple(self.arrays))
+
+
+def run_cpu(module, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=None,
+            progress=None) -> TableData:
+    """The table on this machine's cores: chunks of designs on ``workers`` threads (None:
+    every core; 1: in this thread, one chunk after the other)."""
+    D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
+    workers = cpu_count() if workers is None else workers
+    parts = 1 if workers == 1 and progress is None and slots is None else 4 * workers
+    if progress is not None:
+        parts = max(parts, 50)
+    spans = chunks(D, N, parts)
+    out = Collector(D, N, nq, slots)
+    if slots is None:       # the chunks write straight into the table's arrays
+        Q, QD, QDD, INFO = out.arrays
+
+        def job(a, b):
+            out.done[a:b] = module.sweep_designs(ts, q0, P[a:b], lev, tol, xtol, maxit, meth,
+                                                 Q[a:b], QD[a:b], QDD[a:b], INFO[a:b])
+            out.status[a:b] = design_status(INFO[a:b], out.done[a:b], N)
+    else:
+        def job(a, b):
+            out.put(a, b, solve_chunk(module, ts, q0, P[a:b], lev, tol, xtol, maxit, meth,
+                                      slots))
+    total = 0
+    if workers == 1 or len(spans) == 1:
+        for a, b in spans:
+            job(a, b)
+            total += b - a
+            if progress is not None:
+                progress(total, D)
+    else:
+        with ThreadPoolExecutor(max_workers=min(workers, len(spans))) as pool:
+            futures = {pool.submit(job, a, b): b - a for a, b in spans}
+            for fut in as_completed(futures):
+                fut.result()
+                total += futures[fut]
+                if progress is not None:
+                    progress(total, D)
+    return out.table()
+
+
+def run_cuda(mech, ts, q0, P, lev, tol, maxit, slots) -> TableData:
+    """The table as a generated GPU kernel (mechgen.runtime.cuda.run_table_cuda)."""
+    try:
+        from . import cuda
+    except ImportError as exc:
+        raise MechgenError("backend='cuda' is not available in this mechgen "
+                           f"(mechgen.runtime.cuda could not be imported: {exc})") from None
+    res = cuda.run_table_cuda(mech, ts, P, q0, lev, tol, maxit, slots)
+    status = np.asarray(res["status"], dtype=np.int64)
+    N = ts.shape[0]
+    failed = ~np.isin(status, (OK, JUMP, THROUGH_SINGULAR))
+    done = np.asarray(res["done"], dtype=np.int64) if "done" in res else \
+        np.where(failed, 0, N).astype(np.int64)
+    if slots is not None:
+        red = tuple(np.asarray(res[k], dtype=np.float64) for k in ("min", "max", "tmin", "tmax"))
+        for arr in red:
+            arr[done == 0] = np.nan
+        return TableData(None, None, None, None, done, status, red)
+    D, nq = P.shape[0], q0.shape[0]
+    arrays = []
+    for key in ("Q", "QD", "QDD"):
+        arr = res.get(key)
+        arrays.append(np.zeros((D, N, nq)) if arr is None else np.asarray(arr, dtype=np.float64))
+    INFO = np.zeros((D, N, DESIGN_INFO_COLUMNS))
+    bad = np.nonzero(done < N)[0]
+    INFO[bad, done[bad], INFO_STATUS] = status[bad]
+    return TableData(*arrays, INFO, done, status)
+
+
+def run_backend(backend, mech, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None,
+                client=None, slots=None, progress=None) -> TableData:
+    """The table on the backend asked for (see the module's docstring)."""
+    if backend not in BACKENDS:
+        raise ValueError(f"backend must be one of {', '.join(map(repr, BACKENDS))}, got {backend!r}")
+    workers = check_workers(workers)
+    if backend == "cpu":
+        if client is not None:
+            raise ValueError("client= is for backend='dask'")
+        return run_cpu(mech.module, ts, q0, P, lev, tol, xtol, maxit, meth, workers, slots,
+                       progress)
+    if backend == "dask":
+        from .dask_backend import run_dask
+        return run_dask(mech.module, ts, q0, P, lev, tol, xtol, maxit, meth, client, slots,
+                        progress)
+    return run_cuda(mech, ts, q0, P, lev, tol, maxit, slots)
+
+
+def progress_reporter(progress, total):
+    """None (quiet), a callable progress(done, total), or a progress bar on stderr."""
+    if progress is None or progress is False:
+        return None
+    if callable(progress):
+        return progress
+    return Bar(total)
+
+
+class Bar:
+    """A progress bar on stderr: ``designs solved: 512/1000 [#####.....] 51%``."""
+
+    def __init__(self, total, width=30, stream=None):
+        self.total, self.width = total, width
+        self.stream = sys.stderr if stream is None else stream
+
+    def __call__(self, done, total):
+        fill = int(self.width * done / max(total, 1))
+        self.stream.write(f"\rdesigns solved: {done}/{total} "
+                          f"[{'#' * fill}{'.' * (self.width - fill)}] "
+                          f"{100.0 * done / max(total, 1):.0f}%")
+        if done >= total:
+            self.stream.write("\n")
+        self.stream.flush()
