@@ -111,6 +111,13 @@ class DesignTable:
         return Reduction(name, *(arr[:, 0].reshape(self.shape) for arr in red), self.ok,
                          self.status)
 
+    def extremes(self, name) -> Reduction:
+        """The exact minimum and maximum of ``name`` for every design and their times, as
+        ``reduced`` gives them but refined off the time grid by Newton's method on the
+        compiled solver (mechgen.runtime.refine; needs the table's points)."""
+        from .refine import extremes
+        return extremes(self, name)
+
     def _values(self, d) -> dict:
         return {n: float(self.P[d, self._column[n]]) for n in self.names}
 

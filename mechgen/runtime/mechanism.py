@@ -391,6 +391,22 @@ class Mechanism:
                             on_fail=on_fail, backend=backend, workers=workers, client=client,
                             reduce=reduce, grid=grid)
 
+    def optimize(self, objective, bounds, t0, t1, n, backend="cpu", level="position",
+                 **options):
+        """Dimensional synthesis: the parameter values within ``bounds`` ({name: (low,
+        high)}) that minimise ``objective``, a function of a design table (listed designs,
+        t0..t1 at n times, ``level``) returning one number per design. scipy's
+        differential evolution (vectorised: each generation one design table on
+        ``backend``), then a Nelder-Mead polish (polish=False skips it). Designs that
+        cannot be solved at every time are rejected (never passed to the objective's
+        numbers, scored +inf). Options: workers, client, guess, times, popsize, maxiter,
+        tol, seed, polish, polish_tol and differential_evolution's own keywords. Returns
+        an OptimizeResult (params, fun, mechanism, evaluated, seconds, ...;
+        mechgen.runtime.synthesis)."""
+        from .synthesis import optimize
+        return optimize(self, objective, bounds, t0, t1, n, backend=backend, level=level,
+                        **options)
+
     # -- assembly modes ---------------------------------------------------------------
     def assemblies(self, t, starts=256, guess=None, level="position", flips=False):
         """Every distinct real assembly mode at time t (angles equal modulo 2π count once,
