@@ -111,6 +111,23 @@ class DesignTable:
         return Reduction(name, *(arr[:, 0].reshape(self.shape) for arr in red), self.ok,
                          self.status)
 
+    def take(self, designs) -> "DesignTable":
+        """The designs picked by ``designs`` (flat indices or a boolean mask over the
+        table's designs, in grid order) as a table of listed designs."""
+        idx = np.arange(len(self))[np.asarray(designs).reshape(-1)] \
+            if np.asarray(designs).dtype == bool else np.asarray(designs, dtype=np.int64).reshape(-1)
+        from .backends import TableData
+        pick = (lambda a: None if a is None else a[idx])
+        data = TableData(pick(self.Q), pick(self.QD), pick(self.QDD), pick(self.INFO),
+                         self.done[idx], self._status[idx],
+                         None if not self._reduced else tuple(
+                             np.stack([getattr(r, w).reshape(-1)[idx] for r in self._reduced.values()], axis=1)
+                             for w in ("min", "max", "tmin", "tmax")))
+        P = self.P[idx]
+        axes = [P[:, self._column[n]] for n in self.names]
+        return DesignTable(self.mechanism, self.names, axes, self.t, P, data, self.level,
+                           grid=False, reduced=tuple(self._reduced))
+
     def extremes(self, name) -> Reduction:
         """The exact minimum and maximum of ``name`` for every design and their times, as
         ``reduced`` gives them but refined off the time grid by Newton's method on the

@@ -5,8 +5,9 @@ one-design table.
 
 The objective takes a DesignTable (``tab.extremes``, ``tab.reduced``, ``tab["X4"]``,
 ``tab.design_params()``) and returns one number per design. A design that cannot be
-solved at every time of the table is rejected: the objective never sees its numbers, and
-it scores +inf (as does a non-finite score), so it can never be chosen.
+solved at every time of the table is rejected: the objective never sees it (it gets the
+table of the others, DesignTable.take), and it scores +inf (as does a non-finite score),
+so it can never be chosen.
 """
 from __future__ import annotations
 
@@ -53,11 +54,12 @@ class _Scorer:
         self.rejected += int(np.count_nonzero(~ok))
         score = np.full(len(tab), np.inf)
         if ok.any():
-            values = np.asarray(self.objective(tab), dtype=np.float64).reshape(-1)
-            if values.shape != (len(tab),):
+            good = tab if ok.all() else tab.take(ok)        # the objective sees only these
+            values = np.asarray(self.objective(good), dtype=np.float64).reshape(-1)
+            if values.shape != (len(good),):
                 raise MechgenError(f"the objective must return one number per design "
-                                   f"({len(tab)}), got shape {values.shape}")
-            score[ok] = values[ok]
+                                   f"({len(good)}), got shape {values.shape}")
+            score[ok] = values
         score[~np.isfinite(score)] = np.inf
         return score
 
