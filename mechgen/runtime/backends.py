@@ -16,28 +16,11 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 import numpy as np
 
 from ..errors import MechgenError
-from ..protocol import INFO_STATUS, INFO_SUBSTEPS, JUMP, OK, THROUGH_SINGULAR
-from .reduce import design_status, reduce_chunk
+from ..protocol import INFO_STATUS, JUMP, OK, THROUGH_SINGULAR
+from .chunks import DESIGN_INFO_COLUMNS, Collector, TableData, chunks, solve_chunk
+from .reduce import design_status
 
 BACKENDS = ("cpu", "dask", "cuda")
-# A design table's info keeps the columns before INFO_SUBSTEPS (iterations, residual,
-# rank, method, status): the generated sweep writes the substep and jump columns only
-# where its INFO is wide enough for them.
-DESIGN_INFO_COLUMNS = INFO_SUBSTEPS
-# solved points (designs x times) per chunk: big enough that a call's overhead vanishes,
-# small enough that a reduced table's buffers stay small and progress moves
-CHUNK_POINTS = 100_000
-
-
-class TableData:
-    """What a backend returns: Q, QD, QDD (designs, times, coordinates) and INFO (designs,
-    times, DESIGN_INFO_COLUMNS), or None each when only reductions were kept; ``red``:
-    (min, max, tmin, tmax), each (designs, slots), or None; ``done``: solved times per
-    design; ``status``: per design (mechgen.runtime.reduce.design_status)."""
-
-    def __init__(self, Q, QD, QDD, INFO, done, status, red=None):
-        self.Q, self.QD, self.QDD, self.INFO = Q, QD, QDD, INFO
-        self.done, self.status, self.red = done, status, red
 
 
 def cpu_count() -> int:
@@ -55,51 +38,6 @@ def check_workers(workers):
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise ValueError(f"workers must be a positive integer or None (all cores), got {workers!r}")
     return int(workers)
-
-
-def chunks(D, N, parts):
-    """[(a, b)] splitting D designs into chunks of about CHUNK_POINTS points, at least
-    ``parts`` of them (when there are that many designs)."""
-    size = max(1, min(-(-D // max(parts, 1)), CHUNK_POINTS // max(N, 1)))
-    return [(a, min(D, a + size)) for a in range(0, D, size)]
-
-
-def solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots):
-    """One chunk of designs through the compiled sweep_designs: (done, status, Q, QD, QDD,
-    INFO) with the full arrays, or (done, status, min, max, tmin, tmax) with ``slots``."""
-    D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
-    Q, QD, QDD = np.zeros((D, N, nq)), np.zeros((D, N, nq)), np.zeros((D, N, nq))
-    INFO = np.zeros((D, N, DESIGN_INFO_COLUMNS))
-    done = np.asarray(module.sweep_designs(ts, q0, P, lev, tol, xtol, maxit, meth,
-                                           Q, QD, QDD, INFO), dtype=np.int64)
-    status = design_status(INFO, done, N)
-    if slots is None:
-        return done, status, Q, QD, QDD, INFO
-    return (done, status) + reduce_chunk(module, slots, ts, P, Q, QD, QDD, done)
-
-
-class Collector:
-    """Gathers the chunks' results into one TableData (full arrays or reductions)."""
-
-    def __init__(self, D, N, nq, slots):
-        self.slots = slots
-        self.done = np.zeros(D, dtype=np.int64)
-        self.status = np.full(D, OK, dtype=np.int64)
-        if slots is None:
-            self.arrays = [np.zeros((D, N, nq)), np.zeros((D, N, nq)), np.zeros((D, N, nq)),
-                           np.zeros((D, N, DESIGN_INFO_COLUMNS))]
-        else:
-            self.arrays = [np.full((D, slots.shape[0]), np.nan) for _ in range(4)]
-
-    def put(self, a, b, result):
-        self.done[a:b], self.status[a:b] = result[0], result[1]
-        for arr, part in zip(self.arrays, result[2:]):
-            arr[a:b] = part
-
-    def table(self) -> TableData:
-        if self.slots is None:
-            return TableData(*self.arrays, self.done, self.status)
-        return TableData(None, None, None, None, self.done, self.status, tuple(self.arrays))
 
 
 def run_cpu(module, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=None,
@@ -145,11 +83,11 @@ def run_cpu(module, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=
 def run_cuda(mech, ts, q0, P, lev, tol, maxit, slots) -> TableData:
     """The table as a generated GPU kernel (mechgen.runtime.cuda.run_table_cuda)."""
     try:
-        from . import cuda
+        from .cuda import run_table_cuda
     except ImportError as exc:
         raise MechgenError("backend='cuda' is not available in this mechgen "
                            f"(mechgen.runtime.cuda could not be imported: {exc})") from None
-    res = cuda.run_table_cuda(mech, ts, P, q0, lev, tol, maxit, slots)
+    res = run_table_cuda(mech, ts, P, q0, lev, tol, maxit, slots)
     status = np.asarray(res["status"], dtype=np.int64)
     N = ts.shape[0]
     failed = ~np.isin(status, (OK, JUMP, THROUGH_SINGULAR))

@@ -7,7 +7,7 @@ imports that one and shares the client's numba cache). Workers on one machine sh
 on-disk cache of it: a file lock around the import and the first compiled call (which
 compiles, or loads numba's cache) keeps two processes from writing the cache at once.
 Each chunk returns its designs' solved counts and statuses with their points or their
-reductions, computed on the worker (mechgen.runtime.backends.solve_chunk), so failed
+reductions, computed on the worker (mechgen.runtime.chunks.solve_chunk), so failed
 designs come back marked, never dropped. dask is imported only here, only when used.
 """
 from __future__ import annotations
@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import MechgenError
 from ..protocol import content_digest
-from .backends import Collector, chunks, solve_chunk
+from .chunks import Collector, chunks, solve_chunk
 
 _MODULES = {}                 # content stamp -> the module imported in this process
 _LOCK = threading.Lock()      # worker threads of one process import once

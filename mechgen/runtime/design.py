@@ -116,7 +116,7 @@ class DesignTable:
         table's designs, in grid order) as a table of listed designs."""
         idx = np.arange(len(self))[np.asarray(designs).reshape(-1)] \
             if np.asarray(designs).dtype == bool else np.asarray(designs, dtype=np.int64).reshape(-1)
-        from .backends import TableData
+        from .chunks import TableData
         pick = (lambda a: None if a is None else a[idx])
         data = TableData(pick(self.Q), pick(self.QD), pick(self.QDD), pick(self.INFO),
                          self.done[idx], self._status[idx],
