@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import os
 import sys
+import threading
 from concurrent.futures import ThreadPoolExecutor, as_completed
 
 import numpy as np
@@ -60,8 +61,10 @@ def run_cpu(module, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=
             out.status[a:b] = design_status(INFO[a:b], out.done[a:b], N)
     else:
         def job(a, b):
+            scratch = local.__dict__
             out.put(a, b, solve_chunk(module, ts, q0, P[a:b], lev, tol, xtol, maxit, meth,
-                                      slots))
+                                      slots, scratch))
+        local = threading.local()
     total = 0
     if workers == 1 or len(spans) == 1:
         for a, b in spans:

@@ -38,12 +38,21 @@ def chunks(D, N, parts):
     return [(a, min(D, a + size)) for a in range(0, D, size)]
 
 
-def solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots):
+def solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, scratch=None):
     """One chunk of designs through the compiled sweep_designs: (done, status, Q, QD, QDD,
-    INFO) with the full arrays, or (done, status, min, max, tmin, tmax) with ``slots``."""
+    INFO) with the full arrays, or (done, status, min, max, tmin, tmax) with ``slots``.
+    ``scratch`` (a dict kept by the caller, one per thread) lends a reduced chunk its
+    point arrays again and again: only the rows a design solved are read back."""
     D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
-    Q, QD, QDD = np.zeros((D, N, nq)), np.zeros((D, N, nq)), np.zeros((D, N, nq))
-    INFO = np.zeros((D, N, DESIGN_INFO_COLUMNS))
+    if slots is not None and scratch is not None:
+        have = scratch.get("Q")
+        if have is None or have.shape[0] < D or have.shape[1:] != (N, nq):
+            scratch["Q"], scratch["QD"], scratch["QDD"] = (np.zeros((D, N, nq)) for _ in range(3))
+            scratch["INFO"] = np.zeros((D, N, DESIGN_INFO_COLUMNS))
+        Q, QD, QDD, INFO = (scratch[k][:D] for k in ("Q", "QD", "QDD", "INFO"))
+    else:
+        Q, QD, QDD = np.zeros((D, N, nq)), np.zeros((D, N, nq)), np.zeros((D, N, nq))
+        INFO = np.zeros((D, N, DESIGN_INFO_COLUMNS))
     done = np.asarray(module.sweep_designs(ts, q0, P, lev, tol, xtol, maxit, meth,
                                            Q, QD, QDD, INFO), dtype=np.int64)
     status = design_status(INFO, done, N)

@@ -25,6 +25,7 @@ from .chunks import Collector, chunks, solve_chunk
 
 _MODULES = {}                 # content stamp -> the module imported in this process
 _LOCK = threading.Lock()      # worker threads of one process import once
+_SCRATCH = threading.local()  # a worker thread's point arrays for reduced chunks
 
 
 @contextlib.contextmanager
@@ -92,7 +93,7 @@ def dask_chunk(text, digest, source, ts, q0, P, lev, tol, xtol, maxit, meth, slo
     def warm(module):
         solve_chunk(module, ts[:2], q0, P[:1], lev, tol, xtol, maxit, meth, slots)
     module = worker_module(text, digest, source, warm)
-    return solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots)
+    return solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, _SCRATCH.__dict__)
 
 
 def get_client(client):
