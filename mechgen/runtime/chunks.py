@@ -40,7 +40,8 @@ def chunks(D, N, parts):
 
 def solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, scratch=None):
     """One chunk of designs through the compiled sweep_designs: (done, status, Q, QD, QDD,
-    INFO) with the full arrays, or (done, status, min, max, tmin, tmax) with ``slots``.
+    INFO) with the full arrays (QD, QDD None above the level), or (done, status, min, max,
+    tmin, tmax) with ``slots``.
     ``scratch`` (a dict kept by the caller, one per thread) lends a reduced chunk its
     point arrays again and again: only the rows a design solved are read back."""
     D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
@@ -56,8 +57,8 @@ def solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, scratch=N
     done = np.asarray(module.sweep_designs(ts, q0, P, lev, tol, xtol, maxit, meth,
                                            Q, QD, QDD, INFO), dtype=np.int64)
     status = design_status(INFO, done, N)
-    if slots is None:
-        return done, status, Q, QD, QDD, INFO
+    if slots is None:       # derivatives above the level asked for are not shipped
+        return done, status, Q, QD if lev >= 1 else None, QDD if lev >= 2 else None, INFO
     return (done, status) + reduce_chunk(module, slots, ts, P, Q, QD, QDD, done)
 
 
@@ -77,7 +78,8 @@ class Collector:
     def put(self, a, b, result):
         self.done[a:b], self.status[a:b] = result[0], result[1]
         for arr, part in zip(self.arrays, result[2:]):
-            arr[a:b] = part
+            if part is not None:
+                arr[a:b] = part
 
     def table(self) -> TableData:
         if self.slots is None:
