@@ -31,10 +31,12 @@ class TableData:
         self.done, self.status, self.red = done, status, red
 
 
-def chunks(D, N, parts):
-    """[(a, b)] splitting D designs into chunks of about CHUNK_POINTS points, at least
-    ``parts`` of them (when there are that many designs)."""
+def chunks(D, N, parts, least=0):
+    """[(a, b)] splitting D designs into chunks of at most about CHUNK_POINTS points, at
+    least ``parts`` of them (when there are that many designs), none under ``least``
+    points (where a chunk's round trip costs: a cluster's task)."""
     size = max(1, min(-(-D // max(parts, 1)), CHUNK_POINTS // max(N, 1)))
+    size = max(size, min(D, -(-least // max(N, 1))))
     return [(a, min(D, a + size)) for a in range(0, D, size)]
 
 

@@ -111,6 +111,22 @@ def get_client(client):
                            "or start a Client first (it becomes the default)") from None
 
 
+TASK_POINTS = 20_000          # no task of fewer points: a task's round trip costs ~ms
+_SHIPPED = {}                 # (client, content stamp) -> the text scattered to its workers
+
+
+def _shipped(client, text, digest):
+    """The module's text on every worker of ``client``, scattered once per client (again
+    when the cluster lost it)."""
+    key = (id(client), digest)
+    fut = _SHIPPED.get(key)
+    if fut is None or fut.status != "finished" or fut.client is not client:
+        fut = client.scatter(text, broadcast=True, hash=False)
+        _SHIPPED.clear()                # one module at a time is kept
+        _SHIPPED[key] = fut
+    return fut
+
+
 def run_dask(module, ts, q0, P, lev, tol, xtol, maxit, meth, client=None, slots=None,
              progress=None):
     """The table over the cluster of ``client`` (or the current one): a TableData."""
@@ -125,8 +141,8 @@ def run_dask(module, ts, q0, P, lev, tol, xtol, maxit, meth, client=None, slots=
     source = os.path.abspath(path)
     D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
     threads = sum(w.get("nthreads", 1) for w in client.scheduler_info()["workers"].values())
-    spans = chunks(D, N, 4 * max(threads, 1))
-    shipped = client.scatter(text, broadcast=True, hash=False)
+    spans = chunks(D, N, 2 * max(threads, 1), least=TASK_POINTS)
+    shipped = _shipped(client, text, digest)
     futures = {}
     for a, b in spans:
         fut = client.submit(dask_chunk, shipped, digest, source, ts, q0,

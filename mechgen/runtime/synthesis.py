@@ -1,7 +1,7 @@
 """Dimensional synthesis on top of design tables (``mech.optimize``): scipy's
 differential evolution, vectorised, each generation one design table of listed designs
 on the chosen backend, then (polish=True) Nelder-Mead from the best design, each step a
-one-design table.
+one-design table in this process (the same numbers as every CPU backend gives).
 
 The objective takes a DesignTable (``tab.extremes``, ``tab.reduced``, ``tab["X4"]``,
 ``tab.design_params()``) and returns one number per design. A design that cannot be
@@ -44,11 +44,11 @@ class _Scorer:
         self.evaluated = 0
         self.rejected = 0
 
-    def __call__(self, X):
+    def __call__(self, X, sweep_args=None):
         X = np.atleast_2d(np.asarray(X, dtype=np.float64))     # (designs, parameters)
         params = {n: X[:, j] for j, n in enumerate(self.names)}
         tab = self.mech.design_sweep(params=params, grid=False, on_fail="ignore",
-                                     **self.sweep_args)
+                                     **(sweep_args or self.sweep_args))
         self.evaluated += len(tab)
         ok = tab.ok.reshape(-1)
         self.rejected += int(np.count_nonzero(~ok))
@@ -99,10 +99,14 @@ def optimize(mech, objective, bounds, t0, t1, n, backend="cpu", level="position"
     if polish:
         lo, hi = np.array(lows), np.array(highs)
 
+        # one design a step: in this process (backend "cpu", one thread), whatever the
+        # backend of the generations (a cluster's or a GPU's round trip buys nothing here)
+        single = dict(score.sweep_args, backend="cpu", workers=1, client=None)
+
         def one(v):
             if np.any(v < lo) or np.any(v > hi):
                 return np.inf
-            return float(score(v[None, :])[0])
+            return float(score(v[None, :], single)[0])
         res = minimize(one, x, method="Nelder-Mead",
                        options={"xatol": 1e-13 * max(1.0, float(np.max(np.abs(x)))),
                                 "fatol": polish_tol, "maxiter": 4000})
