@@ -18,7 +18,8 @@ import numpy as np
 
 from ..errors import MechgenError
 from ..protocol import INFO_STATUS, JUMP, OK, THROUGH_SINGULAR
-from .chunks import DESIGN_INFO_COLUMNS, Collector, TableData, chunks, solve_chunk
+from .chunks import (DESIGN_INFO_COLUMNS, Collector, TableData, chunks, scratch_arrays,
+                     solve_chunk)
 from .reduce import design_status
 
 BACKENDS = ("cpu", "dask", "cuda")
@@ -47,24 +48,25 @@ def run_cpu(module, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=
     every core; 1: in this thread, one chunk after the other)."""
     D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
     workers = cpu_count() if workers is None else workers
-    parts = 1 if workers == 1 and progress is None and slots is None else 4 * workers
-    if progress is not None:
-        parts = max(parts, 50)
+    parts = max(4 * workers, 50 if progress is not None else 0)
     spans = chunks(D, N, parts)
-    out = Collector(D, N, nq, slots)
-    if slots is None:       # the chunks write straight into the table's arrays
-        Q, QD, QDD, INFO = out.arrays
+    out = Collector(D, N, nq, slots, lev)
+    local = threading.local()
+    if slots is None:       # the chunks write straight into the table's arrays; the
+        Q, QD, QDD, INFO = out.arrays       # derivatives above its level into scratch
 
         def job(a, b):
+            qd, qdd = (arr[a:b] if arr is not None else
+                       scratch_arrays(local.__dict__, b - a, N, nq, (name,))[0]
+                       for arr, name in ((QD, "QD"), (QDD, "QDD")))
             out.done[a:b] = module.sweep_designs(ts, q0, P[a:b], lev, tol, xtol, maxit, meth,
-                                                 Q[a:b], QD[a:b], QDD[a:b], INFO[a:b])
+                                                 Q[a:b], qd, qdd, INFO[a:b])
             out.status[a:b] = design_status(INFO[a:b], out.done[a:b], N)
     else:
         def job(a, b):
             scratch = local.__dict__
             out.put(a, b, solve_chunk(module, ts, q0, P[a:b], lev, tol, xtol, maxit, meth,
                                       slots, scratch))
-        local = threading.local()
     total = 0
     if workers == 1 or len(spans) == 1:
         for a, b in spans:

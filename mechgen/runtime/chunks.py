@@ -40,26 +40,41 @@ def chunks(D, N, parts, least=0):
     return [(a, min(D, a + size)) for a in range(0, D, size)]
 
 
+def scratch_arrays(scratch, D, N, nq, names):
+    """Arrays of ``names`` (Q, QD, QDD: (D, N, nq); INFO: (D, N, DESIGN_INFO_COLUMNS)) lent
+    from ``scratch`` (a dict kept by the caller, one per thread) again and again, so that a
+    chunk's arrays that are read back only partly, or not at all, need no fresh pages."""
+    out = []
+    for name in names:
+        cols = DESIGN_INFO_COLUMNS if name == "INFO" else nq
+        have = scratch.get(name)
+        if have is None or have.shape[0] < D or have.shape[1:] != (N, cols):
+            have = scratch[name] = np.zeros((D, N, cols))
+        out.append(have[:D])
+    return out
+
+
 def solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, scratch=None):
     """One chunk of designs through the compiled sweep_designs: (done, status, Q, QD, QDD,
-    INFO) with the full arrays (QD, QDD None above the level), or (done, status, min, max,
-    tmin, tmax) with ``slots``.
-    ``scratch`` (a dict kept by the caller, one per thread) lends a reduced chunk its
-    point arrays again and again: only the rows a design solved are read back."""
+    INFO) with the full arrays (QD, QDD None above the table's level), or (done, status,
+    min, max, tmin, tmax) with ``slots``. ``scratch`` (see scratch_arrays) lends the
+    arrays not returned: only the rows a design solved are read back."""
     D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
-    if slots is not None and scratch is not None:
-        have = scratch.get("Q")
-        if have is None or have.shape[0] < D or have.shape[1:] != (N, nq):
-            scratch["Q"], scratch["QD"], scratch["QDD"] = (np.zeros((D, N, nq)) for _ in range(3))
-            scratch["INFO"] = np.zeros((D, N, DESIGN_INFO_COLUMNS))
-        Q, QD, QDD, INFO = (scratch[k][:D] for k in ("Q", "QD", "QDD", "INFO"))
-    else:
-        Q, QD, QDD = np.zeros((D, N, nq)), np.zeros((D, N, nq)), np.zeros((D, N, nq))
-        INFO = np.zeros((D, N, DESIGN_INFO_COLUMNS))
+    if scratch is None:
+        scratch = {}
+    keep = () if slots is not None else \
+        ("Q", "INFO") + (("QD",) if lev >= 1 else ()) + (("QDD",) if lev >= 2 else ())
+    arrays = {}
+    for name in ("Q", "QD", "QDD", "INFO"):
+        if name in keep:
+            arrays[name] = np.zeros((D, N, DESIGN_INFO_COLUMNS if name == "INFO" else nq))
+        else:
+            arrays[name], = scratch_arrays(scratch, D, N, nq, (name,))
+    Q, QD, QDD, INFO = (arrays[k] for k in ("Q", "QD", "QDD", "INFO"))
     done = np.asarray(module.sweep_designs(ts, q0, P, lev, tol, xtol, maxit, meth,
                                            Q, QD, QDD, INFO), dtype=np.int64)
     status = design_status(INFO, done, N)
-    if slots is None:       # derivatives above the level asked for are not shipped
+    if slots is None:       # derivatives above the level asked for are not kept
         return done, status, Q, QD if lev >= 1 else None, QDD if lev >= 2 else None, INFO
     return (done, status) + reduce_chunk(module, slots, ts, P, Q, QD, QDD, done)
 
@@ -67,12 +82,14 @@ def solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, scratch=N
 class Collector:
     """Gathers the chunks' results into one TableData (full arrays or reductions)."""
 
-    def __init__(self, D, N, nq, slots):
+    def __init__(self, D, N, nq, slots, lev=2):
         self.slots = slots
         self.done = np.zeros(D, dtype=np.int64)
         self.status = np.full(D, OK, dtype=np.int64)
-        if slots is None:
-            self.arrays = [np.zeros((D, N, nq)), np.zeros((D, N, nq)), np.zeros((D, N, nq)),
+        if slots is None:   # no derivative arrays above the table's level
+            self.arrays = [np.zeros((D, N, nq)),
+                           np.zeros((D, N, nq)) if lev >= 1 else None,
+                           np.zeros((D, N, nq)) if lev >= 2 else None,
                            np.zeros((D, N, DESIGN_INFO_COLUMNS))]
         else:
             self.arrays = [np.full((D, slots.shape[0]), np.nan) for _ in range(4)]
@@ -80,7 +97,7 @@ class Collector:
     def put(self, a, b, result):
         self.done[a:b], self.status[a:b] = result[0], result[1]
         for arr, part in zip(self.arrays, result[2:]):
-            if part is not None:
+            if part is not None and arr is not None:
                 arr[a:b] = part
 
     def table(self) -> TableData:

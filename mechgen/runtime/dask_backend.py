@@ -149,7 +149,7 @@ def run_dask(module, ts, q0, P, lev, tol, xtol, maxit, meth, client=None, slots=
                             np.ascontiguousarray(P[a:b]), lev, tol, xtol, maxit, meth, slots,
                             pure=False)
         futures[fut] = (a, b)
-    out = Collector(D, N, nq, slots)
+    out = Collector(D, N, nq, slots, lev)
     total = 0
     try:
         for fut in as_completed(list(futures)):

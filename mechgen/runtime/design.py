@@ -221,8 +221,10 @@ class DesignTable:
                 raise KeyError(f"output {name!r} needs a table at level {LEVELS[min(need, LEVEL['acceleration'])]}")
             arr = np.empty((D, N))
             out = np.empty((N, len(mech.outputs)))
+            zero = np.zeros((N, mech.n))    # derivatives below the table's level
             for d in range(D):
-                mech.module.eval_outputs(self.Q[d], self.QD[d], self.QDD[d], self.t,
+                mech.module.eval_outputs(self.Q[d], zero if self.QD is None else self.QD[d],
+                                         zero if self.QDD is None else self.QDD[d], self.t,
                                          self.P[d], order, out)
                 arr[d] = out[:, k]
         for d in range(D):

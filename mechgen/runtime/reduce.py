@@ -92,9 +92,11 @@ def reduce_chunk(module, slots, ts, P, Q, QD, QDD, done):
 def _outputs(module, ts, P, Q, QD, QDD, done, order):
     n_out = len(module.OUTPUTS)
     out = np.zeros((Q.shape[0], ts.shape[0], n_out))
+    zero = np.zeros(Q.shape[1:])        # derivatives a table below their level lacks
     for d in range(Q.shape[0]):
         if done[d]:
-            module.eval_outputs(Q[d], QD[d], QDD[d], ts, P[d], order, out[d])
+            module.eval_outputs(Q[d], zero if QD is None else QD[d],
+                                zero if QDD is None else QDD[d], ts, P[d], order, out[d])
     return out
 
 
