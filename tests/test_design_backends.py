@@ -116,6 +116,12 @@ def test_listed_designs(qr):
     ref = qr.with_params(longitud=3.0, velocidad=2.0).sweep(0, 1, 9)
     assert np.array_equal(tab.sweep(longitud=3.0, velocidad=2.0)["X4"], ref["X4"])
     assert np.array_equal(tab.design_params()[2], [2.5, 1.0])
+    # a position table keeps no derivative arrays; its outputs still evaluate
+    assert tab.QD is None and tab.QDD is None
+    assert np.array_equal(tab["stroke_x"], tab["X4"])
+    assert np.array_equal(tab.reduced("stroke_x").max, np.max(tab["X4"], axis=1))
+    sub = tab.take([2, 0])
+    assert np.array_equal(sub["X4"], tab["X4"][[2, 0]]) and sub.params["longitud"].tolist() == [2.5, 2.0]
 
 
 def test_optimize_a_stroke(qr):
