@@ -105,9 +105,13 @@ def run_cuda(mech, ts, q0, P, lev, tol, maxit, slots) -> TableData:
         return TableData(None, None, None, None, done, status, red)
     D, nq = P.shape[0], q0.shape[0]
     arrays = []
-    for key in ("Q", "QD", "QDD"):
+    for order, key in enumerate(("Q", "QD", "QDD")):
         arr = res.get(key)
-        arrays.append(np.zeros((D, N, nq)) if arr is None else np.asarray(arr, dtype=np.float64))
+        if order > lev:
+            arrays.append(None)         # no derivative arrays above the table's level
+        else:
+            arrays.append(np.zeros((D, N, nq)) if arr is None else
+                          np.asarray(arr, dtype=np.float64))
     INFO = np.zeros((D, N, DESIGN_INFO_COLUMNS))
     bad = np.nonzero(done < N)[0]
     INFO[bad, done[bad], INFO_STATUS] = status[bad]
