@@ -3,6 +3,7 @@ synthesis): all cores == one core bit for bit, dask == cpu, reductions == the fu
 failed designs marked, bad input refused, exact extremes, dimensional synthesis, the CLI."""
 import math
 import os
+import sys
 
 import numpy as np
 import pytest
@@ -191,3 +192,32 @@ def test_dask_equals_cpu(qr, serial, client):
             assert _same(getattr(a, what), getattr(b, what)), (name, what)
     with pytest.warns(RuntimeWarning, match="longitud=6"):
         qr.sweep(0.0, 1.0, 10, params={"longitud": [2.0, 6.0]}, backend="dask", client=client)
+
+
+def test_cuda_dispatch_contract(qr, serial, monkeypatch):
+    """backend="cuda" calls mechgen.runtime.cuda.run_table_cuda(mech, ts, P, q0, level, tol,
+    maxit, reduce_slots) and reads its dict (status, then Q/QD/QDD or min/max/tmin/tmax);
+    here a stand-in computes it on the CPU, so the table must equal the CPU's."""
+    import types
+    from mechgen.runtime.backends import run_cpu
+    calls = []
+
+    def run_table_cuda(mech, ts, P, q0, level, tol, maxit, reduce_slots):
+        calls.append(reduce_slots)
+        got = run_cpu(mech.module, ts, q0, P, level, tol, mech.xtol, maxit, 0, 1, reduce_slots)
+        if reduce_slots is None:
+            return {"status": got.status, "Q": got.Q, "QD": got.QD, "QDD": got.QDD}
+        return dict(zip(("min", "max", "tmin", "tmax"), got.red), status=got.status)
+    fake = types.ModuleType("mechgen.runtime.cuda")
+    fake.run_table_cuda = run_table_cuda
+    monkeypatch.setitem(sys.modules, "mechgen.runtime.cuda", fake)
+    args = dict(params={"longitud": LENGTHS, "velocidad": [2 * math.pi, 3.0]}, level="velocity",
+                backend="cuda", on_fail="ignore")
+    tab = qr.sweep(0.0, 1.0, 40, **args)
+    assert _same(tab.status, serial.status) and _same(tab.ok, serial.ok)
+    assert _same(tab["X4d"][serial.ok], serial["X4d"][serial.ok])
+    assert np.all(np.isnan(tab["X4"][~serial.ok]))        # a failed design: no numbers
+    red = qr.sweep(0.0, 1.0, 40, reduce=["X4", "stroke_x"], **args)
+    assert calls[-1].tolist() == [[0, 6, 0], [1, 0, 0]]   # [kind, index, order] per quantity
+    assert _same(red.reduced("X4").max[serial.ok], serial.reduced("X4").max[serial.ok])
+    assert _same(red.status, serial.status)
