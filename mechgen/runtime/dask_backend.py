@@ -90,8 +90,11 @@ def _read(path):
 
 def dask_chunk(text, digest, source, ts, q0, P, lev, tol, xtol, maxit, meth, slots):
     """One chunk of designs on a worker (see solve_chunk)."""
-    def warm(module):
+    def warm(module):           # every compiled function a chunk may call, once
         solve_chunk(module, ts[:2], q0, P[:1], lev, tol, xtol, maxit, meth, slots)
+        if len(module.OUTPUTS):
+            z = np.zeros((1, q0.shape[0]))
+            module.eval_outputs(z, z, z, ts[:1], P[0], 0, np.zeros((1, len(module.OUTPUTS))))
     module = worker_module(text, digest, source, warm)
     return solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, _SCRATCH.__dict__)
 
