@@ -23,6 +23,8 @@ from .chunks import (DESIGN_INFO_COLUMNS, Collector, TableData, chunks, scratch_
 from .reduce import design_status
 
 BACKENDS = ("cpu", "dask", "cuda")
+# chunks per thread, at least: the threads finish close together (load balance)
+PARTS_PER_WORKER = 4
 
 
 def cpu_count() -> int:
@@ -48,7 +50,7 @@ def run_cpu(module, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=
     every core; 1: in this thread, one chunk after the other)."""
     D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
     workers = cpu_count() if workers is None else workers
-    parts = max(4 * workers, 50 if progress is not None else 0)
+    parts = max(PARTS_PER_WORKER * workers, 50 if progress is not None else 0)
     spans = chunks(D, N, parts)
     out = Collector(D, N, nq, slots, lev)
     local = threading.local()
