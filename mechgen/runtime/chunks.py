@@ -9,6 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..protocol import OK, STATUS_CODE
+from .reduce import design_status, reduce_chunk
 
 # A design table's per-point record: the first column of a sweep's STATUS rows (int16: the
 # status code, protocol.STATUS_*), 2 bytes a point; INFO is its name in a DesignTable. The
