@@ -192,6 +192,11 @@ def test_dask_equals_cpu(qr, serial, client):
             assert _same(getattr(a, what), getattr(b, what)), (name, what)
     with pytest.warns(RuntimeWarning, match="longitud=6"):
         qr.sweep(0.0, 1.0, 10, params={"longitud": [2.0, 6.0]}, backend="dask", client=client)
+    # a mechanism on the plain-Python tier ships the same file; the workers compile it
+    py = mechgen.load(os.path.join(ROOT, "generated", "quick_return.py"), tier="python")
+    tab = py.sweep(0.0, 1.0, 40, params={"longitud": LENGTHS[:4]}, level="velocity",
+                   backend="dask", client=client)
+    assert py.tier == "python" and _same(tab.Q, serial.Q[0:8:2])     # velocidad 2π: every other row
 
 
 def test_cuda_dispatch_contract(qr, serial, monkeypatch):
@@ -221,3 +226,19 @@ def test_cuda_dispatch_contract(qr, serial, monkeypatch):
     assert calls[-1].tolist() == [[0, 6, 0], [1, 0, 0]]   # [kind, index, order] per quantity
     assert _same(red.reduced("X4").max[serial.ok], serial.reduced("X4").max[serial.ok])
     assert _same(red.status, serial.status)
+
+
+def test_a_table_in_the_python_tier(qr, monkeypatch):
+    """A mechanism still on the plain-Python tier asks its tiers first (a big table switches
+    to the compiled module: mechgen.runtime.tiers.expect), then gives the compiled numbers."""
+    py = mechgen.load(os.path.join(ROOT, "generated", "quick_return.py"), tier="python")
+    assert py.tier == "python"
+    asked = []
+    monkeypatch.setattr(py._tiers, "expect",
+                        lambda mech, points, kind="sweep": asked.append((points, kind)))
+    args = dict(params={"longitud": [2.0, 3.0, 6.0]}, level="velocity", on_fail="ignore")
+    tab = py.sweep(0.0, 1.0, 7, workers=2, **args)
+    assert asked == [(21, "design")]
+    ref = qr.sweep(0.0, 1.0, 7, **args)
+    assert _same(tab.status, ref.status) and _same(tab.done, ref.done)
+    assert np.allclose(tab["X4d"], ref["X4d"], rtol=0, atol=1e-9, equal_nan=True)
