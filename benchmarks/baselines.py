@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 
 import mpmath
-from numba import njit
+from numba import njit, prange
 
 L = 3.0
 W = 2 * math.pi
@@ -23,6 +23,29 @@ W = 2 * math.pi
 def hand_sorted_sweep(ts, level, tol, Q):
     """Q[k] = (Th3, X4, Th3d, X4d, Th3dd, X4dd) at ts[k]; Newton per unknown, warm start with
     a Taylor predictor from the previous point's velocity and acceleration."""
+    return hand_sorted_sweep_of(ts, L, level, tol, Q)
+
+
+@njit(cache=True)
+def hand_designs(ts, lengths, level, tol, Q):
+    """A design table by hand, one core: hand_sorted_sweep_of for every crank length
+    (Q[d] its sweep)."""
+    for d in range(lengths.shape[0]):
+        hand_sorted_sweep_of(ts, lengths[d], level, tol, Q[d])
+    return Q
+
+
+@njit(cache=True, parallel=True)
+def hand_designs_prange(ts, lengths, level, tol, Q):
+    """hand_designs over every core (numba prange over the designs)."""
+    for d in prange(lengths.shape[0]):
+        hand_sorted_sweep_of(ts, lengths[d], level, tol, Q[d])
+    return Q
+
+
+@njit(cache=True)
+def hand_sorted_sweep_of(ts, L, level, tol, Q):
+    """hand_sorted_sweep with crank length L."""
     th3, x4, th4 = -0.5, 6.0, 0.0
     th3d = x4d = th3dd = x4dd = 0.0
     for k in range(ts.shape[0]):

@@ -309,9 +309,16 @@ def test_analysis_leaves_sympy_unloaded(tmp_path):
 
 def test_param_option_of_the_command_line():
     from mechgen.cli.options import parse_param_option
-    got = parse_param_option(["longitud=1.5:3:0.75", "velocidad=1,2", "anguloI=0.5"])
+    got = parse_param_option(["longitud=1.5:3:step=0.75", "velocidad=1,2", "anguloI=0.5"])
     assert np.allclose(got["longitud"], [1.5, 2.25, 3.0])       # {longitud, 1.5, 3., 0.75}
     assert np.allclose(got["velocidad"], [1.0, 2.0]) and got["anguloI"] == 0.5
-    for bad in ("longitud", "longitud=1:2", "longitud=2:1:1", "longitud=a,b"):
+    # START:STOP:COUNT: COUNT values, both ends included (numpy's linspace)
+    got = parse_param_option(["longitud=1:3:5", "velocidad=2:1:n=3", "anguloI=0.5:0.5:1"])
+    assert np.array_equal(got["longitud"], np.linspace(1.0, 3.0, 5))
+    assert np.array_equal(got["velocidad"], [2.0, 1.5, 1.0])
+    assert np.array_equal(got["anguloI"], [0.5])
+    for bad in ("longitud", "longitud=1:2", "longitud=2:1:step=1", "longitud=a,b",
+                "longitud=1:3:0", "longitud=1:3:0.5", "longitud=1:3:step=0",
+                "longitud=1:1:3", "longitud=1:3:k=2", "longitud=1:2:3:4"):
         with pytest.raises(mechgen.MechgenError, match="--param"):
             parse_param_option([bad])

@@ -248,8 +248,11 @@ def test_two_workers_then_the_switch(fresh):
             m.solve(0.1)
         again = m.solve(0.1)
         assert abs(again.q - first.q).max() <= 1e-12
-        stats = m.module.solve_point.stats
-        print(sum(stats.cache_hits.values()), sum(stats.cache_misses.values()))
+        # a solve calls solve_point_sorted (solve_point_full where it gives up)
+        names = ("solve_point_sorted", "solve_point_full", "solve_point")
+        stats = [getattr(m.module, k).stats for k in names if hasattr(m.module, k)]
+        print(sum(sum(s.cache_hits.values()) for s in stats),
+              sum(sum(s.cache_misses.values()) for s in stats))
     """
     out = _run(code, env)
     assert out.returncode == 0, out.stderr
@@ -270,7 +273,7 @@ def test_a_large_call_compiles_what_it_needs(fresh):
         big = m.sweep(0, 1, 50, level="acceleration")
         assert m.tier == "compiled" and m._tiers.worker is None
         assert np.abs(big.Q - small.Q).max() <= 1e-12 and np.abs(big.QDD - small.QDD).max() <= 1e-9
-        assert (big.info == small.info).all()
+        assert np.array_equal(big.info, small.info, equal_nan=True)   # NaN: not kept
         assert not tiers.cache_ready({path!r})      # the worker was stopped before the end
         print("ok")
     """

@@ -87,10 +87,20 @@ def parse_guess(items):
     return guess or None
 
 
+def _count(text) -> int:
+    """A count of values: a positive integer."""
+    text = text.strip()
+    if not text.isdigit() or int(text) < 1:
+        raise ValueError
+    return int(text)
+
+
 def parse_param_option(items) -> dict:
     """``--param`` values of the command line: ``NAME=V`` fixes a parameter,
-    ``NAME=V1,V2,...`` lists values and ``NAME=START:STOP:STEP`` is Mathematica's
-    {name, start, stop, step} (stop included). Each value may be an expression."""
+    ``NAME=V1,V2,...`` lists values, ``NAME=START:STOP:COUNT`` is COUNT values from START
+    to STOP, both included (numpy's linspace; ``NAME=START:STOP:n=COUNT`` says the same),
+    and ``NAME=START:STOP:step=H`` is Mathematica's {name, start, stop, h} (START, START +
+    H, ... up to STOP, included when a step reaches it). Each value may be an expression."""
     out = {}
     for item in items or ():
         name, sep, text = item.partition("=")
@@ -99,19 +109,31 @@ def parse_param_option(items) -> dict:
             raise MechgenError(f"--param takes NAME=VALUES, got {item!r}")
         try:
             if ":" in text:
-                start, stop, step = (number(x) for x in text.split(":"))
-                if not step > 0 or stop < start:
-                    raise ValueError
-                # the 1e-9 keeps a stop that the steps reach up to round-off
-                count = int(math.floor((stop - start) / step + 1e-9)) + 1
-                values = start + step * np.arange(count)
+                start, stop, last = text.split(":")
+                start, stop = number(start), number(stop)
+                key, eq, value = last.partition("=")
+                if eq and key.strip() == "step":
+                    step = number(value)
+                    if not step > 0 or stop < start:
+                        raise ValueError
+                    # the 1e-9 keeps a stop that the steps reach up to round-off
+                    count = int(math.floor((stop - start) / step + 1e-9)) + 1
+                    values = start + step * np.arange(count)
+                else:
+                    if eq and key.strip() != "n":
+                        raise ValueError
+                    count = _count(value if eq else last)
+                    if count > 1 and stop == start:
+                        raise ValueError
+                    values = np.linspace(start, stop, count)
             elif "," in text:
                 values = np.array([number(x) for x in text.split(",")])
             else:
                 values = number(text)
         except ValueError:
-            raise MechgenError(f"--param {item!r}: give NAME=V, NAME=V1,V2,... or "
-                               "NAME=START:STOP:STEP with STEP > 0") from None
+            raise MechgenError(f"--param {item!r}: give NAME=V, NAME=V1,V2,..., "
+                               "NAME=START:STOP:COUNT (COUNT >= 1 values) or "
+                               "NAME=START:STOP:step=H with H > 0") from None
         out[name] = values
     return out
 

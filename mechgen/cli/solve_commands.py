@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import sys
 
 import numpy as np
@@ -53,17 +54,27 @@ def cmd_sweep(args):
         output_file(args.csv)
     ts = times(args.t0, args.t1, args.n)
     mech = mechanism(args)
-    level = needed_level(mech, parse_columns(args.columns), args.level)
+    reduce = parse_columns(args.reduce)
+    # the level follows from the reduced quantities (a table of reductions has columns
+    # X4_min, ...), else from the columns asked for
+    level = needed_level(mech, reduce or parse_columns(args.columns), args.level)
     params = parse_param_option(args.param)
     if any(not isinstance(v, float) for v in params.values()):   # a design table
         progress = sys.stderr.isatty() if args.progress is None else args.progress
-        tab = mech.design_sweep(ts[0], ts[-1], len(ts), params, level=level, times=ts,
-                                guess=parse_guess(args.guess), method=args.method,
-                                progress=progress or None)
+        with backend_client(args) as client:
+            tab = mech.design_sweep(ts[0], ts[-1], len(ts), params, level=level, times=ts,
+                                    guess=parse_guess(args.guess), method=args.method,
+                                    progress=progress or None, backend=args.backend,
+                                    workers=args.workers if args.backend == "cpu" else None,
+                                    client=client, reduce=reduce)
         header, data = tab.table()
-        _emit(args, header, data, len(tab.names) + 1,
+        keep = len(tab.names) + (1 if tab.kept_points else 0)
+        _emit(args, header, data, keep,
               f"{data.shape[0]} rows ({len(tab)} designs)")
         return
+    if args.backend != "cpu" or args.reduce or args.workers is not None:
+        raise MechgenError("--backend, --workers and --reduce are for design tables: vary a "
+                           "parameter with --param NAME=V1,V2,...")
     if params:
         mech = mech.with_params(**params)
     try:
@@ -79,6 +90,26 @@ def cmd_sweep(args):
         raise
     header, data = sw.table()
     _emit(args, header, data, 1, f"{len(sw)} rows")
+
+
+@contextlib.contextmanager
+def backend_client(args):
+    """The dask client of --backend dask: the --scheduler's, or a LocalCluster of
+    --workers processes (2 by default) for this command; None for the other backends."""
+    if args.backend != "dask":
+        yield None
+        return
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise MechgenError("--backend dask needs dask.distributed: pip install 'dask[distributed]'") from None
+    if args.scheduler:
+        with Client(args.scheduler) as client:
+            yield client
+        return
+    with LocalCluster(n_workers=args.workers or 2, threads_per_worker=1, processes=True,
+                      dashboard_address=None) as cluster, Client(cluster) as client:
+        yield client
 
 
 def cmd_singularities(args):
@@ -139,10 +170,23 @@ def add_commands(sub, common, solve_options):
     span(p, 21)
     table_options(p)
     p.add_argument("--param", action="append", metavar="NAME=VALUES",
-                   help="a design table: NAME=V1,V2,... or NAME=START:STOP:STEP varies a "
+                   help="a design table: NAME=V1,V2,..., NAME=START:STOP:COUNT (COUNT "
+                        "values, both ends included) or NAME=START:STOP:step=H varies a "
                         "parameter, NAME=V fixes it (repeatable)")
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
-                   help="progress line on stderr for design tables (default: on a terminal)")
+                   help="progress bar on stderr for design tables (default: on a terminal)")
+    p.add_argument("--backend", choices=("cpu", "cuda", "dask"), default="cpu",
+                   help="where a design table runs: cpu (this machine's cores, the default), "
+                        "cuda (a GPU) or dask (a cluster: --scheduler, or a local one)")
+    p.add_argument("--workers", type=int, metavar="K",
+                   help="cpu: threads (default: every core); dask without --scheduler: "
+                        "local worker processes (default 2)")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="--backend dask: the dask.distributed scheduler to use")
+    p.add_argument("--reduce", action="append", metavar="NAMES",
+                   help="a design table of reductions: per design the min, max and their "
+                        "times of these quantities (comma-separated, e.g. X4,X4d), not "
+                        "every point")
     solve_options(p)
     p.set_defaults(func=cmd_sweep)
 

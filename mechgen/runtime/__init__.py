@@ -10,7 +10,13 @@ Modules, lowest first (each imports only those above it):
   singular    rank analysis of Φ_q, solving helpers that never raise
   locks       lock positions and crossings along a branch; why a solve failed
   assembly    assembly modes at one time, angle coordinates
-  design      design tables (sweeps over a grid of parameter values)
+  reduce      per-design minimum, maximum and their times; a design's status
+  refine      exact per-design extremes of a design table (Newton on solves)
+  chunks      a chunk of designs through the compiled loop; gathering chunks
+  dask_backend  chunks of designs over a dask.distributed cluster (dask imported lazily)
+  backends    where a design table runs: threads, dask, cuda
+  design      design tables (sweeps over a grid of parameter values, or listed designs)
+  synthesis   mech.optimize: differential evolution over design tables
   loader      a module file, its stamp, format and version checked
   plain       the module run as plain Python (no numba): the tier that answers at once
   warm        a compiled module's entry points called once each (numba compiles, caches)

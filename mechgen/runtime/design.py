@@ -1,37 +1,41 @@
 """Design tables: a sweep over time for every combination of parameter values (Mech's
 Table[SetGuess[]; SolveMech[{t0, t1}, n], {param, ...}]), the loop over designs run
-inside the compiled module (its sweep_designs()).
+inside the compiled module (its sweep_designs()) on a backend (mechgen.runtime.backends:
+every core, a dask cluster or a GPU).
 
-Mechanism.design_sweep checks the arguments and calls the functions here in order:
-split_params (which parameters vary), design_grid (one parameter vector per design),
-run_designs (the compiled loop, in chunks when progress is reported), then builds the
-DesignTable and report_failures says which designs did not solve.
+design_table (Mechanism.design_sweep) checks the arguments and calls the functions here in
+order: split_params (which parameters vary), design_grid or design_list (one parameter
+vector per design), the backend, then builds the DesignTable and report_failures says
+which designs did not solve. With ``reduce`` the table keeps per design only the minimum,
+maximum and their times of the named quantities (mechgen.runtime.reduce).
 """
 from __future__ import annotations
 
-import sys
 import warnings
 
 import numpy as np
 
 from ..errors import MechgenError
-from ..protocol import LEVEL, LEVELS, STATUS_CODE
-from .guards import finite
+from ..protocol import LEVEL, LEVELS
+from .backends import progress_reporter, run_backend
+from .guards import finite, sweep_times
 from .quantity import _lookup, column_names
+from .reduce import Reduction, reduce_slots, status_name
 from .results import Sweep, pandas, write_csv
 
-# A design table's per-point record: the first column of a sweep's STATUS rows (int16: the
-# status code, protocol.STATUS_*), 2 bytes a point. INFO is its name in a DesignTable.
-DESIGN_INFO_COLUMNS = STATUS_CODE + 1
 ON_FAIL = ("warn", "raise", "ignore")
 
 
 def _axis(name, values):
     arr = np.atleast_1d(np.asarray(values, dtype=np.float64))
-    if arr.ndim != 1 or arr.size == 0:
+    if arr.ndim != 1:
         raise ValueError(f"parameter {name!r}: give a number or a 1-D sequence of numbers")
-    if not np.all(np.isfinite(arr)):
-        raise ValueError(f"parameter {name!r}: values must be finite")
+    if arr.size == 0:
+        raise ValueError(f"parameter {name!r}: the range of values is empty")
+    bad = np.nonzero(~np.isfinite(arr))[0]
+    if bad.size:
+        raise ValueError(f"parameter {name!r}: values must be finite (value {arr[bad[0]]!r} "
+                         f"at position {int(bad[0])})")
     return arr
 
 
@@ -40,23 +44,35 @@ class DesignTable:
 
     ``tab["X4"]`` has shape ``tab.shape + (len(tab.t),)`` (one axis per varied parameter,
     in the order given, then time); points a design could not solve are NaN and
-    ``tab.ok`` / ``tab.failures`` say which. ``tab.sweep(i, ...)`` or
-    ``tab.sweep(longitud=1.5)`` is one design as a :class:`~mechgen.Sweep`.
+    ``tab.ok`` / ``tab.failures`` / ``tab.status`` say which. ``tab.sweep(i, ...)`` or
+    ``tab.sweep(longitud=1.5)`` is one design as a :class:`~mechgen.Sweep`. A table of
+    listed designs (``grid=False``) has one axis, the designs, and ``tab.params`` holds
+    each varied parameter's value per design. A table made with ``reduce=[...]`` keeps
+    only ``tab.reduced(name)`` (minimum, maximum and their times per design).
     """
 
-    def __init__(self, mech, names, axes, t, P, Q, QD, QDD, INFO, done, level):
+    def __init__(self, mech, names, axes, t, P, data, level, grid=True, reduced=()):
         self.mechanism = mech
         self.names = tuple(names)
         self.axes = tuple(axes)
+        self.grid = bool(grid)
         self.params = dict(zip(self.names, self.axes))
         self._column = {n: mech.parameter_names.index(n) for n in self.names}   # in P
-        self.shape = tuple(len(a) for a in axes)
+        self.shape = tuple(len(a) for a in axes) if grid else (P.shape[0],)
         self.t = t
         self.P = P
-        self.Q, self.QD, self.QDD, self.INFO = Q, QD, QDD, INFO
-        self.done = done
+        self.Q, self.QD, self.QDD, self.INFO = data.Q, data.QD, data.QDD, data.INFO
+        self.done = data.done
+        self._status = data.status
         self.level = level
         self._have = LEVEL[level]
+        self._reduced = {}
+        if data.red is not None:
+            ok = self.ok
+            status = self.status
+            for j, name in enumerate(reduced):
+                self._reduced[name] = Reduction(
+                    name, *(arr[:, j].reshape(self.shape) for arr in data.red), ok, status)
 
     @property
     def ok(self) -> np.ndarray:
@@ -64,19 +80,92 @@ class DesignTable:
         return (self.done == len(self.t)).reshape(self.shape)
 
     @property
+    def status(self) -> np.ndarray:
+        """Each design's status (mechgen.protocol codes): the status of the point it
+        failed at, else JUMP or THROUGH_SINGULAR when a point was reached so, else OK."""
+        return self._status.reshape(self.shape)
+
+    @property
+    def kept_points(self) -> bool:
+        """Whether the table kept every point (False: a table of reductions only)."""
+        return self.Q is not None
+
+    @property
+    def reductions(self) -> tuple:
+        """The names of the quantities reduced (``reduce=``), in order."""
+        return tuple(self._reduced)
+
+    def reduced(self, name) -> Reduction:
+        """The reduction of quantity ``name`` (``reduce=[name, ...]``): ``.min``, ``.max``,
+        ``.tmin``, ``.tmax``, ``.ok``, ``.status``, arrays of the table's shape. On a table
+        that kept every point it is computed from them."""
+        if name in self._reduced:
+            return self._reduced[name]
+        if not self.kept_points:
+            raise KeyError(f"{name!r} was not reduced (this table reduced "
+                           f"{', '.join(self._reduced)}); pass reduce=[..., {name!r}]")
+        from .reduce import reduce_chunk
+        names, slots = reduce_slots(self.mechanism, [name], self._have)
+        red = reduce_chunk(self.mechanism.module, slots, self.t, self.P, self.Q, self.QD,
+                           self.QDD, self.done)
+        return Reduction(name, *(arr[:, 0].reshape(self.shape) for arr in red), self.ok,
+                         self.status)
+
+    def take(self, designs) -> "DesignTable":
+        """The designs picked by ``designs`` (flat indices or a boolean mask over the
+        table's designs, in grid order) as a table of listed designs."""
+        idx = np.arange(len(self))[np.asarray(designs).reshape(-1)] \
+            if np.asarray(designs).dtype == bool else np.asarray(designs, dtype=np.int64).reshape(-1)
+        from .chunks import TableData
+        pick = (lambda a: None if a is None else a[idx])
+        data = TableData(pick(self.Q), pick(self.QD), pick(self.QDD), pick(self.INFO),
+                         self.done[idx], self._status[idx],
+                         None if not self._reduced else tuple(
+                             np.stack([getattr(r, w).reshape(-1)[idx] for r in self._reduced.values()], axis=1)
+                             for w in ("min", "max", "tmin", "tmax")))
+        P = self.P[idx]
+        axes = [P[:, self._column[n]] for n in self.names]
+        return DesignTable(self.mechanism, self.names, axes, self.t, P, data, self.level,
+                           grid=False, reduced=tuple(self._reduced))
+
+    def extremes(self, name) -> Reduction:
+        """The exact minimum and maximum of ``name`` for every design and their times, as
+        ``reduced`` gives them but refined off the time grid by Newton's method on the
+        compiled solver (mechgen.runtime.refine; needs the table's points)."""
+        from .refine import extremes
+        return extremes(self, name)
+
+    def _values(self, d) -> dict:
+        return {n: float(self.P[d, self._column[n]]) for n in self.names}
+
+    @property
     def failures(self) -> list:
         """(parameter values, time of failure, status) of each design that failed."""
         out = []
         for d in np.nonzero(self.done < len(self.t))[0]:
             k = int(self.done[d])
-            values = {n: float(self.P[d, self._column[n]]) for n in self.names}
-            out.append((values, float(self.t[k]), int(self.INFO[d, k, STATUS_CODE])))
+            out.append((self._values(d), float(self.t[k]), int(self._status[d])))
         return out
 
     def __len__(self):
         return int(np.prod(self.shape))
 
     def _flat(self, index=None, **values):
+        if values and not self.grid:
+            if index is not None:
+                raise TypeError("give a design index or parameter values, not both")
+            hit = np.ones(len(self), dtype=bool)
+            for name in self.names:
+                if name not in values:
+                    raise KeyError(f"give a value for each varied parameter ({', '.join(self.names)})")
+                hit &= np.isclose(self.P[:, self._column[name]], values.pop(name),
+                                  rtol=1e-12, atol=1e-12)
+            if values:
+                raise KeyError(f"{', '.join(values)} is not a varied parameter "
+                               f"({', '.join(self.names)})")
+            if not hit.any():
+                raise KeyError("no design of the table has those parameter values")
+            return int(np.argmax(hit))
         if values:
             if index is not None:
                 raise TypeError("give grid indices or parameter values, not both")
@@ -98,6 +187,7 @@ class DesignTable:
 
     def sweep(self, *index, **values):
         """One design as a Sweep (only the points it solved)."""
+        self._need_points("sweep()")
         d = self._flat(index if index else None, **values)
         mech = self.mechanism.with_params(**{n: float(self.P[d, self._column[n]])
                                              for n in self.names})
@@ -116,6 +206,7 @@ class DesignTable:
         if not isinstance(name, str):
             raise TypeError("index a design table by quantity name (tab['X4']); "
                             "use tab.sweep(i) for one design")
+        self._need_points(f"tab[{name!r}]")
         mech = self.mechanism
         kind, k, order = _lookup(mech, name)
         N = len(self.t)
@@ -130,18 +221,40 @@ class DesignTable:
                 raise KeyError(f"output {name!r} needs a table at level {LEVELS[min(need, LEVEL['acceleration'])]}")
             arr = np.empty((D, N))
             out = np.empty((N, len(mech.outputs)))
+            zero = np.zeros((N, mech.n))    # derivatives below the table's level
             for d in range(D):
-                mech.module.eval_outputs(self.Q[d], self.QD[d], self.QDD[d], self.t,
+                mech.module.eval_outputs(self.Q[d], zero if self.QD is None else self.QD[d],
+                                         zero if self.QDD is None else self.QDD[d], self.t,
                                          self.P[d], order, out)
                 arr[d] = out[:, k]
         for d in range(D):
             arr[d, int(self.done[d]):] = np.nan
         return arr.reshape(self.shape + (N,))
 
+    def _need_points(self, what):
+        if not self.kept_points:
+            raise MechgenError(f"{what}: this design table kept only the reductions of "
+                               f"{', '.join(self._reduced)} (reduce=...); use "
+                               "tab.reduced(name), or make the table without reduce")
+
+    def design_params(self) -> np.ndarray:
+        """The varied parameters' values, one row per design (in the table's order)."""
+        return np.column_stack([self.P[:, self._column[n]] for n in self.names])
+
     def table(self) -> tuple[list, np.ndarray]:
         """A long table: one row per design and time; the varied parameters, T, then the
-        coordinates (and derivatives) and outputs the table's level provides."""
-        grid = np.stack(np.meshgrid(*self.axes, indexing="ij"), axis=-1).reshape(-1, len(self.axes))
+        coordinates (and derivatives) and outputs the table's level provides. A table of
+        reductions has one row per design: the varied parameters, status, then min, max,
+        tmin and tmax of each reduced quantity (``X4_min``, ...)."""
+        grid = self.design_params()
+        if not self.kept_points:
+            header = list(self.names) + ["status"]
+            cols = [grid[:, j] for j in range(len(self.names))] + [self._status.astype(float)]
+            for name, red in self._reduced.items():
+                for what in ("min", "max", "tmin", "tmax"):
+                    header.append(f"{name}_{what}")
+                    cols.append(getattr(red, what).reshape(-1))
+            return header, np.column_stack(cols)
         N = len(self.t)
         header = list(self.names) + ["T"]
         cols = [np.repeat(grid[:, j], N) for j in range(len(self.names))]
@@ -164,6 +277,10 @@ class DesignTable:
     def __repr__(self):
         axes = ", ".join(f"{n} in [{', '.join(f'{v:g}' for v in a[:6])}{', ...' if len(a) > 6 else ''}]"
                          for n, a in zip(self.names, self.axes))
+        if not self.grid:
+            axes = "listed: " + axes
+        if not self.kept_points:
+            axes += "; reduced: " + ", ".join(self._reduced)
         bad = len(self) - int(np.sum(self.done == len(self.t)))
         return (f"<DesignTable of '{self.mechanism.name}': {len(self)} designs ({axes}) × "
                 f"{len(self.t)} times, level {self.level}"
@@ -198,45 +315,53 @@ def design_grid(base, index, names, axes) -> np.ndarray:
     return np.ascontiguousarray(P)
 
 
-def run_designs(module, ts, q0, P, lev, tol, xtol, maxit, meth, progress=None):
-    """The compiled loop over designs (the module's sweep_designs): (Q, QD, QDD, INFO,
-    done), indexed by design, then time. With ``progress`` it runs in chunks and reports
-    between them (see _progress_reporter)."""
-    D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
-    Q, QD, QDD = np.zeros((D, N, nq)), np.zeros((D, N, nq)), np.zeros((D, N, nq))
-    INFO = np.zeros((D, N, DESIGN_INFO_COLUMNS), dtype=np.int16)
-    done = np.zeros(D, dtype=np.int64)
-    report = _progress_reporter(progress, D)
-    # about 50 reports, and no chunk much over 200,000 solved points between two of them
-    chunk = D if report is None else max(1, min(D, -(-D // 50), max(1, 200_000 // max(N, 1))))
-    for a in range(0, D, chunk):
-        b = min(D, a + chunk)
-        done[a:b] = module.sweep_designs(ts, q0, P[a:b], lev, tol, xtol, maxit, meth,
-                                         Q[a:b], QD[a:b], QDD[a:b], INFO[a:b])
-        if report is not None:
-            report(b, D)
-    if report is not None:
-        report(None, D)
-    return Q, QD, QDD, INFO, done
+def design_list(base, index, names, axes) -> np.ndarray:
+    """One parameter vector per design for listed designs (``grid=False``): design i takes
+    the i-th value of every varied parameter (the sequences must be of one length)."""
+    sizes = {len(a) for a in axes}
+    if len(sizes) != 1:
+        raise ValueError("grid=False pairs the parameters' values up: give sequences of one "
+                         "length (" + ", ".join(f"{n}: {len(a)}" for n, a in zip(names, axes)) + ")")
+    P = np.tile(base, (len(axes[0]), 1))
+    for name, axis in zip(names, axes):
+        P[:, index[name]] = axis
+    return np.ascontiguousarray(P)
 
 
-def _progress_reporter(progress, total):
-    """None (quiet), a callable progress(done, total), or a progress line on stderr."""
-    if progress is None or progress is False:
-        return None
-    if callable(progress):
-        def call(done, total_):
-            if done is not None:
-                progress(done, total_)
-        return call
-
-    def line(done, total_):
-        if done is None:
-            sys.stderr.write("\n")
-        else:
-            sys.stderr.write(f"\rdesigns solved: {done}/{total_} ({100.0 * done / total_:.0f}%)")
-        sys.stderr.flush()
-    return line
+def design_table(mech, t0, t1, n, params, level="position", guess=None, method=None,
+                 tol=None, maxit=None, times=None, progress=None, on_fail="warn",
+                 backend="cpu", workers=None, client=None, reduce=None, grid=True,
+                 stacklevel=4):
+    """Mechanism.design_sweep (see there): the table, or a Sweep when nothing varies."""
+    fixed, names, axes = split_params(mech, params)
+    if on_fail not in ON_FAIL:
+        raise ValueError(f"on_fail must be 'warn', 'raise' or 'ignore', got {on_fail!r}")
+    base = mech._params_array(fixed) if fixed else mech.p.copy()
+    if not names:
+        if backend != "cpu" or reduce is not None or client is not None:
+            raise ValueError("backend=, client= and reduce= are for design tables: vary a "
+                             "parameter (params={name: [values, ...]})")
+        return mech.with_params(**fixed).sweep(t0, t1, n, level=level, guess=guess,
+                                               method=method, tol=tol, maxit=maxit,
+                                               times=times)
+    lev = mech._level(level)
+    meth = mech._method(method)
+    ts = sweep_times(t0, t1, n, times)
+    tol = mech._tol(tol)
+    maxit = mech._maxit(maxit)
+    q0 = mech._start(guess)
+    reduced, slots = ((), None) if reduce is None else reduce_slots(mech, reduce, lev)
+    make = design_grid if grid else design_list
+    P = make(base, mech._param_index, names, axes)
+    if backend == "cpu":    # a big table in the python tier: compiled first (runtime.tiers)
+        mech._tiers.expect(mech, P.shape[0] * ts.shape[0], "design")
+    data = run_backend(backend, mech, ts, q0, P, lev, tol, mech.xtol, maxit, meth,
+                       workers=workers, client=client, slots=slots,
+                       progress=progress_reporter(progress, P.shape[0]))
+    table = DesignTable(mech, names, axes, ts, P, data, LEVELS[lev], grid=grid,
+                        reduced=reduced)
+    report_failures(table, on_fail, stacklevel=stacklevel)
+    return table
 
 
 def report_failures(table, on_fail, stacklevel=2):
@@ -250,7 +375,7 @@ def report_failures(table, on_fail, stacklevel=2):
     where = ", ".join(f"{k}={v:g}" for k, v in first[0].items())
     msg = (f"{len(bad)} of {len(table)} designs of '{table.mechanism.name}' could not be "
            f"solved at every time (first: {where} fails at t={first[1]:.10g}, status "
-           f"{first[2]}); their unsolved points are NaN")
+           f"{first[2]}: {status_name(first[2])}); their unsolved points are NaN")
     if on_fail == "raise":
         err = MechgenError(msg)
         err.table = table

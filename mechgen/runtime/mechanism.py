@@ -19,8 +19,7 @@ from ..protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, L
                         OK, POINT_INFO_SIZE, POINT_PIVOT, POINT_RESIDUAL, SING_RTOL, VELOCITY)
 from .assembly import assemblies as find_assemblies
 from .entry import solve_acceleration, solve_point_derivatives, solve_velocity
-from .design import (ON_FAIL, DesignTable, design_grid, report_failures, run_designs,
-                     split_params)
+from .design import design_table
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
                      sweep_times)
 from .tiers import Tiers
@@ -303,11 +302,13 @@ class Mechanism:
 
     # -- sweeps -----------------------------------------------------------------------
     def sweep(self, t0, t1, n, level="position", guess=None, method=None, tol=None,
-              maxit=None, times=None, params=None, out=None) -> Sweep:
+              maxit=None, times=None, params=None, out=None, backend="cpu", workers=None,
+              client=None, reduce=None, **table_options) -> Sweep:
         """Solve at n times from t0 to t1, both ends included (Mech's SolveMech[{t0, t1}, n]),
         each warm-started from the previous one. Raises on the first failure; the error
         carries the points solved before it as ``.sweep``. With ``params`` (a dict in which a
-        sequence varies a parameter) it returns a design table (see design_sweep).
+        sequence varies a parameter) it returns a design table (see design_sweep, which
+        also says what backend, workers, client, reduce and the other options do).
 
         Only the level's arrays are filled: a position sweep has no velocities (``sw.QD``
         is None, ``sw["X4d"]`` raises KeyError). ``out`` writes the results into arrays
@@ -319,8 +320,17 @@ class Mechanism:
         earlier call, whose arrays are then overwritten. The result's arrays are views of
         them."""
         if params is not None:
-            return self.design_sweep(t0, t1, n, params, level=level, guess=guess,
-                                     method=method, tol=tol, maxit=maxit, times=times)
+            if out is not None:
+                raise ValueError("out= is for a single sweep, not a design table (params=)")
+            return design_table(self, t0, t1, n, params, level=level, guess=guess,
+                                method=method, tol=tol, maxit=maxit, times=times,
+                                backend=backend, workers=workers, client=client,
+                                reduce=reduce, **table_options)
+        if backend != "cpu" or workers is not None or client is not None or \
+                reduce is not None or table_options:
+            raise ValueError("backend=, workers=, client=, reduce= and "
+                             f"{', '.join(table_options) or 'the table options'} are for "
+                             "design tables (params={name: [values, ...]})")
         if getattr(self.module, "SWITCH_TIMES", ()):
             # a model with stages: a sweep across a switch runs stage by stage
             staged = staged_sweep(self, t0, t1, n, times, guess=guess, level=level,
@@ -344,38 +354,46 @@ class Mechanism:
         return run_sweep(self, ts, q0, lev, tol, maxit, meth, out, shared)
 
     def design_sweep(self, t0, t1, n, params, level="position", guess=None, method=None,
-                     tol=None, maxit=None, times=None, progress=None, on_fail="warn"):
+                     tol=None, maxit=None, times=None, progress=None, on_fail="warn",
+                     backend="cpu", workers=None, client=None, reduce=None, grid=True):
         """A design table: a sweep over time for every combination of parameter values
         (``params={"longitud": [1.5, 2.25, 3.0]}``; a number fixes a parameter), the loop
         over designs compiled; arrays come back indexed by parameter(s) and time. Each
         design starts from the same guess, as Mech's Table[SetGuess[]; SolveMech[{t0, t1},
-        n], {param, ...}] does (mechgen.runtime.design).
+        n], {param, ...}] does, and is swept on its own: the numbers do not depend on the
+        backend or the count of workers (mechgen.runtime.design, .backends).
 
-        progress: None (quiet), True (a progress line on stderr) or a callable
-        ``progress(done, total)`` called between compiled chunks.
+        backend: "cpu" (this machine's cores; ``workers=k`` uses k threads, 1 runs in this
+        thread, None every core), "dask" (chunks of designs over the dask.distributed
+        cluster of ``client``, or the current one) or "cuda" (a generated GPU kernel).
+        reduce: quantity names (``["X4", "X4d"]``): keep per design only their minimum,
+        maximum and the times of those (``tab.reduced("X4").max``), not every point.
+        grid: True crosses the varied parameters (a grid); False pairs them up (listed
+        designs: design i takes the i-th value of each sequence, all of one length).
+        progress: None (quiet), True (a progress bar on stderr) or a callable
+        ``progress(done, total)`` called as chunks of designs finish.
         on_fail: "warn" (default), "raise" or "ignore" for designs that fail to solve.
         """
-        fixed, names, axes = split_params(self, params)
-        if on_fail not in ON_FAIL:
-            raise ValueError(f"on_fail must be 'warn', 'raise' or 'ignore', got {on_fail!r}")
-        base = self._params_array(fixed) if fixed else self.p.copy()
-        if not names:
-            return self.with_params(**fixed).sweep(t0, t1, n, level=level, guess=guess,
-                                                   method=method, tol=tol, maxit=maxit,
-                                                   times=times)
-        lev = self._level(level)
-        meth = self._method(method)
-        ts = sweep_times(t0, t1, n, times)
-        tol = self._tol(tol)
-        maxit = self._maxit(maxit)
-        q0 = self._start(guess)
-        P = design_grid(base, self._param_index, names, axes)
-        self._tiers.expect(self, P.shape[0] * ts.shape[0], "design")
-        Q, QD, QDD, INFO, done = run_designs(self.module, ts, q0, P, lev, tol, self.xtol,
-                                             maxit, meth, progress)
-        table = DesignTable(self, names, axes, ts, P, Q, QD, QDD, INFO, done, LEVELS[lev])
-        report_failures(table, on_fail, stacklevel=3)
-        return table
+        return design_table(self, t0, t1, n, params, level=level, guess=guess, method=method,
+                            tol=tol, maxit=maxit, times=times, progress=progress,
+                            on_fail=on_fail, backend=backend, workers=workers, client=client,
+                            reduce=reduce, grid=grid)
+
+    def optimize(self, objective, bounds, t0, t1, n, backend="cpu", level="position",
+                 **options):
+        """Dimensional synthesis: the parameter values within ``bounds`` ({name: (low,
+        high)}) that minimise ``objective``, a function of a design table (listed designs,
+        t0..t1 at n times, ``level``) returning one number per design. scipy's
+        differential evolution (vectorised: each generation one design table on
+        ``backend``), then a Nelder-Mead polish (polish=False skips it). Designs that
+        cannot be solved at every time are rejected (never passed to the objective's
+        numbers, scored +inf). Options: workers, client, guess, times, popsize, maxiter,
+        tol, seed, polish, polish_tol and differential_evolution's own keywords. Returns
+        an OptimizeResult (params, fun, mechanism, evaluated, seconds, ...;
+        mechgen.runtime.synthesis)."""
+        from .synthesis import optimize
+        return optimize(self, objective, bounds, t0, t1, n, backend=backend, level=level,
+                        **options)
 
     # -- assembly modes ---------------------------------------------------------------
     def assemblies(self, t, starts=256, guess=None, level="position", flips=False):

@@ -325,14 +325,15 @@ def eval_outputs(Q, QD, QDD, ts, p, order, OUT):
             outputs_dd(Q[k], QD[k], QDD[k], ts[k], p, OUT[k])
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def sweep_designs(ts, q0, P, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS):
     """sweep() for every design: row d of P is a parameter vector, and Q[d], QD[d], QDD[d],
     STATUS[d] receive its sweep (as sweep() fills them: QD and QDD may have no rows below
     the levels that need them). Every design starts from q0 (Mech's Table[SetGuess[];
     SolveMech[...], {param, ...}]). Each design goes as a single sweep does in mechgen:
     sweep_fast() while nothing is hard, then sweep() from its last accepted point.
-    Returns the count of solved times of each design."""
+    Returns the count of solved times of each design. It releases the GIL (nogil): the
+    runtime runs chunks of designs on several threads at once, each design on its own."""
     done = np.zeros(P.shape[0], dtype=np.int64)
     report = np.zeros(REPORT_SIZE)
     for d in range(P.shape[0]):

@@ -1,0 +1,127 @@
+"""Chunks of a design table: one call of the generated module's sweep_designs over a
+slice of the designs (it releases the GIL), its designs' statuses and, when asked, its
+reductions, and the table the chunks are gathered into. Shared by the backends that run
+the compiled loop (mechgen.runtime.backends' threads, mechgen.runtime.dask_backend's
+workers).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..protocol import OK, STATUS_CODE
+from .reduce import design_status, reduce_chunk
+
+# A design table's per-point record: the first column of a sweep's STATUS rows (int16: the
+# status code, protocol.STATUS_*), 2 bytes a point; INFO is its name in a DesignTable. The
+# generated sweep writes the STATUS columns its array has.
+DESIGN_INFO_COLUMNS = STATUS_CODE + 1
+DESIGN_INFO_DTYPE = np.int16
+# solved points (designs x times) per chunk: big enough that a call's overhead vanishes,
+# small enough that a reduced table's buffers stay small and progress moves
+CHUNK_POINTS = 100_000
+
+
+class TableData:
+    """What a backend returns: Q, QD, QDD (designs, times, coordinates; QD, QDD None above
+    the table's level) and INFO (designs, times, DESIGN_INFO_COLUMNS; int16), or None each
+    when only reductions were kept; ``red``: (min, max, tmin, tmax), each (designs,
+    slots), or None; ``done``: solved times per design; ``status``: per design
+    (mechgen.runtime.reduce.design_status)."""
+
+    def __init__(self, Q, QD, QDD, INFO, done, status, red=None):
+        self.Q, self.QD, self.QDD, self.INFO = Q, QD, QDD, INFO
+        self.done, self.status, self.red = done, status, red
+
+
+def chunks(D, N, parts, least=0):
+    """[(a, b)] splitting D designs into chunks of at most about CHUNK_POINTS points, at
+    least ``parts`` of them (when there are that many designs), none under ``least``
+    points (where a chunk's round trip costs: a cluster's task)."""
+    size = max(1, min(-(-D // max(parts, 1)), CHUNK_POINTS // max(N, 1)))
+    size = max(size, min(D, -(-least // max(N, 1))))
+    return [(a, min(D, a + size)) for a in range(0, D, size)]
+
+
+def scratch_arrays(scratch, D, N, nq, names):
+    """Arrays of ``names`` (Q, QD, QDD: (D, N, nq); INFO: (D, N, DESIGN_INFO_COLUMNS),
+    int16) lent from ``scratch`` (a dict kept by the caller, one per thread) again and
+    again, so that a chunk's arrays that are read back only partly, or not at all, need no
+    fresh pages."""
+    out = []
+    for name in names:
+        info = name == "INFO"
+        cols = DESIGN_INFO_COLUMNS if info else nq
+        have = scratch.get(name)
+        if have is None or have.shape[0] < D or have.shape[1:] != (N, cols):
+            have = scratch[name] = np.zeros((D, N, cols),
+                                            dtype=DESIGN_INFO_DTYPE if info else np.float64)
+        out.append(have[:D])
+    return out
+
+
+def no_rows(D, nq) -> np.ndarray:
+    """The derivative array of a chunk above the table's level: no rows per design (the
+    generated sweep writes QD only at level >= 1, QDD only at level 2)."""
+    return np.zeros((D, 0, nq))
+
+
+def new_arrays(D, N, nq, lev):
+    """[Q, QD, QDD, INFO] of D designs at level ``lev`` (QD, QDD None above it)."""
+    return [np.zeros((D, N, nq)),
+            np.zeros((D, N, nq)) if lev >= 1 else None,
+            np.zeros((D, N, nq)) if lev >= 2 else None,
+            np.zeros((D, N, DESIGN_INFO_COLUMNS), dtype=DESIGN_INFO_DTYPE)]
+
+
+def sweep_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, Q, QD, QDD, INFO):
+    """The compiled sweep_designs over one chunk (QD, QDD None above the level): the
+    count of solved times per design."""
+    D, nq = P.shape[0], q0.shape[0]
+    return np.asarray(module.sweep_designs(ts, q0, P, lev, tol, xtol, maxit, meth, Q,
+                                           no_rows(D, nq) if QD is None else QD,
+                                           no_rows(D, nq) if QDD is None else QDD, INFO),
+                      dtype=np.int64)
+
+
+def solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, scratch=None):
+    """One chunk of designs through the compiled sweep_designs: (done, status, Q, QD, QDD,
+    INFO) with the full arrays (QD, QDD None above the table's level), or (done, status,
+    min, max, tmin, tmax) with ``slots``. ``scratch`` (see scratch_arrays) lends the
+    arrays not returned: only the rows a design solved are read back."""
+    D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
+    if slots is None:
+        Q, QD, QDD, INFO = new_arrays(D, N, nq, lev)
+    else:
+        names = ("Q", "INFO") + (("QD",) if lev >= 1 else ()) + (("QDD",) if lev >= 2 else ())
+        lent = dict(zip(names, scratch_arrays({} if scratch is None else scratch, D, N, nq,
+                                              names)))
+        Q, QD, QDD, INFO = (lent.get(k) for k in ("Q", "QD", "QDD", "INFO"))
+    done = sweep_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, Q, QD, QDD, INFO)
+    status = design_status(INFO, done, N)
+    if slots is None:
+        return done, status, Q, QD, QDD, INFO
+    return (done, status) + reduce_chunk(module, slots, ts, P, Q, QD, QDD, done)
+
+
+class Collector:
+    """Gathers the chunks' results into one TableData (full arrays or reductions)."""
+
+    def __init__(self, D, N, nq, slots, lev=2):
+        self.slots = slots
+        self.done = np.zeros(D, dtype=np.int64)
+        self.status = np.full(D, OK, dtype=np.int64)
+        if slots is None:   # no derivative arrays above the table's level
+            self.arrays = new_arrays(D, N, nq, lev)
+        else:
+            self.arrays = [np.full((D, slots.shape[0]), np.nan) for _ in range(4)]
+
+    def put(self, a, b, result):
+        self.done[a:b], self.status[a:b] = result[0], result[1]
+        for arr, part in zip(self.arrays, result[2:]):
+            if part is not None and arr is not None:
+                arr[a:b] = part
+
+    def table(self) -> TableData:
+        if self.slots is None:
+            return TableData(*self.arrays, self.done, self.status)
+        return TableData(None, None, None, None, self.done, self.status, tuple(self.arrays))

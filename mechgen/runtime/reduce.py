@@ -1,0 +1,139 @@
+"""Reductions of a design table: per design, the minimum and maximum of chosen quantities
+over the solved times and the times they occur at, and the design's status, without
+keeping every point (``mech.sweep(..., params=..., reduce=["X4", "X4d"])``).
+
+Every backend computes the same numbers from the same points: the CPU and Dask backends
+reduce each chunk of designs as soon as it is solved (reduce_chunk, then its arrays are
+dropped), the CUDA backend inside its kernel. numpy only.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..protocol import JUMP, OK, STATUS_CODE, STATUS_NAMES, THROUGH_SINGULAR
+from .quantity import _lookup
+
+# A reduction slot: [kind, index, order]; kind COORDINATE (index into the coordinates,
+# order 0/1/2: Q, QD, QDD) or OUTPUT (index into the outputs, order: which derivative).
+COORDINATE, OUTPUT = 0, 1
+
+
+def reduce_slots(mech, names, have):
+    """(names, slots): the quantity names to reduce, checked against the mechanism and the
+    table's level ``have``, and their slots (an int64 array of rows [kind, index, order])."""
+    if isinstance(names, str):
+        names = [names]
+    names = list(dict.fromkeys(names))
+    if not names:
+        raise ValueError("reduce: give at least one quantity name (reduce=['X4'])")
+    slots = np.zeros((len(names), 3), dtype=np.int64)
+    for j, name in enumerate(names):
+        try:
+            kind, k, order = _lookup(mech, name)
+        except (KeyError, TypeError) as exc:
+            raise ValueError(f"reduce: {exc.args[0]}") from None
+        need = order if kind == "q" else mech.output_orders[k] + order
+        if need > have:
+            raise ValueError(f"reduce: {name!r} needs a table at level "
+                             f"{('position', 'velocity', 'acceleration')[min(need, 2)]} "
+                             "(pass level=...)")
+        slots[j] = (COORDINATE if kind == "q" else OUTPUT, k, order)
+    return names, slots
+
+
+def design_status(INFO, done, N) -> np.ndarray:
+    """Per design (INFO: the table's int16 status rows, (designs, times, columns)): the status of the point it failed at, or, when it solved every time,
+    JUMP if a point was reached by a branch jump, THROUGH_SINGULAR if one was reached
+    through a singular configuration, else OK."""
+    D = done.shape[0]
+    status = np.full(D, OK, dtype=np.int64)
+    if D == 0 or N == 0:
+        return status
+    st = INFO[:, :, STATUS_CODE]
+    solved = np.arange(N)[None, :] < done[:, None]
+    status[np.any(solved & (st == THROUGH_SINGULAR), axis=1)] = THROUGH_SINGULAR
+    status[np.any(solved & (st == JUMP), axis=1)] = JUMP
+    bad = np.nonzero(done < N)[0]
+    status[bad] = st[bad, done[bad]].astype(np.int64)
+    return status
+
+
+def reduce_chunk(module, slots, ts, P, Q, QD, QDD, done):
+    """(min, max, tmin, tmax), each (designs, len(slots)), of a solved chunk of designs:
+    over the times each design solved (the first occurrence of equal extremes); NaN for a
+    design that solved no time."""
+    D, N = Q.shape[0], ts.shape[0]
+    k = slots.shape[0]
+    mn, mx = np.full((D, k), np.nan), np.full((D, k), np.nan)
+    tmn, tmx = np.full((D, k), np.nan), np.full((D, k), np.nan)
+    if D == 0 or N == 0:
+        return mn, mx, tmn, tmx
+    solved = np.arange(N)[None, :] < done[:, None]
+    anyp = done > 0
+    outs = {}
+    for j, (kind, index, order) in enumerate(slots):
+        if kind == COORDINATE:
+            vals = (Q, QD, QDD)[order][:, :, index]
+        else:
+            if order not in outs:
+                outs[order] = _outputs(module, ts, P, Q, QD, QDD, done, order)
+            vals = outs[order][:, :, index]
+        lo = np.where(solved, vals, np.inf)
+        hi = np.where(solved, vals, -np.inf)
+        a, b = np.argmin(lo, axis=1), np.argmax(hi, axis=1)
+        rows = np.arange(D)
+        mn[anyp, j] = vals[rows, a][anyp]
+        mx[anyp, j] = vals[rows, b][anyp]
+        tmn[anyp, j] = ts[a][anyp]
+        tmx[anyp, j] = ts[b][anyp]
+    return mn, mx, tmn, tmx
+
+
+def _outputs(module, ts, P, Q, QD, QDD, done, order):
+    n_out = len(module.OUTPUTS)
+    out = np.zeros((Q.shape[0], ts.shape[0], n_out))
+    zero = np.zeros(Q.shape[1:])        # derivatives a table below their level lacks
+    for d in range(Q.shape[0]):
+        if done[d]:
+            module.eval_outputs(Q[d], zero if QD is None else QD[d],
+                                zero if QDD is None else QDD[d], ts, P[d], order, out[d])
+    return out
+
+
+class Reduction:
+    """One reduced quantity of a design table: arrays indexed like the table's designs
+    (``tab.shape``). ``min``/``max``: the smallest and largest value over the times a
+    design solved, ``tmin``/``tmax``: the (first) times they occur at (grid times of the
+    table; ``tab.extremes`` refines them exactly), ``ok``: designs solved at every time,
+    ``status``: each design's status (mechgen.protocol codes; see design_status). A
+    design that solved no time has NaN; a design that failed part way has the extremes of
+    the part it solved, and ok False: check ``ok`` before trusting them."""
+
+    def __init__(self, name, mn, mx, tmn, tmx, ok, status):
+        self.name = name
+        self.min, self.max, self.tmin, self.tmax = mn, mx, tmn, tmx
+        self.ok = ok
+        self.status = status
+
+    @property
+    def range(self) -> np.ndarray:
+        """max - min per design."""
+        return self.max - self.min
+
+    def __repr__(self):
+        bad = int(np.size(self.ok) - np.count_nonzero(self.ok))
+        return (f"<Reduction {self.name!r} of {np.size(self.ok)} designs"
+                f"{f', {bad} failed' if bad else ''}: min in [{np.nanmin(self.min):.6g}, "
+                f"{np.nanmax(self.min):.6g}], max in [{np.nanmin(self.max):.6g}, "
+                f"{np.nanmax(self.max):.6g}]>" if np.any(np.isfinite(self.min)) else
+                f"<Reduction {self.name!r} of {np.size(self.ok)} designs, none solved>")
+
+
+def status_name(code) -> str:
+    """A status code in words (a failed velocity or acceleration solve says so)."""
+    code = int(code)
+    if code >= 20:
+        return f"acceleration solve: {STATUS_NAMES.get(code - 20, code - 20)}"
+    if code >= 10:
+        return f"velocity solve: {STATUS_NAMES.get(code - 10, code - 10)}"
+    return STATUS_NAMES.get(code, str(code))

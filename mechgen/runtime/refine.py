@@ -1,0 +1,109 @@
+"""Exact extremes of a quantity for every design of a design table (``tab.extremes("X4")``):
+the table's grid minimum and maximum of each design, refined by Newton's method on the
+quantity's time derivative, each step a compiled solve (position, velocity, acceleration)
+warm-started by a Taylor predictor from the table's nearest point, so that it stays on the
+design's branch. The refined time is kept only while it stays inside the grid interval
+around the grid extreme and the refined value is at least as extreme; else the grid value
+stands (an extreme at an end of the range stays there). numpy only.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import MechgenError
+from ..protocol import OK
+from .reduce import COORDINATE, Reduction, reduce_chunk, reduce_slots
+
+NEWTON_STEPS = 12
+T_TOL = 1e-14           # relative to the table's time span
+
+
+def extremes(tab, name) -> Reduction:
+    """The exact minimum and maximum of ``name`` per design, and their times (see the
+    module's docstring); NaN for a design that solved no time. Needs a table that kept
+    its points, and a quantity whose second time derivative the module computes."""
+    tab._need_points(f"tab.extremes({name!r})")
+    mech = tab.mechanism
+    module = mech.module
+    _, slots = reduce_slots(mech, [name], tab._have)
+    kind, index, order = (int(v) for v in slots[0])
+    need = order + 2 if kind == COORDINATE else mech.output_orders[index] + order + 2
+    if need > 2 or mech.built_level < 2:
+        raise MechgenError(f"tab.extremes({name!r}) refines with the second time derivative of "
+                           f"{name!r}, which this module does not compute (a module built to "
+                           "acceleration level refines a coordinate or an output of order 0)")
+    mn, mx, tmn, tmx = (arr[:, 0] for arr in reduce_chunk(module, slots, tab.t, tab.P, tab.Q,
+                                                          tab.QD, tab.QDD, tab.done))
+    ts = tab.t
+    out = [mn.copy(), mx.copy(), tmn.copy(), tmx.copy()]
+    span = abs(ts[-1] - ts[0]) if len(ts) > 1 else 1.0
+    probe = _Probe(mech, kind, index, order)
+    for d in np.nonzero(tab.done > 0)[0]:
+        for j, (value, t_at, sign) in enumerate(((mn[d], tmn[d], 1.0), (mx[d], tmx[d], -1.0))):
+            k = int(np.searchsorted(ts, t_at)) if ts[0] <= ts[-1] else int(np.argmin(np.abs(ts - t_at)))
+            k = min(max(k, 0), len(ts) - 1)
+            lo = ts[max(k - 1, 0)]
+            hi = ts[min(k + 1, int(tab.done[d]) - 1)]
+            got = probe.newton(tab, d, k, min(lo, hi), max(lo, hi), span)
+            if got is not None and sign * (got[1] - value) <= 0.0:
+                out[j][d], out[j + 2][d] = got[1], got[0]
+    shape = tab.shape
+    return Reduction(name, *(arr.reshape(shape) for arr in out), tab.ok, tab.status)
+
+
+class _Probe:
+    """The quantity and its first two time derivatives at (t, design), solved."""
+
+    def __init__(self, mech, kind, index, order):
+        self.mech, self.kind, self.index, self.order = mech, kind, index, order
+        n = mech.n
+        self.q, self.qd, self.qdd = np.empty(n), np.empty(n), np.empty(n)
+        self.info = np.zeros(8)
+        self.out = np.empty(max(len(mech.outputs), 1))
+
+    def values(self, t, p):
+        """(value, first, second derivative) at the solved q, qd, qdd."""
+        if self.kind == COORDINATE:
+            arrs = (self.q, self.qd, self.qdd)
+            i, o = self.index, self.order
+            return arrs[o][i], arrs[o + 1][i], arrs[o + 2][i]
+        mod = self.mech.module
+        vals = []
+        for fn in (mod.outputs, mod.outputs_d, mod.outputs_dd)[self.order:self.order + 3]:
+            fn(self.q, self.qd, self.qdd, t, p, self.out)
+            vals.append(float(self.out[self.index]))
+        return tuple(vals)
+
+    def newton(self, tab, d, k, lo, hi, span):
+        """(t, value) of the root of the derivative in [lo, hi] from the grid point k of
+        design d, or None when Newton fails or leaves the interval."""
+        mech, mod = self.mech, self.mech.module
+        p = tab.P[d]
+        t = float(tab.t[k])
+        tk = t
+        meth = mech._method(None)
+        for _ in range(NEWTON_STEPS):
+            h = t - tk          # Taylor from the grid point, as far as the table holds
+            self.q[:] = tab.Q[d, k]
+            if tab._have >= 1:
+                self.q += h * tab.QD[d, k]
+            if tab._have >= 2:
+                self.q += 0.5 * h * h * tab.QDD[d, k]
+            status = mod.solve_point_derivatives(self.q, t, p, mech.tol, mech.xtol, mech.maxit,
+                                                 meth, 2, self.qd, self.qdd, self.info)
+            if status != OK:
+                return None
+            value, f, df = self.values(t, p)
+            if not (np.isfinite(f) and np.isfinite(df)) or df == 0.0:
+                return None
+            step = f / df
+            t_new = t - step
+            if not lo <= t_new <= hi:
+                return None
+            if abs(t_new - t) <= T_TOL * span:
+                status = mod.solve_point_derivatives(self.q, t_new, p, mech.tol, mech.xtol,
+                                                     mech.maxit, meth, 2, self.qd, self.qdd,
+                                                     self.info)
+                return (t_new, self.values(t_new, p)[0]) if status == OK else None
+            t = t_new
+        return None

@@ -1,0 +1,244 @@
+"""Design tables on every backend (mechgen.runtime.backends, dask_backend, reduce, refine,
+synthesis): all cores == one core bit for bit, dask == cpu, reductions == the full table's,
+failed designs marked, bad input refused, exact extremes, dimensional synthesis, the CLI."""
+import math
+import os
+import sys
+
+import numpy as np
+import pytest
+
+import mechgen
+from conftest import ROOT
+from mechgen.protocol import JUMP, OK, THROUGH_SINGULAR
+
+# the crank longer than its pivot's distance from the lever's (5) cannot turn: 6.0 fails
+LENGTHS = np.r_[np.linspace(1.0, 3.5, 23), 6.0]
+GOOD = (OK, JUMP, THROUGH_SINGULAR)
+
+
+def _same(a, b):
+    return a.shape == b.shape and np.array_equal(a, b, equal_nan=True)
+
+
+@pytest.fixture(scope="module")
+def serial(qr):
+    return qr.sweep(0.0, 1.0, 40, params={"longitud": LENGTHS, "velocidad": [2 * math.pi, 3.0]},
+                    level="velocity", workers=1, on_fail="ignore")
+
+
+def test_all_cores_equal_one_core_bit_for_bit(qr, serial):
+    for workers in (2, None):
+        tab = qr.sweep(0.0, 1.0, 40, params={"longitud": LENGTHS, "velocidad": [2 * math.pi, 3.0]},
+                       level="velocity", workers=workers, on_fail="ignore")
+        for name in ("Q", "QD", "INFO", "done", "status"):
+            assert _same(getattr(tab, name), getattr(serial, name)), name
+    # and each design is the single sweep of it
+    ref = qr.with_params(longitud=LENGTHS[5], velocidad=3.0).sweep(0.0, 1.0, 40, level="velocity")
+    assert np.array_equal(serial["X4d"][5, 1], ref["X4d"])
+
+
+def test_failed_designs_are_marked_never_dropped(serial):
+    assert serial.shape == (24, 2) and serial.status.shape == (24, 2)
+    # the long crank fails at a full turn (velocidad 2π), not in 3 radians
+    assert list(serial.ok[-1]) == [False, True] and serial.ok[:-1].all()
+    assert serial.status[-1, 0] not in GOOD
+    assert all(s in GOOD for s in serial.status.ravel()[:-2])
+    assert len(serial.failures) == 1 and serial.failures[0][0]["longitud"] == 6.0
+    k = int(serial.done.reshape(24, 2)[-1, 0])
+    assert np.all(np.isnan(serial["X4"][-1, 0, k:])) and np.all(np.isfinite(serial["X4"][-1, 0, :k]))
+
+
+@pytest.mark.parametrize("workers", [1, None])
+def test_reductions_equal_the_full_tables(qr, serial, workers):
+    names = ["X4", "X4d", "Th3", "stroke_x", "stroke_xd"]
+    red = qr.sweep(0.0, 1.0, 40, params={"longitud": LENGTHS, "velocidad": [2 * math.pi, 3.0]},
+                   level="velocity", workers=workers, reduce=names, on_fail="ignore")
+    assert not red.kept_points and red.reductions == tuple(names)
+    assert _same(red.status, serial.status) and _same(red.done, serial.done)
+    for name in names:
+        full = serial[name]                                     # NaN past a failure
+        r = red.reduced(name)
+        assert _same(r.min, np.nanmin(full, axis=-1)) and _same(r.max, np.nanmax(full, axis=-1))
+        assert _same(r.tmin, serial.t[np.nanargmin(full, axis=-1)])
+        assert _same(r.tmax, serial.t[np.nanargmax(full, axis=-1)])
+        assert _same(r.ok, serial.ok)
+        back = serial.reduced(name)                             # from the kept points
+        assert _same(back.min, r.min) and _same(back.tmax, r.tmax)
+    with pytest.raises(mechgen.MechgenError, match="reductions"):
+        red["X4"]
+    with pytest.raises(KeyError, match="pass reduce"):
+        red.reduced("Y4")
+    header, data = red.table()
+    assert header[:4] == ["longitud", "velocidad", "status", "X4_min"] and data.shape == (48, 23)
+
+
+def test_exact_extremes_agree_with_the_sweep_extrema(qr):
+    tab = qr.sweep(0.0, 1.0, 30, params={"longitud": [1.5, 2.5, 6.0]}, level="acceleration",
+                   on_fail="ignore")
+    ext = tab.extremes("X4")
+    for i, L in enumerate((1.5, 2.5)):
+        ev = qr.with_params(longitud=L).sweep(0.0, 1.0, 30, level="velocity").extrema("X4")
+        assert ext.min[i] == pytest.approx(ev.minima.value[0], abs=1e-12)
+        assert ext.tmin[i] == pytest.approx(ev.minima.t[0], abs=1e-9)
+        assert ext.max[i] == pytest.approx(ev.maxima.value[0], abs=1e-12)
+        assert ext.tmax[i] == pytest.approx(ev.maxima.t[0], abs=1e-9)
+    grid = tab.reduced("X4")
+    assert np.all(ext.max[:2] >= grid.max[:2]) and not ext.ok[2]
+
+
+def test_bad_input_is_refused_clearly(qr):
+    with pytest.raises(ValueError, match="'longitud'.*empty"):
+        qr.sweep(0, 1, 5, params={"longitud": []})
+    with pytest.raises(ValueError, match="'longitud'.*finite.*inf"):
+        qr.sweep(0, 1, 5, params={"longitud": [1.0, np.inf]})
+    with pytest.raises(ValueError, match="'anguloI'"):
+        qr.sweep(0, 1, 5, params={"longitud": [1.0], "anguloI": float("nan")})
+    with pytest.raises(ValueError, match="reduce.*'X9'"):
+        qr.sweep(0, 1, 5, params={"longitud": [1.0, 2.0]}, reduce=["X9"])
+    with pytest.raises(ValueError, match="reduce.*'X4d'.*velocity"):
+        qr.sweep(0, 1, 5, params={"longitud": [1.0, 2.0]}, reduce=["X4d"])
+    with pytest.raises(ValueError, match="backend"):
+        qr.sweep(0, 1, 5, params={"longitud": [1.0, 2.0]}, backend="gpu")
+    with pytest.raises(ValueError, match="workers"):
+        qr.sweep(0, 1, 5, params={"longitud": [1.0, 2.0]}, workers=0)
+    with pytest.raises(ValueError, match="design tables"):
+        qr.sweep(0, 1, 5, backend="dask")
+    with pytest.raises(ValueError, match="one length"):
+        qr.sweep(0, 1, 5, params={"longitud": [1.0, 2.0], "velocidad": [1.0]}, grid=False)
+    with pytest.raises(mechgen.MechgenError, match="cuda"):
+        qr.sweep(0, 1, 5, params={"longitud": [1.0, 2.0]}, backend="cuda")
+
+
+def test_listed_designs(qr):
+    tab = qr.sweep(0, 1, 9, params={"longitud": [2.0, 3.0, 2.5], "velocidad": [3.0, 2.0, 1.0]},
+                   grid=False)
+    assert tab.shape == (3,) and tab["X4"].shape == (3, 9)
+    ref = qr.with_params(longitud=3.0, velocidad=2.0).sweep(0, 1, 9)
+    assert np.array_equal(tab.sweep(longitud=3.0, velocidad=2.0)["X4"], ref["X4"])
+    assert np.array_equal(tab.design_params()[2], [2.5, 1.0])
+    # a position table keeps no derivative arrays; its outputs still evaluate
+    assert tab.QD is None and tab.QDD is None
+    assert np.array_equal(tab["stroke_x"], tab["X4"])
+    assert np.array_equal(tab.reduced("stroke_x").max, np.max(tab["X4"], axis=1))
+    sub = tab.take([2, 0])
+    assert np.array_equal(sub["X4"], tab["X4"][[2, 0]]) and sub.params["longitud"].tolist() == [2.5, 2.0]
+
+
+def test_optimize_a_stroke(qr):
+    """The crank length that gives the slider a stroke of 8; cranks of 5 or more cannot
+    turn (rejected, never scored)."""
+    seen = []
+
+    def objective(tab):
+        assert tab.ok.all()                        # rejected designs never get here
+        x4 = tab.extremes("X4")
+        seen.append(len(tab))
+        return (x4.max - x4.min - 8.0) ** 2
+
+    best = qr.optimize(objective, bounds={"longitud": (1.0, 6.0)}, t0=0.0, t1=1.0, n=24,
+                       level="acceleration", popsize=6, maxiter=15, seed=3)
+    assert best.rejected > 0 and best.evaluated == best.rejected + sum(seen)
+    ev = best.mechanism.sweep(0.0, 1.0, 60, level="velocity").extrema("X4")
+    assert ev.maxima.value[0] - ev.minima.value[0] == pytest.approx(8.0, abs=1e-8)
+    assert best.params["longitud"] < 5.0 and best.seconds > 0 and "designs evaluated" in repr(best)
+    with pytest.raises(ValueError, match="low < high"):
+        qr.optimize(objective, bounds={"longitud": (2.0, 1.0)}, t0=0, t1=1, n=10)
+
+
+def test_command_line_design_table(qr, tmp_path, capsys):
+    """In this process, on the committed module (the CLI renders the model, finds the same
+    text and keeps the file: numba's cache holds)."""
+    from mechgen.cli import main
+    model = os.path.join(ROOT, "examples", "quick_return.py")
+    common = [model, "--outdir", os.path.join(ROOT, "generated")]
+    code = main(["sweep", *common, "-n", "20", "--param", "longitud=1:3:3", "--reduce", "X4,X4d",
+                 "--progress", "--workers", "2", "-o", str(tmp_path / "t.csv")])
+    err = capsys.readouterr().err
+    assert code in (0, None) and "designs solved: 3/3" in err and "100%" in err
+    rows = np.genfromtxt(tmp_path / "t.csv", delimiter=",", names=True)
+    assert list(rows["longitud"]) == [1.0, 2.0, 3.0] and "X4d_tmax" in rows.dtype.names
+    ref = qr.sweep(0, 1, 20, params={"longitud": [1.0, 2.0, 3.0]}, level="velocity")
+    assert np.allclose(rows["X4_max"], np.nanmax(ref["X4"], axis=1), rtol=1e-12, atol=0)
+    assert main(["sweep", *common, "-n", "5", "--param", "longitud=1:3:2",
+                 "--backend", "cuda"]) != 0
+    assert "cuda" in capsys.readouterr().err
+    assert main(["sweep", *common, "-n", "5", "--reduce", "X4"]) != 0
+    assert "design tables" in capsys.readouterr().err
+
+
+# -- dask: one LocalCluster of two worker processes for the module ------------------------------
+@pytest.fixture(scope="module")
+def client():
+    distributed = pytest.importorskip("distributed")
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                       dashboard_address=None)
+    cl = distributed.Client(cluster)
+    yield cl
+    cl.close()
+    cluster.close()
+
+
+def test_dask_equals_cpu(qr, serial, client):
+    tab = qr.sweep(0.0, 1.0, 40, params={"longitud": LENGTHS, "velocidad": [2 * math.pi, 3.0]},
+                   level="velocity", backend="dask", client=client, on_fail="ignore")
+    for name in ("Q", "QD", "INFO", "done", "status"):
+        assert _same(getattr(tab, name), getattr(serial, name)), name
+    red = qr.sweep(0.0, 1.0, 40, params={"longitud": LENGTHS, "velocidad": [2 * math.pi, 3.0]},
+                   level="velocity", backend="dask", reduce=["X4d", "stroke_x"], on_fail="ignore")
+    for name in ("X4d", "stroke_x"):                           # the default client this time
+        a, b = red.reduced(name), serial.reduced(name)
+        for what in ("min", "max", "tmin", "tmax", "ok", "status"):
+            assert _same(getattr(a, what), getattr(b, what)), (name, what)
+    with pytest.warns(RuntimeWarning, match="longitud=6"):
+        qr.sweep(0.0, 1.0, 10, params={"longitud": [2.0, 6.0]}, backend="dask", client=client)
+    # a mechanism on the plain-Python tier ships the same file; the workers compile it
+    py = mechgen.load(os.path.join(ROOT, "generated", "quick_return.py"), tier="python")
+    tab = py.sweep(0.0, 1.0, 40, params={"longitud": LENGTHS[:4]}, level="velocity",
+                   backend="dask", client=client)
+    assert py.tier == "python" and _same(tab.Q, serial.Q[0:8:2])     # velocidad 2π: every other row
+
+
+def test_cuda_dispatch_contract(qr, serial, monkeypatch):
+    """backend="cuda" calls mechgen.runtime.cuda.run_table_cuda(mech, ts, P, q0, level, tol,
+    maxit, reduce_slots) and reads its dict (status, then Q/QD/QDD or min/max/tmin/tmax);
+    here a stand-in computes it on the CPU, so the table must equal the CPU's."""
+    import types
+    from mechgen.runtime.backends import run_cpu
+    calls = []
+
+    def run_table_cuda(mech, ts, P, q0, level, tol, maxit, reduce_slots):
+        calls.append(reduce_slots)
+        got = run_cpu(mech.module, ts, q0, P, level, tol, mech.xtol, maxit, 0, 1, reduce_slots)
+        if reduce_slots is None:
+            return {"status": got.status, "Q": got.Q, "QD": got.QD, "QDD": got.QDD}
+        return dict(zip(("min", "max", "tmin", "tmax"), got.red), status=got.status)
+    fake = types.ModuleType("mechgen.runtime.cuda")
+    fake.run_table_cuda = run_table_cuda
+    monkeypatch.setitem(sys.modules, "mechgen.runtime.cuda", fake)
+    args = dict(params={"longitud": LENGTHS, "velocidad": [2 * math.pi, 3.0]}, level="velocity",
+                backend="cuda", on_fail="ignore")
+    tab = qr.sweep(0.0, 1.0, 40, **args)
+    assert _same(tab.status, serial.status) and _same(tab.ok, serial.ok)
+    assert _same(tab["X4d"][serial.ok], serial["X4d"][serial.ok])
+    assert np.all(np.isnan(tab["X4"][~serial.ok]))        # a failed design: no numbers
+    red = qr.sweep(0.0, 1.0, 40, reduce=["X4", "stroke_x"], **args)
+    assert calls[-1].tolist() == [[0, 6, 0], [1, 0, 0]]   # [kind, index, order] per quantity
+    assert _same(red.reduced("X4").max[serial.ok], serial.reduced("X4").max[serial.ok])
+    assert _same(red.status, serial.status)
+
+
+def test_a_table_in_the_python_tier(qr, monkeypatch):
+    """A mechanism still on the plain-Python tier asks its tiers first (a big table switches
+    to the compiled module: mechgen.runtime.tiers.expect), then gives the compiled numbers."""
+    py = mechgen.load(os.path.join(ROOT, "generated", "quick_return.py"), tier="python")
+    assert py.tier == "python"
+    asked = []
+    monkeypatch.setattr(py._tiers, "expect",
+                        lambda mech, points, kind="sweep": asked.append((points, kind)))
+    args = dict(params={"longitud": [2.0, 3.0, 6.0]}, level="velocity", on_fail="ignore")
+    tab = py.sweep(0.0, 1.0, 7, workers=2, **args)
+    assert asked == [(21, "design")]
+    ref = qr.sweep(0.0, 1.0, 7, **args)
+    assert _same(tab.status, ref.status) and _same(tab.done, ref.done)
+    assert np.allclose(tab["X4d"], ref["X4d"], rtol=0, atol=1e-9, equal_nan=True)
