@@ -31,6 +31,12 @@ def _cpu_table(mech, span, params, level, **extra):
         return mech.sweep(*span, params=params, level=level, **extra)
 
 
+def _rows(tab):
+    """The CPU table's per-point STATUS rows (design, time, columns; STATUS_CODE first)."""
+    rows = getattr(tab, "STATUS", None)
+    return tab.INFO if rows is None else rows
+
+
 def _cpu_status(tab, nt):
     """The CPU table's per-design status: its own where it has one, else the rule of
     mechgen.runtime.cuda.design_status from its per-point STATUS rows."""
@@ -38,7 +44,7 @@ def _cpu_status(tab, nt):
     own = getattr(tab, "status", None)
     if own is not None:
         return np.asarray(own).reshape(-1).astype(np.int64)
-    return design_status(tab.INFO, tab.done, nt)
+    return design_status(_rows(tab), tab.done, nt)
 
 
 def _needs(mech, name):
@@ -69,7 +75,7 @@ def compare(name, span, params, quantities, levels):
             for a, b in pairs:
                 diff = max(diff, float(np.max(np.abs(a[d, :rows] - b[d, :rows]))))
             rows_same &= bool(np.array_equal(gpu["STATUS"][d, :rows, 0],
-                                             tab.INFO[d, :rows, STATUS_CODE]))
+                                             _rows(tab)[d, :rows, STATUS_CODE]))
         below_none = all(gpu[key] is None for key in ("QD", "QDD")[lev:])
         names = [q for q in quantities if _needs(mech, q) <= lev]
         slots = quantity_slots(mech, names, lev)
