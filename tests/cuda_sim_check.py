@@ -119,6 +119,24 @@ def dispatch(mech, span, params, level, cpu):
     return bool(ok)
 
 
+def python_tier():
+    """A mechanism answering in the plain-Python tier: its CUDA table is translated from
+    the same file's numba functions, and equals the compiled tier's."""
+    import mechgen
+    from mechgen.runtime.cuda import run_table_cuda
+    path = os.path.join(ROOT, "generated", "quick_return.py")
+    plain = mechgen.load(path, tier="python")
+    P = np.tile(plain.p, (2, 1))
+    P[1, 0] = 2.0
+    ts = np.linspace(0.0, 0.2, 3)
+    got = run_table_cuda(plain, ts, P, plain.guess, 0, plain.tol, plain.maxit)
+    want = run_table_cuda(mechgen.load(path, tier="compiled"), ts, P, plain.guess, 0,
+                          plain.tol, plain.maxit)
+    return {"tier": plain.tier, "same": bool(np.array_equal(got["Q"], want["Q"]) and
+                                             np.array_equal(got["done"], want["done"])),
+            "done": got["done"].tolist()}
+
+
 def bench():
     """benchmarks/bench_cuda.py's measure() at tiny sizes: it runs, and agrees."""
     sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
@@ -131,8 +149,9 @@ def bench():
 def main():
     from numba.core import config
     assert config.ENABLE_CUDASIM, "run with NUMBA_ENABLE_CUDASIM=1"
-    names = sys.argv[1:] or list(CASES) + ["bench"]
-    print(json.dumps({n: bench() if n == "bench" else compare(n, *CASES[n]) for n in names}))
+    names = sys.argv[1:] or list(CASES) + ["bench", "python_tier"]
+    extra = {"bench": bench, "python_tier": python_tier}
+    print(json.dumps({n: extra[n]() if n in extra else compare(n, *CASES[n]) for n in names}))
 
 
 if __name__ == "__main__":

@@ -59,6 +59,11 @@ def test_benchmark_runs_on_the_simulator(sim):
     assert r["status_mismatches"] == 0 and r["failed"] == 0
 
 
+def test_python_tier_translates_the_same_file(sim):
+    r = sim["python_tier"]
+    assert r["tier"] == "python" and r["same"] and r["done"] == [3, 3]
+
+
 def test_no_cuda_import_until_asked():
     """Importing the backend (or loading and sweeping a module) costs nothing of CUDA."""
     code = ("import sys, mechgen, mechgen.runtime.cuda, mechgen.runtime.cuda_twin; "

@@ -67,6 +67,25 @@ def simulated() -> bool:
     return bool(config.ENABLE_CUDASIM)
 
 
+def numba_module(mech):
+    """The generated module whose numba functions the twin translates: the mechanism's
+    own, or, while it answers in the plain-Python tier (mechgen.runtime.tiers), the same
+    file imported with numba (nothing is compiled for the CPU by that)."""
+    module = mech.module
+    if getattr(getattr(module, "sweep", None), "py_func", None) is not None:
+        return module
+    path = getattr(getattr(mech, "_tiers", None), "path", None) or \
+        getattr(module, "__file__", None)
+    if not path:
+        raise MechgenError(f"backend='cuda' translates the numba functions of '{mech.name}''s "
+                           "generated module, and this mechanism has neither them nor the "
+                           "module's file: load it from its path")
+    from .loader import check_version, import_path
+    compiled = import_path(path)
+    check_version(compiled)
+    return compiled
+
+
 def twin(module, max_registers=None):
     """The CUDA twin of a generated module (translated once per module; numba compiles
     each kernel at its first launch)."""
@@ -194,7 +213,7 @@ def run_table_cuda(mech, ts, P, q0, lev, tol, maxit, slots=None, method=None, th
     else:
         flat, nord = np.zeros(1, dtype=np.int64), 0
     nsl = flat.size if reducing else 0
-    ns = twin(mech.module, max_registers)
+    ns = twin(numba_module(mech), max_registers)
     tpb = threads or (SIM_THREADS if simulated() else THREADS)
     d_ts, d_q0, d_P, d_sl = (cuda.to_device(a) for a in (ts, q0, P, flat))
     d_R = cuda.to_device(np.full((D, 4, max(nsl, 1)), np.nan))
