@@ -102,8 +102,24 @@ def compare(name, span, params, quantities, levels):
                  failed=int(np.sum(tab.done < nt)),
                  partial=int(np.sum((tab.done > 0) & (tab.done < nt))))
         r["dispatch"] = dispatch(mech, span, params, level, tab)
+        if name == "fourbar":
+            r["full_same"] = full_method(mech, span, params, level)
         out[level] = r
     return out
+
+
+def full_method(mech, span, params, level):
+    """method="full" (no sweep_fast: every design goes to the second kernel) as on the CPU."""
+    from mechgen.runtime.cuda import run_table_cuda
+    cpu = _cpu_table(mech, span, params, level, method="full")
+    gpu = run_table_cuda(mech, cpu.t, cpu.P, mech._start(None), level, mech.tol, mech.maxit,
+                         method="full")
+    ok = gpu["second_pass"] == len(cpu) and np.array_equal(gpu["done"], cpu.done) and \
+        np.array_equal(gpu["status"], _cpu_status(cpu, len(cpu.t)))
+    for d in range(len(cpu)):
+        k = min(int(cpu.done[d]) + 1, len(cpu.t))
+        ok = ok and np.allclose(gpu["Q"][d, :k], cpu.Q[d, :k], rtol=0, atol=1e-12)
+    return bool(ok)
 
 
 def dispatch(mech, span, params, level, cpu):

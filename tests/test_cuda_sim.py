@@ -50,6 +50,7 @@ def test_fourbar_fails_in_mid_sweep_and_passes_a_singular_configuration(sim):
     assert r["partial"] >= 1                  # its extremes: over the times it solved
     assert 0 < min(d for d in r["done"] if d) < 6
     assert OK in r["status"] and THROUGH_SINGULAR in r["status"]
+    assert r["full_same"]                     # method="full": the second kernel alone
 
 
 def test_benchmark_runs_on_the_simulator(sim):
