@@ -11,7 +11,8 @@ the module's own solvers translated for the GPU) and the hand-written one
 (``hand_kernel``: the sorted algorithm of benchmarks/baselines.py, one thread per design,
 Taylor-predicted warm starts), their ratio, the largest difference between the two, and
 the largest difference of the generated kernel from the CPU design table
-(mech.design_sweep) on a sample of the designs, with the count of statuses that differ.
+(mech.sweep with params=) on a sample of the designs, with the count of designs whose
+status or count of solved times differs.
 Both GPU timings include sending the designs and fetching the four reductions.
 Without a GPU (and without --sim) it says so and exits 0. ``measure()`` is the same as a
 function (for benchmarks/bench_design.py).
@@ -23,6 +24,7 @@ import math
 import os
 import sys
 import time
+import warnings
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
@@ -136,7 +138,7 @@ def measure(designs=1_000_000, times=1000, sample=2000, rounds=3, threads=None,
             max_registers=None):
     """The comparison as a dict (see the module docstring); None without a GPU."""
     import mechgen
-    from mechgen.runtime.cuda import quantity_slots, run_table_cuda, simulated
+    from mechgen.runtime.cuda import design_status, quantity_slots, run_table_cuda, simulated
     if not (cuda.is_available() or simulated()):
         return None
     mech = mechgen.load(MODULE)
@@ -144,12 +146,12 @@ def measure(designs=1_000_000, times=1000, sample=2000, rounds=3, threads=None,
     P = np.tile(mech.p, (designs, 1))
     P[:, 0] = np.linspace(1.5, 4.0, designs)
     q0 = mech._start(None)
-    slots = quantity_slots(mech, ["X4"], "position")
+    slots = quantity_slots(mech, ["X4"], "position")   # [[0, index of X4, 0]]
     tpb = threads or (8 if simulated() else 128)
 
     def gen(PP=P):
-        return run_table_cuda(mech, ts, PP, q0, "position", mech.tol, mech.maxit,
-                              reduce_slots=slots, threads=tpb, max_registers=max_registers)
+        return run_table_cuda(mech, ts, PP, q0, 0, mech.tol, mech.maxit, slots,
+                              threads=tpb, max_registers=max_registers)
 
     def hand(PP=P):
         return run_hand(ts, PP, mech.tol, mech.maxit, threads=tpb)
@@ -158,8 +160,8 @@ def measure(designs=1_000_000, times=1000, sample=2000, rounds=3, threads=None,
     t0 = time.perf_counter()
     gen(warm)
     # method="full" sends every design to the second kernel: both are compiled before timing
-    run_table_cuda(mech, ts[:5], P[:2], q0, "position", mech.tol, mech.maxit,
-                   reduce_slots=slots, method="full", threads=tpb, max_registers=max_registers)
+    run_table_cuda(mech, ts[:5], P[:2], q0, 0, mech.tol, mech.maxit, slots,
+                   method="full", threads=tpb, max_registers=max_registers)
     compile_gen = time.perf_counter() - t0
     t0 = time.perf_counter()
     hand(warm)
@@ -171,14 +173,18 @@ def measure(designs=1_000_000, times=1000, sample=2000, rounds=3, threads=None,
     gh = float(np.max(np.abs(G[both, :2] - h[both, :2]))) if both.any() else math.nan
     # the CPU design table on a sample of the designs (spread over the range)
     idx = np.unique(np.linspace(0, designs - 1, min(sample, designs)).astype(int))
-    tab = mech.design_sweep(0.0, 1.0, times, {"longitud": P[idx, 0]}, level="position",
-                            on_fail="ignore")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")         # designs that fail are counted below
+        tab = mech.sweep(0.0, 1.0, times, params={"longitud": P[idx, 0]}, level="position")
     X4 = tab["X4"]
     ok = tab.done == times
     cpu = np.stack([X4.min(axis=1), X4.max(axis=1)], axis=1)
     gs = G[idx]
     cpu_diff = float(np.max(np.abs(gs[ok, :2] - cpu[ok]))) if ok.any() else math.nan
-    bad_status = int(np.sum(np.isfinite(gs[:, 0]) != ok))
+    cpu_status = getattr(tab, "status", None)
+    cpu_status = design_status(tab.INFO, tab.done, times) if cpu_status is None else \
+        np.asarray(cpu_status).reshape(-1)
+    bad_status = int(np.sum((g["done"][idx] != tab.done) | (g["status"][idx] != cpu_status)))
     points = designs * times
     return dict(designs=designs, times=times, points=points, second_pass=g["second_pass"],
                 gen_points_per_s=points / t_gen, hand_points_per_s=points / t_hand,

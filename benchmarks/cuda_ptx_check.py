@@ -26,14 +26,14 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, ROOT)
 
 ARR = {"f1": "float64[::1]", "f2": "float64[:,::1]", "f3": "float64[:,:,::1]",
-       "i1": "int64[::1]", "i2": "int64[:,::1]", "s1": "int32[::1]"}
+       "i1": "int64[::1]", "i2": "int64[:,::1]", "h3": "int16[:,:,::1]"}
 COMMON = "float64, float64, int64, i1, int64, int64"      # tol, xtol, maxit, SL, nsl, nord
-TAIL = "f3, f2, i2, i1, s1"                               # R, QS, FL, DONE, STATUS
+TAIL = "f3, f2, i2, i1, i1"                               # R, QS, FL, DONE, DSTATUS
 SIGNATURES = {
     "_cu_fast_reduce": f"f1, f1, f2, int64, {COMMON}, {TAIL}",
     "_cu_careful_reduce": f"f1, f2, i1, int64, int64, {COMMON}, {TAIL}",
-    "_cu_fast_table": f"f1, f1, f2, int64, {COMMON}, f3, f3, f3, f3, {TAIL}",
-    "_cu_careful_table": f"f1, f2, i1, int64, int64, {COMMON}, f3, f3, f3, f3, {TAIL}",
+    "_cu_fast_table": f"f1, f1, f2, int64, {COMMON}, f3, f3, f3, h3, {TAIL}",
+    "_cu_careful_table": f"f1, f2, i1, int64, int64, {COMMON}, f3, f3, f3, h3, {TAIL}",
 }
 
 
@@ -53,10 +53,10 @@ def main(argv=None):
     dispatcher.get_current_device = lambda: types.SimpleNamespace(compute_capability=cc)
 
     import mechgen
-    from mechgen.runtime.cuda import INFO_COLUMNS
+    from mechgen.runtime.cuda import STATUS_COLUMNS
     from mechgen.runtime.cuda_twin import build_twin
     mech = mechgen.load(args.module)
-    ns = build_twin(mech.module, cuda, INFO_COLUMNS)
+    ns = build_twin(mech.module, cuda, STATUS_COLUMNS)
     home = os.environ.get("CUDA_HOME", "")
     ptxas = shutil.which("ptxas") or (os.path.join(home, "bin", "ptxas") if home else None)
     for name in args.kernels.split(","):

@@ -1,9 +1,12 @@
 """Run by tests/test_cuda_sim.py in a subprocess with NUMBA_ENABLE_CUDASIM=1 (numba reads
 it when first imported): the CUDA design tables of mechgen.runtime.cuda on numba's CUDA
-simulator against the CPU design table, printed as one JSON line of differences."""
+simulator against the CPU design table (mech.sweep(..., params=...)), printed as one JSON
+line of differences."""
+import inspect
 import json
 import os
 import sys
+import warnings
 
 import numpy as np
 
@@ -13,71 +16,141 @@ CASES = {
     # a design that cannot assemble at t = 0 (longitud 6, anguloI -0.8), one that
     # solves, and the seed's own longitud 3
     "quick_return": ((0.0, 0.5, 6), {"longitud": [2.0, 3.0, 6.0], "anguloI": [-0.8, 0.0]},
-                     ["X4", "X4d", "Th3dd", "stroke_x", "stroke_xdd"], ("position", "acceleration")),
+                     ["X4", "X4d", "Th3", "stroke_x", "stroke_xd"], ("position", "velocity")),
     # a crank too long to turn: fails in mid-sweep (a = 3, b = 2.5); a = 1.5 passes a
     # singular configuration (status THROUGH_SINGULAR); b = 0.5 cannot assemble at all
     "fourbar": ((0.0, 0.5, 6), {"a": [0.8, 1.5, 3.0], "b": [2.5, 0.5]}, ["Th3", "Th4d", "X3dd"],
                 ("acceleration",)),
 }
+ORDER = {"position": 0, "velocity": 1, "acceleration": 2}
+
+
+def _cpu_table(mech, span, params, level, **extra):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")     # the designs that fail are meant to
+        return mech.sweep(*span, params=params, level=level, **extra)
+
+
+def _rows(tab):
+    """The CPU table's per-point STATUS rows (design, time, columns; STATUS_CODE first)."""
+    rows = getattr(tab, "STATUS", None)
+    return tab.INFO if rows is None else rows
+
+
+def _cpu_status(tab, nt):
+    """The CPU table's per-design status: its own where it has one, else the rule of
+    mechgen.runtime.cuda.design_status from its per-point STATUS rows."""
+    from mechgen.runtime.cuda import design_status
+    own = getattr(tab, "status", None)
+    if own is not None:
+        return np.asarray(own).reshape(-1).astype(np.int64)
+    return design_status(_rows(tab), tab.done, nt)
+
+
+def _needs(mech, name):
+    from mechgen.runtime.quantity import _lookup
+    kind, k, order = _lookup(mech, name)
+    return order if kind == "q" else mech.output_orders[k] + order
 
 
 def compare(name, span, params, quantities, levels):
     import mechgen
-    from mechgen.runtime.cuda import (as_design_arrays, design_status, quantity_slots,
-                                      run_table_cuda)
-    from mechgen.runtime.design import DesignTable
+    from mechgen.protocol import STATUS_CODE
+    from mechgen.runtime.cuda import quantity_slots, run_table_cuda
     mech = mechgen.load(os.path.join(ROOT, "generated", name + ".py"))
     out = {}
     for level in levels:
-        tab = mech.design_sweep(*span, params, level=level, on_fail="ignore")
+        lev = ORDER[level]
+        tab = _cpu_table(mech, span, params, level)
         q0 = mech._start(None)
-        gpu = run_table_cuda(mech, tab.t, tab.P, q0, level, mech.tol, mech.maxit)
         nt = len(tab.t)
+        gpu = run_table_cuda(mech, tab.t, tab.P, q0, lev, mech.tol, mech.maxit)
         diff = 0.0
-        info_same = True
+        rows_same = True
         for d in range(len(tab)):
             k = int(tab.done[d])
-            arrays = [(gpu["Q"], tab.Q)]
-            if level == "acceleration":
-                arrays += [(gpu["QD"], tab.QD), (gpu["QDD"], tab.QDD)]
-            for a, b in arrays:
-                if k:
-                    diff = max(diff, float(np.max(np.abs(a[d, :k] - b[d, :k]))))
-            rows = min(k + 1, nt)               # the failed row's status too
-            info_same &= bool(np.array_equal(gpu["INFO"][d, :rows], tab.INFO[d, :rows]))
-        cpu_status = design_status(tab.INFO, tab.done, nt)
-        # the GPU's arrays as a DesignTable: the same quantities, NaN where unsolved
-        gtab = DesignTable(mech, tab.names, tab.axes, tab.t, tab.P,
-                           *as_design_arrays(gpu, level), level)
-        table_same = all(np.allclose(gtab[q], tab[q], rtol=0, atol=1e-12, equal_nan=True)
-                         for q in quantities if level == "acceleration" or not q.endswith("d"))
-        names = [q for q in quantities if level == "acceleration" or
-                 not q.endswith("d")]
-        slots = quantity_slots(mech, names, level)
-        red = run_table_cuda(mech, tab.t, tab.P, q0, level, mech.tol, mech.maxit,
-                             reduce_slots=slots)
+            rows = min(k + 1, nt)           # the failed row (the last configuration reached)
+            pairs = [(gpu["Q"], tab.Q)] + [(gpu[key], getattr(tab, key))
+                                           for key in ("QD", "QDD")[:lev]]
+            for a, b in pairs:
+                diff = max(diff, float(np.max(np.abs(a[d, :rows] - b[d, :rows]))))
+            rows_same &= bool(np.array_equal(gpu["STATUS"][d, :rows, 0],
+                                             _rows(tab)[d, :rows, STATUS_CODE]))
+        below_none = all(gpu[key] is None for key in ("QD", "QDD")[lev:])
+        names = [q for q in quantities if _needs(mech, q) <= lev]
+        slots = quantity_slots(mech, names, lev)
+        red = run_table_cuda(mech, tab.t, tab.P, q0, level, mech.tol, mech.maxit, slots)
         rdiff = 0.0
         nan_ok = True
         for i, q in enumerate(names):
-            vals = tab[q].reshape(len(tab), nt)
-            ok = tab.done == nt
-            for key, fn, arg in (("min", np.min, np.argmin), ("max", np.max, np.argmax)):
-                got = red[key][:, i]
-                nan_ok &= bool(np.all(np.isnan(got[~ok])))
-                nan_ok &= bool(np.all(np.isnan(red["t" + key][~ok, i])))
-                if ok.any():
-                    rdiff = max(rdiff, float(np.max(np.abs(got[ok] - fn(vals[ok], axis=1)))))
-                    want_t = tab.t[arg(vals[ok], axis=1)]
-                    rdiff = max(rdiff, float(np.max(np.abs(red["t" + key][ok, i] - want_t))))
-        out[level] = dict(diff=diff, info_same=info_same, second_pass=gpu["second_pass"],
-                          table_same=bool(table_same),
-                          designs=len(tab),
-                          status=gpu["status"].tolist(), cpu_status=cpu_status.tolist(),
-                          reduce_status=red["status"].tolist(),
-                          done=gpu["done"].tolist(), cpu_done=tab.done.tolist(),
-                          reduce_done=red["done"].tolist(), reduce_diff=rdiff, nan_ok=nan_ok,
-                          failed=int(np.sum(tab.done < nt)), names=red["names"])
+            vals = tab[q].reshape(len(tab), nt)        # NaN where a design did not solve
+            for d in range(len(tab)):
+                k = int(tab.done[d])
+                for key, fn in (("min", np.argmin), ("max", np.argmax)):
+                    got, when = red[key][d, i], red["t" + key][d, i]
+                    if k == 0:                  # solved no time: NaN, never numbers
+                        nan_ok &= bool(np.isnan(got) and np.isnan(when))
+                        continue
+                    j = int(fn(vals[d, :k]))    # over the times it solved (first extreme)
+                    rdiff = max(rdiff, abs(got - vals[d, j]), abs(when - tab.t[j]))
+        r = dict(diff=diff, rows_same=rows_same, below_none=below_none,
+                 second_pass=gpu["second_pass"], designs=len(tab),
+                 status=gpu["status"].tolist(), cpu_status=_cpu_status(tab, nt).tolist(),
+                 reduce_status=red["status"].tolist(), done=gpu["done"].tolist(),
+                 cpu_done=tab.done.tolist(), reduce_done=red["done"].tolist(),
+                 reduce_diff=float(rdiff), nan_ok=nan_ok, names=red["names"], asked=names,
+                 failed=int(np.sum(tab.done < nt)),
+                 partial=int(np.sum((tab.done > 0) & (tab.done < nt))))
+        r["dispatch"] = dispatch(mech, span, params, level, tab)
+        if name == "fourbar":
+            r["full_same"] = full_method(mech, span, params, level)
+        out[level] = r
     return out
+
+
+def full_method(mech, span, params, level):
+    """method="full" (no sweep_fast: every design goes to the second kernel) as on the CPU."""
+    from mechgen.runtime.cuda import run_table_cuda
+    cpu = _cpu_table(mech, span, params, level, method="full")
+    gpu = run_table_cuda(mech, cpu.t, cpu.P, mech._start(None), level, mech.tol, mech.maxit,
+                         method="full")
+    ok = gpu["second_pass"] == len(cpu) and np.array_equal(gpu["done"], cpu.done) and \
+        np.array_equal(gpu["status"], _cpu_status(cpu, len(cpu.t)))
+    for d in range(len(cpu)):
+        k = min(int(cpu.done[d]) + 1, len(cpu.t))
+        ok = ok and np.allclose(gpu["Q"][d, :k], cpu.Q[d, :k], rtol=0, atol=1e-12)
+    return bool(ok)
+
+
+def dispatch(mech, span, params, level, cpu):
+    """Where mech.sweep takes backend= (the design-table dispatch): its CUDA table equals
+    the CPU one; None where this mechgen has no such argument."""
+    if "backend" not in inspect.signature(mech.sweep).parameters:
+        return None
+    tab = _cpu_table(mech, span, params, level, backend="cuda")
+    ok = np.array_equal(tab.done, cpu.done)
+    for d in range(len(cpu)):
+        k = int(cpu.done[d])
+        ok = ok and np.allclose(tab.Q[d, :k], cpu.Q[d, :k], rtol=0, atol=1e-12)
+    return bool(ok)
+
+
+def python_tier():
+    """A mechanism answering in the plain-Python tier: its CUDA table is translated from
+    the same file's numba functions, and equals the compiled tier's."""
+    import mechgen
+    from mechgen.runtime.cuda import run_table_cuda
+    path = os.path.join(ROOT, "generated", "quick_return.py")
+    plain = mechgen.load(path, tier="python")
+    P = np.tile(plain.p, (2, 1))
+    P[1, 0] = 2.0
+    ts = np.linspace(0.0, 0.2, 3)
+    got = run_table_cuda(plain, ts, P, plain.guess, 0, plain.tol, plain.maxit)
+    want = run_table_cuda(mechgen.load(path, tier="compiled"), ts, P, plain.guess, 0,
+                          plain.tol, plain.maxit)
+    return {"tier": plain.tier, "same": bool(np.array_equal(got["Q"], want["Q"]) and
+                                             np.array_equal(got["done"], want["done"])),
+            "done": got["done"].tolist()}
 
 
 def bench():
@@ -92,8 +165,9 @@ def bench():
 def main():
     from numba.core import config
     assert config.ENABLE_CUDASIM, "run with NUMBA_ENABLE_CUDASIM=1"
-    names = sys.argv[1:] or list(CASES) + ["bench"]
-    print(json.dumps({n: bench() if n == "bench" else compare(n, *CASES[n]) for n in names}))
+    names = sys.argv[1:] or list(CASES) + ["bench", "python_tier"]
+    extra = {"bench": bench, "python_tier": python_tier}
+    print(json.dumps({n: extra[n]() if n in extra else compare(n, *CASES[n]) for n in names}))
 
 
 if __name__ == "__main__":

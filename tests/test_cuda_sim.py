@@ -26,27 +26,31 @@ def sim():
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-@pytest.mark.parametrize("case", ["quick_return/position", "quick_return/acceleration",
+@pytest.mark.parametrize("case", ["quick_return/position", "quick_return/velocity",
                                   "fourbar/acceleration"])
 def test_cuda_table_matches_cpu(sim, case):
     name, level = case.split("/")
     r = sim[name][level]
     assert r["failed"] >= 1                   # a design that cannot assemble is in the grid
-    assert r["diff"] <= 1e-12                 # Q (QD, QDD) of every solved point
-    assert r["info_same"]                     # per-point INFO rows, the failed row included
-    assert r["table_same"]                    # as a DesignTable: tab[name] the same
+    assert r["diff"] <= 1e-12                 # Q (QD, QDD) of every solved point and the
+    assert r["rows_same"]                     # failed one; per-point statuses the same
+    assert r["below_none"]                    # no derivative arrays below the level
     assert r["done"] == r["cpu_done"] == r["reduce_done"]
     assert r["status"] == r["cpu_status"] == r["reduce_status"]
+    assert r["names"] == r["asked"] and r["asked"]
     assert r["reduce_diff"] <= 1e-12          # min, max and their times
-    assert r["nan_ok"]                        # a failed design's reductions are NaN
+    assert r["nan_ok"]                        # a design that solved no time: NaN
     assert 0 < r["second_pass"] < r["designs"]  # both kernels ran: some designs needed sweep()
+    assert r["dispatch"] in (None, True)      # mech.sweep(..., backend="cuda"), where it exists
 
 
 def test_fourbar_fails_in_mid_sweep_and_passes_a_singular_configuration(sim):
     from mechgen.protocol import OK, THROUGH_SINGULAR
     r = sim["fourbar"]["acceleration"]
+    assert r["partial"] >= 1                  # its extremes: over the times it solved
     assert 0 < min(d for d in r["done"] if d) < 6
     assert OK in r["status"] and THROUGH_SINGULAR in r["status"]
+    assert r["full_same"]                     # method="full": the second kernel alone
 
 
 def test_benchmark_runs_on_the_simulator(sim):
@@ -54,6 +58,11 @@ def test_benchmark_runs_on_the_simulator(sim):
     assert r["simulated"] and r["points"] == 90
     assert r["max_diff_gen_hand"] <= 1e-12 and r["max_diff_gen_cpu"] <= 1e-12
     assert r["status_mismatches"] == 0 and r["failed"] == 0
+
+
+def test_python_tier_translates_the_same_file(sim):
+    r = sim["python_tier"]
+    assert r["tier"] == "python" and r["same"] and r["done"] == [3, 3]
 
 
 def test_no_cuda_import_until_asked():
@@ -69,14 +78,24 @@ def test_no_cuda_import_until_asked():
 
 
 def test_slots(qr):
-    from mechgen.runtime.cuda import quantity_slots, slot_names
-    n = len(qr.coordinates)
+    from mechgen.runtime.cuda import flat_slots, quantity_slots, slot_names
+    n, m = len(qr.coordinates), len(qr.outputs)
     names = ["X4", "X4d", "X4dd", "stroke_x", "stroke_xd", "stroke_xdd"]
     slots = quantity_slots(qr, names, "acceleration")
-    assert slots.tolist() == [6, n + 6, 2 * n + 6, 3 * n, 3 * n + 1, 3 * n + 2]
-    assert [slot_names(qr)[s] for s in slots] == names
+    assert slots.dtype == np.int64
+    assert slots.tolist() == [[0, 6, 0], [0, 6, 1], [0, 6, 2], [1, 0, 0], [1, 0, 1], [1, 0, 2]]
+    assert slot_names(qr, slots) == names
+    flat, nord = flat_slots(qr, slots, 2)
+    assert flat.tolist() == [6, n + 6, 2 * n + 6, 3 * n, 3 * n + m, 3 * n + 2 * m] and nord == 3
+    assert flat_slots(qr, slots[:3], 2)[1] == 0          # no outputs: none evaluated
     with pytest.raises(MechgenError, match="level velocity"):
         quantity_slots(qr, ["X4d"], "position")
+    with pytest.raises(MechgenError, match="level velocity"):
+        flat_slots(qr, slots[1:2], 0)
+    with pytest.raises(MechgenError, match=r"row 0 \[0, 99, 0\]"):
+        flat_slots(qr, np.array([[0, 99, 0]]), 2)
+    with pytest.raises(MechgenError, match="rows"):
+        flat_slots(qr, np.array([6]), 2)
     with pytest.raises(KeyError):
         quantity_slots(qr, ["X9"], "position")
 

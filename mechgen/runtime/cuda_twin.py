@@ -17,7 +17,7 @@ back from the module file, translated by a few mechanical rules and compiled wit
   fails there, not on a user's GPU);
 - ``max(a, b, ...)`` and ``min(...)`` become the same pairwise comparisons as device
   functions (numba.cuda cannot compile the builtins for two numbers);
-- in sweep() and sweep_fast() the rows they write (Q, QD, QDD, INFO) are indexed
+- in sweep() and sweep_fast() the rows they write (Q, QD, QDD, STATUS) are indexed
   ``k & mask``: mask -1 keeps every row (the table kernels, nothing changes), mask 0
   one thread-local row (the reducing kernels);
 - a hook ``_cu_point`` sees each final point once: at the end of each time step of
@@ -41,7 +41,7 @@ import textwrap
 from ..errors import MechgenError
 
 ROOTS = ("sweep_fast", "sweep", "outputs", "outputs_d", "outputs_dd")
-ROW_ARRAYS = ("Q", "QD", "QDD", "INFO")
+ROW_ARRAYS = ("Q", "QD", "QDD", "STATUS")
 HOOKED = ("sweep_fast", "sweep")
 # x.copy() of these names: the size of the copy
 COPY_SIZES = {"q0": "N_COORDS", "r": "N_EQS"}
@@ -64,12 +64,12 @@ class TranslationError(MechgenError):
 # namespace (so that they name the module's constants and the translated functions).
 SUPPORT = '''
 def _cu_max(a, b):
-    """max(a, b) as numba computes it (b only when b > a: max(nan, 1.0) is nan)."""
+    \"\"\"max(a, b) as numba computes it (b only when b > a: max(nan, 1.0) is nan).\"\"\"
     return b if b > a else a
 
 
 def _cu_min(a, b):
-    """min(a, b) as numba computes it (b only when b < a)."""
+    \"\"\"min(a, b) as numba computes it (b only when b < a).\"\"\"
     return b if b < a else a
 
 
@@ -92,8 +92,8 @@ def _cu_copy(src, a):
 
 
 def _cu_value(s, row, Q, QD, QDD, OUT):
-    """Quantity slot s at a row: coordinates, velocities, accelerations, then the outputs
-    and their first and second derivatives (see mechgen.runtime.cuda)."""
+    \"\"\"Flat slot s at a row: coordinates, velocities, accelerations, then the outputs and
+    their first and second derivatives (mechgen.runtime.cuda.flat_slots).\"\"\"
     if s < N_COORDS:
         return Q[row, s]
     if s < 2 * N_COORDS:
@@ -104,11 +104,12 @@ def _cu_value(s, row, Q, QD, QDD, OUT):
     return OUT[s // _CU_NOUT, s % _CU_NOUT]
 
 
-def _cu_point(k, ts, Q, QD, QDD, INFO, p, ctx):
-    """The hook at the end of each time step of sweep() and sweep_fast()."""
+def _cu_point(k, ts, Q, QD, QDD, S, p, ctx):
+    \"\"\"The hook at the end of each time step of sweep() and sweep_fast(): the design's
+    branch status from the point's STATUS row, and the running extremes of the slots.\"\"\"
     SL, nsl, R, F, OUT, nord, mask = ctx
     row = k & mask
-    s = int(INFO[row, INFO_STATUS])
+    s = int(S[row, STATUS_CODE])
     if s == JUMP:
         F[0] = JUMP
     elif s == THROUGH_SINGULAR and F[0] != JUMP:
@@ -134,20 +135,20 @@ def _cu_point(k, ts, Q, QD, QDD, INFO, p, ctx):
     F[1] = 1
 
 
-def _cu_fast(d, ts, q0, p, method, tol, xtol, maxit, Q, QD, QDD, INFO, ctx, QS, FL, DONE,
-             STATUS):
-    """The first pass of a design, as the module's sweep_designs() begins it: sweep_fast()
+def _cu_fast(d, ts, q0, p, method, tol, xtol, maxit, Q, QD, QDD, S, ctx, QS, FL, DONE,
+             DSTATUS):
+    \"\"\"The first pass of a design, as the module's sweep_designs() begins it: sweep_fast()
     while nothing is hard. A design it takes to the end is finished; otherwise DONE[d] =
-    -1 - the time to resume at, QS[d] the configuration there and FL[d] the flags."""
+    -1 - the time to resume at, QS[d] the configuration there and FL[d] the flags.\"\"\"
     F = ctx[3]
     mask = ctx[6]
     start = 0
     if SORTED and LEVEL >= 2 and method != METHOD_FULL:
-        start = sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, INFO, ctx)
+        start = sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, S, ctx)
         if start == ts.shape[0]:
-            _cu_point(start - 1, ts, Q, QD, QDD, INFO, p, ctx)
+            _cu_point(start - 1, ts, Q, QD, QDD, S, p, ctx)
             DONE[d] = start
-            STATUS[d] = F[0]
+            DSTATUS[d] = F[0]
             return
         start = _cu_max(start - 1, 0)
     for j in range(N_COORDS):
@@ -157,74 +158,78 @@ def _cu_fast(d, ts, q0, p, method, tol, xtol, maxit, Q, QD, QDD, INFO, ctx, QS, 
     DONE[d] = -1 - start
 
 
-def _cu_careful(d, ts, p, level, method, tol, xtol, maxit, Q, QD, QDD, INFO, ctx, qs, DONE,
-                STATUS):
-    """The second pass of a design the first left unfinished: sweep() from the last point
-    sweep_fast() accepted, as sweep_designs() goes on."""
+def _cu_careful(d, ts, p, level, method, tol, xtol, maxit, Q, QD, QDD, S, ctx, qs, DONE,
+                DSTATUS):
+    \"\"\"The second pass of a design the first left unfinished: sweep() from the last point
+    sweep_fast() accepted, as sweep_designs() goes on. A failed design's status is the
+    one its sweep stopped with (the report's REPORT_STATUS); its extremes are those of
+    the times it solved.\"\"\"
     start = -1 - DONE[d]
     mask = ctx[6]
     a = start if mask < 0 else 0
-    rows = INFO[a:]
+    report = cuda.local.array(REPORT_SIZE, _cu_f8)
     n = sweep(ts[start:], qs, p, level, tol, xtol, maxit, method,
-              Q[a:], QD[a:], QDD[a:], rows, ctx)
+              Q[a:], QD[a:], QDD[a:], S[a:], report, ctx)
     DONE[d] = start + n
     if start + n < ts.shape[0]:
-        STATUS[d] = int(rows[n & mask, INFO_STATUS])   # the failure, in the row sweep wrote
-        R = ctx[2]
-        for i in range(ctx[1]):
-            for c in range(4):
-                R[c, i] = math.nan          # a failed design reports no numbers
+        DSTATUS[d] = int(report[REPORT_STATUS])
     else:
-        STATUS[d] = ctx[3][0]
+        DSTATUS[d] = ctx[3][0]
 
 
-def _cu_fast_table(ts, q0, P, method, tol, xtol, maxit, SL, nsl, nord, Q, QD, QDD, INFO, R,
-                   QS, FL, DONE, STATUS):
-    """First pass, one thread per design, every point kept (Q, QD, QDD, INFO: design, time,
-    column)."""
+def _cu_flags(F):
+    F[0] = 0                            # branch status (OK, THROUGH_SINGULAR, JUMP)
+    F[1] = 0                            # points seen (0: none yet)
+    F[2] = 0                            # spare
+    return F
+
+
+def _cu_row(Q, QD, QDD, S):
+    \"\"\"The reducing kernels' single thread-local row, zeroed.\"\"\"
+    for j in range(N_COORDS):
+        Q[0, j] = 0.0
+        QD[0, j] = 0.0
+        QDD[0, j] = 0.0
+    for j in range(_CU_SCOLS):
+        S[0, j] = 0
+
+
+def _cu_fast_table(ts, q0, P, method, tol, xtol, maxit, SL, nsl, nord, Q, QD, QDD, S, R,
+                   QS, FL, DONE, DSTATUS):
+    \"\"\"First pass, one thread per design, every point kept (Q, QD, QDD, S: design, time,
+    column; QD and QDD may have no rows below the levels that need them).\"\"\"
     d = cuda.grid(1)
     if d >= P.shape[0]:
         return
-    F = cuda.local.array(3, _cu_i8)     # branch status, points seen, spare
-    F[0] = 0
-    F[1] = 0
-    F[2] = 0
+    F = _cu_flags(cuda.local.array(3, _cu_i8))
     OUT = cuda.local.array((3, _CU_NOUT), _cu_f8)
     ctx = (SL, nsl, R[d], F, OUT, nord, -1)
-    _cu_fast(d, ts, q0, P[d], method, tol, xtol, maxit, Q[d], QD[d], QDD[d], INFO[d], ctx,
-             QS, FL, DONE, STATUS)
+    _cu_fast(d, ts, q0, P[d], method, tol, xtol, maxit, Q[d], QD[d], QDD[d], S[d], ctx,
+             QS, FL, DONE, DSTATUS)
 
 
 def _cu_fast_reduce(ts, q0, P, method, tol, xtol, maxit, SL, nsl, nord, R, QS, FL, DONE,
-                    STATUS):
-    """First pass, one thread per design, only the last point kept (a thread-local row);
-    the reductions R[design] = (min, max, tmin, tmax) of the slots SL."""
+                    DSTATUS):
+    \"\"\"First pass, one thread per design, only the last point kept (a thread-local row);
+    the reductions R[design] = (min, max, tmin, tmax) of the slots SL.\"\"\"
     d = cuda.grid(1)
     if d >= P.shape[0]:
         return
-    F = cuda.local.array(3, _cu_i8)
-    F[0] = 0
-    F[1] = 0
-    F[2] = 0
+    F = _cu_flags(cuda.local.array(3, _cu_i8))
     OUT = cuda.local.array((3, _CU_NOUT), _cu_f8)
     Q = cuda.local.array((1, N_COORDS), _cu_f8)
     QD = cuda.local.array((1, N_COORDS), _cu_f8)
     QDD = cuda.local.array((1, N_COORDS), _cu_f8)
-    INFO = cuda.local.array((1, _CU_INFO), _cu_f8)
-    for j in range(N_COORDS):
-        Q[0, j] = 0.0
-        QD[0, j] = 0.0
-        QDD[0, j] = 0.0
-    for j in range(_CU_INFO):
-        INFO[0, j] = 0.0
+    S = cuda.local.array((1, _CU_SCOLS), _cu_i2)
+    _cu_row(Q, QD, QDD, S)
     ctx = (SL, nsl, R[d], F, OUT, nord, 0)
-    _cu_fast(d, ts, q0, P[d], method, tol, xtol, maxit, Q, QD, QDD, INFO, ctx,
-             QS, FL, DONE, STATUS)
+    _cu_fast(d, ts, q0, P[d], method, tol, xtol, maxit, Q, QD, QDD, S, ctx,
+             QS, FL, DONE, DSTATUS)
 
 
 def _cu_careful_table(ts, P, IDX, level, method, tol, xtol, maxit, SL, nsl, nord, Q, QD, QDD,
-                      INFO, R, QS, FL, DONE, STATUS):
-    """Second pass over the designs IDX the first left unfinished, every point kept."""
+                      S, R, QS, FL, DONE, DSTATUS):
+    \"\"\"Second pass over the designs IDX the first left unfinished, every point kept.\"\"\"
     i = cuda.grid(1)
     if i >= IDX.shape[0]:
         return
@@ -237,13 +242,13 @@ def _cu_careful_table(ts, P, IDX, level, method, tol, xtol, maxit, SL, nsl, nord
         qs[j] = QS[d, j]
     OUT = cuda.local.array((3, _CU_NOUT), _cu_f8)
     ctx = (SL, nsl, R[d], F, OUT, nord, -1)
-    _cu_careful(d, ts, P[d], level, method, tol, xtol, maxit, Q[d], QD[d], QDD[d], INFO[d],
-                ctx, qs, DONE, STATUS)
+    _cu_careful(d, ts, P[d], level, method, tol, xtol, maxit, Q[d], QD[d], QDD[d], S[d],
+                ctx, qs, DONE, DSTATUS)
 
 
 def _cu_careful_reduce(ts, P, IDX, level, method, tol, xtol, maxit, SL, nsl, nord, R, QS, FL,
-                       DONE, STATUS):
-    """Second pass over the designs IDX the first left unfinished, reductions only."""
+                       DONE, DSTATUS):
+    \"\"\"Second pass over the designs IDX the first left unfinished, reductions only.\"\"\"
     i = cuda.grid(1)
     if i >= IDX.shape[0]:
         return
@@ -258,16 +263,11 @@ def _cu_careful_reduce(ts, P, IDX, level, method, tol, xtol, maxit, SL, nsl, nor
     Q = cuda.local.array((1, N_COORDS), _cu_f8)
     QD = cuda.local.array((1, N_COORDS), _cu_f8)
     QDD = cuda.local.array((1, N_COORDS), _cu_f8)
-    INFO = cuda.local.array((1, _CU_INFO), _cu_f8)
-    for j in range(N_COORDS):
-        Q[0, j] = 0.0
-        QD[0, j] = 0.0
-        QDD[0, j] = 0.0
-    for j in range(_CU_INFO):
-        INFO[0, j] = 0.0
+    S = cuda.local.array((1, _CU_SCOLS), _cu_i2)
+    _cu_row(Q, QD, QDD, S)
     ctx = (SL, nsl, R[d], F, OUT, nord, 0)
-    _cu_careful(d, ts, P[d], level, method, tol, xtol, maxit, Q, QD, QDD, INFO, ctx, qs,
-                DONE, STATUS)
+    _cu_careful(d, ts, P[d], level, method, tol, xtol, maxit, Q, QD, QDD, S, ctx, qs,
+                DONE, DSTATUS)
 '''
 KERNELS = ("_cu_fast_table", "_cu_fast_reduce", "_cu_careful_table", "_cu_careful_reduce")
 
@@ -402,7 +402,7 @@ def _hook(fn, module):
     if len(loops) != 1:
         raise TranslationError(f"{fn.name}() of '{module.__name__}' has no single loop over "
                                "the times (for k in ...) to hook the reductions into")
-    args = [ast.Name(n, ast.Load()) for n in ("ts", "Q", "QD", "QDD", "INFO", "p", "_cu_ctx")]
+    args = [ast.Name(n, ast.Load()) for n in ("ts", "Q", "QD", "QDD", "STATUS", "p", "_cu_ctx")]
     if fn.name == "sweep":
         # sweep()'s points are final: each is seen when it is written
         loops[0].body.append(ast.Expr(_call(ast.Name("_cu_point", ast.Load()),
@@ -459,7 +459,7 @@ def translate(module) -> str:
     return "\n\n\n".join(parts) + "\n"
 
 
-def build_twin(module, cuda, info_columns, max_registers=None):
+def build_twin(module, cuda, status_columns=1, max_registers=None):
     """The namespace of the CUDA twin of ``module``: the translated functions as device
     functions, and the kernels (KERNELS: first and second pass, keeping every point or
     reducing), compiled by numba at their first launch (max_registers: numba.cuda.jit's
@@ -470,7 +470,8 @@ def build_twin(module, cuda, info_columns, max_registers=None):
     linecache.cache[filename] = (len(text), None, text.splitlines(True), filename)
     ns = dict(vars(module))
     ns.update(cuda=cuda, _cu_f8=types.float64, _cu_i8=types.int64, _cu_b1=types.boolean,
-              _CU_NOUT=max(1, len(module.OUTPUTS)), _CU_INFO=int(info_columns))
+              _cu_i2=types.int16, _CU_NOUT=max(1, len(module.OUTPUTS)),
+              _CU_SCOLS=int(status_columns))
     ns["__name__"] = f"{module.__name__}_cuda"
     exec(compile(text, filename, "exec"), ns)   # noqa: S102 - our own translation
     tree = ast.parse(text)
