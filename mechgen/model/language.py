@@ -33,7 +33,8 @@ API_NAMES = frozenset({
     "location", "distance", "point_to_line_distance", "angle", "rotation", "intersection",
     "project_on_line", "direction", "magnitude", "unit", "cross", "rotation_matrix",
     "point_to_local", "polar_to_xy", "xy_to_polar", "velocity", "acceleration", "dt",
-    "Model", "T", "Line", "load_model", "Mechanism", "Solution", "Sweep", "Equations"})
+    "Model", "T", "Line", "load_model", "Mechanism", "Solution", "Sweep", "Equations",
+    "DesignTable", "Reduction", "OptimizeResult"})
 REFUSED = API_NAMES | {"T"} | set(keyword.kwlist)
 
 
