@@ -21,6 +21,7 @@ import numpy as np
 
 from ..errors import MechgenError
 from ..protocol import content_digest, stamp_of
+from .plain_linalg import REPLACEMENTS
 
 _NAN = float("nan")
 _INF = float("inf")
@@ -191,6 +192,9 @@ def python_module(path: str, clock: Clock | None = None) -> types.ModuleType:
     except Exception as exc:
         raise MechgenError(f"running the generated module {path} as Python raised "
                            f"{type(exc).__name__}: {exc}; rebuild it with `mechgen build`") from exc
+    for key, fast in REPLACEMENTS.items():      # whole-row forms of the O(n³) loops
+        if key in ns:
+            ns[key] = fast
     module = types.ModuleType(ns.get("MODEL_NAME", name), ns.get("__doc__"))
     clock = clock or Clock()
     for key, value in ns.items():
