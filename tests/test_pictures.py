@@ -22,7 +22,7 @@ import pytest  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.patches import FancyArrow, Polygon  # noqa: E402
 
-from conftest import ROOT  # noqa: E402
+from conftest import ROOT, example_model  # noqa: E402
 from mechgen import MechgenError, plot  # noqa: E402
 from mechgen.runtime.results import Solution, Sweep  # noqa: E402
 
@@ -36,58 +36,12 @@ def _close_figures():
     plt.close("all")
 
 
-# -- two models of this file: Jansen's leg and an in-line slider-crank ---------------------
-def _third(p, q, r1, r2, up):
-    """The point at distance r1 from p and r2 from q, left of p->q (up=1) or right."""
-    dx, dy = q[0] - p[0], q[1] - p[1]
-    L = math.hypot(dx, dy)
-    a = (r1 ** 2 - r2 ** 2 + L ** 2) / (2 * L)
-    h = math.sqrt(r1 ** 2 - a ** 2)
-    return (p[0] + a * dx / L - up * h * dy / L, p[1] + a * dy / L + up * h * dx / L)
-
-
-def _frame(origin, x_end, p=None):
-    """The angle of the frame at origin whose x axis points to x_end; p in that frame."""
-    ang = math.atan2(x_end[1] - origin[1], x_end[0] - origin[0])
-    if p is None:
-        return ang
-    dx, dy = p[0] - origin[0], p[1] - origin[1]
-    return (math.cos(ang) * dx + math.sin(ang) * dy, -math.sin(ang) * dx + math.cos(ang) * dy)
-
-
+# -- two models: Jansen's leg (examples/strandbeest.py) and an in-line slider-crank ------
 def strandbeest_model():
     """Jansen's leg (his "holy numbers") at crank angle 0: three bodies meet at the crank
-    pin, three at the frame's second pivot, three at the foot's upper joint."""
-    from mechgen import Model, T, pi
-    a, l, m_ = 38.0, 7.8, 15.0
-    b, c, d, e, f, g, h, i, j, k = 41.5, 39.3, 40.1, 55.8, 39.4, 36.7, 65.7, 49.0, 50.0, 61.9
-    O, B, A = (0.0, 0.0), (-a, -l), (m_, 0.0)
-    C = _third(B, A, b, j, 1)
-    E = _third(B, A, c, k, -1)
-    D = _third(B, C, d, e, 1)
-    F = _third(D, E, f, g, -1)
-    G = _third(E, F, i, h, 1)
-    m = Model("strandbeest_leg")
-    frame = m.ground("frame", points=[O, B])
-    crank = m.body("crank", points=[(0, 0), (m_, 0)], guess=(0, 0, 0))
-    upper = m.body("upper", points=[(0, 0), (j, 0)], guess=(*A, _frame(A, C)))
-    hip = m.body("hip", points=[(0, 0), (b, 0), _frame(B, C, D)], guess=(*B, _frame(B, C)))
-    lower = m.body("lower", points=[(0, 0), (k, 0)], guess=(*A, _frame(A, E)))
-    cee = m.body("cee", points=[(0, 0), (c, 0)], guess=(*B, _frame(B, E)))
-    eff = m.body("eff", points=[(0, 0), (f, 0)], guess=(*D, _frame(D, F)))
-    foot = m.body("foot", points=[(0, 0), (g, 0), _frame(E, F, G)], guess=(*E, _frame(E, F)))
-    m.revolute(frame[1], crank[1])
-    m.rotation_lock(crank, 2 * pi * T, name="crank angle")
-    m.revolute(crank[2], upper[1])
-    m.revolute(crank[2], lower[1])
-    m.revolute(frame[2], hip[1])
-    m.revolute(upper[2], hip[2])
-    m.revolute(frame[2], cee[1])
-    m.revolute(cee[2], lower[2])
-    m.revolute(cee[2], foot[1])
-    m.revolute(hip[3], eff[1])
-    m.revolute(eff[2], foot[2])
-    return m
+    pin, three at the frame's second pivot, three at the foot's upper joint
+    (examples/strandbeest.py)."""
+    return example_model("strandbeest")
 
 
 def slider_crank_model():

@@ -125,6 +125,16 @@ class _WithCoordinate(Constraint):
         self.coordinate = coord
         return coord
 
+    def _axes(self, a1, a2):
+        """The two axes, each fixed in its body, on two bodies: (a1, a2, (b1, α1), (b2, α2))."""
+        a1 = _line(self.model, a1, self.kind, 1)
+        a2 = _line(self.model, a2, self.kind, 2)
+        f1, f2 = body_fixed(a1, self.kind, 1), body_fixed(a2, self.kind, 2)
+        if f1[0] is f2[0]:
+            raise ModelError(f"{self.kind}: both axes are fixed in body {f1[0]}; a joint joins "
+                             "two bodies")
+        return a1, a2, f1, f2
+
 
 class GenRevolute(_WithCoordinate):
     """``gen_revolute(a1, a2, phi)``: a revolute whose angle is the coordinate phi (Mech's
@@ -136,13 +146,7 @@ class GenRevolute(_WithCoordinate):
     components = ("x", "y", "angle")
 
     def build(self, a1, a2, coord):
-        a1 = _line(self.model, a1, self.kind, 1)
-        a2 = _line(self.model, a2, self.kind, 2)
-        b1, al1 = body_fixed(a1, self.kind, 1)
-        b2, al2 = body_fixed(a2, self.kind, 2)
-        if b1 is b2:
-            raise ModelError(f"{self.kind}: both axes are fixed in body {b1}; a joint joins "
-                             "two bodies")
+        a1, a2, (b1, al1), (b2, al2) = self._axes(a1, a2)
         phi = self._coord(coord)
         d = a1.first.r - a2.first.r
         self.exprs = [d[0], d[1], (b2.th + al2) - (b1.th + al1) - phi]
@@ -160,13 +164,7 @@ class GenTranslate(_WithCoordinate):
     components = ("parallel", "offset", "travel")
 
     def build(self, a1, a2, coord):
-        a1 = _line(self.model, a1, self.kind, 1)
-        a2 = _line(self.model, a2, self.kind, 2)
-        b1, _ = body_fixed(a1, self.kind, 1)
-        b2, _ = body_fixed(a2, self.kind, 2)
-        if b1 is b2:
-            raise ModelError(f"{self.kind}: both axes are fixed in body {b1}; a joint joins "
-                             "two bodies")
+        a1, a2, _, _ = self._axes(a1, a2)
         s = self._coord(coord)
         u1, u2 = a1.u, a2.u
         d = a2.first.r - a1.first.r

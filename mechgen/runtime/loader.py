@@ -16,6 +16,11 @@ from ..protocol import FORMAT_VERSION, MECHGEN_VERSION, content_digest, stamp_of
 
 def verify(path: str) -> str:
     """The content stamp of the module file at ``path``, once checked against its text."""
+    return checked_text(path)[1]
+
+
+def checked_text(path: str) -> tuple[str, str]:
+    """The text of the module file at ``path`` and its content stamp, checked against it."""
     with open(path, encoding="utf-8") as fh:
         text = fh.read()
     found = stamp_of(text)
@@ -25,7 +30,7 @@ def verify(path: str) -> str:
     if found != content_digest(text):
         raise MechgenError(f"{path} was edited after mechgen generated it (its content stamp does "
                            "not match); rebuild it with `mechgen build MODEL.py`")
-    return found
+    return text, found
 
 
 def import_path(path: str):
