@@ -81,6 +81,8 @@ BRANCH_ATOL = 1e-6          # ... plus this (relative to the size of q) halves t
 BRANCH_HMIN = 2.0 ** -20    # smallest substep, as a fraction of the sweep's own step
 BRANCH_TURN = 0.5           # largest turn of an angle (radians) in one step of a sweep
 BRANCH_NEAR = 1e-4          # a pivot ratio below this: near a singular configuration
+BRANCH_DET_EVERY = 16       # a position sweep's quick path evaluates det Φ_q at least
+                            # every this many points (sweep_fast; its CUDA twin: 1)
 
 # The constants above that every generated module states in its header, in groups
 # (a comment line, then the names): its solvers use them by name.
@@ -98,7 +100,8 @@ HEADER_CONSTANTS = (
     ("Pivot thresholds (rows of Φ_q scaled to 1) and the smallest size counted as non-zero",
      ("PIVOT_RTOL", "SING_RTOL", "TINY")),
     ("Step control of sweep() and sweep_fast()",
-     ("BRANCH_RATIO", "BRANCH_ATOL", "BRANCH_HMIN", "BRANCH_TURN", "BRANCH_NEAR")),
+     ("BRANCH_RATIO", "BRANCH_ATOL", "BRANCH_HMIN", "BRANCH_TURN", "BRANCH_NEAR",
+      "BRANCH_DET_EVERY")),
 )
 
 

@@ -242,3 +242,20 @@ def test_a_table_in_the_python_tier(qr, monkeypatch):
     ref = qr.sweep(0.0, 1.0, 7, **args)
     assert _same(tab.status, ref.status) and _same(tab.done, ref.done)
     assert np.allclose(tab["X4d"], ref["X4d"], rtol=0, atol=1e-9, equal_nan=True)
+
+
+def test_guided_chunks_cover_every_design_once_big_ones_first():
+    from mechgen.runtime.chunks import CHUNK_POINTS, guided_chunks
+    for D, N, workers, most in ((2000, 1000, 2, None), (7, 1000, 2, None), (1, 5, 16, None),
+                                (100000, 10, 2, None), (2000, 1000, 2, 40), (0, 10, 2, None)):
+        spans = guided_chunks(D, N, workers, most)
+        ends = [0] + [b for _, b in spans]
+        assert [a for a, _ in spans] == ends[:-1] and ends[-1] == D
+        sizes = [b - a for a, b in spans]
+        assert all(s >= 1 for s in sizes)
+        assert sizes[:-1] == sorted(sizes[:-1], reverse=True)     # (the last: what is left)
+        assert max(sizes, default=1) <= max(1, CHUNK_POINTS // N) and \
+            max(sizes, default=1) <= (most or D or 1)
+    # the last chunks are small: the threads finish within a small share of the table
+    sizes = [b - a for a, b in guided_chunks(2000, 1000, 2)]
+    assert sizes[0] == 100 and sizes[-1] <= 5

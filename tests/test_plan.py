@@ -106,7 +106,7 @@ def test_context_keys_of_the_fast_sweep():
     assert {"sweep_step", "sweep_init", "sweep_keep", "sweep_resync"}.isdisjoint(ctx)
     body = ctx["sweep_fast"]
     assert body[0].startswith("# (the loop's own names") and body[-1] == "return ts.shape[0]"
-    assert "    if _sw_warm:" in body and "        return k" in body     # inside the loop
+    assert "    if _sw_warm:" in body and "        return _sw_good" in body  # inside the loop
     assert not any(line.strip() in ("return 1", "return 2", "return 4") for line in body)
     assert [b["method"] for b in ctx["blocks"]][5:] == [NEWTON, CLOSED_FORM_TRIG, NEWTON]
     assert module_context(m, sort=False)["sweep_fast"] is None

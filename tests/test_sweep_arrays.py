@@ -73,7 +73,9 @@ def test_out_reuses_the_callers_arrays_with_the_same_numbers(qr):
     # a tuple, or an earlier Sweep (its numbers are overwritten)
     Q2 = np.empty((N, n))
     pos = qr.sweep(0.0, 1.0, N, out=(Q2,))
-    assert pos.Q is Q2 and pos.QD is None and np.array_equal(Q2, fresh.Q)
+    # (a position sweep predicts from its last points, not from derivatives: the same
+    # positions to rounding, tests/test_position_sweep.py)
+    assert pos.Q is Q2 and pos.QD is None and np.abs(Q2 - fresh.Q).max() < 1e-12
     again = qr.sweep(0.0, 0.5, N, level="acceleration", out=sw)
     assert again.Q is Q and np.shares_memory(again.status, S)
     half = qr.sweep(0.0, 0.5, N, level="acceleration")
@@ -81,7 +83,7 @@ def test_out_reuses_the_callers_arrays_with_the_same_numbers(qr):
     # a position sweep into a full sweep's arrays leaves its velocities alone
     QD_before = QD.copy()
     qr.sweep(0.0, 1.0, N, out=again)
-    assert np.array_equal(QD, QD_before) and np.array_equal(Q, fresh.Q)
+    assert np.array_equal(QD, QD_before) and np.abs(Q - fresh.Q).max() < 1e-12
     # analysis on a sweep written into given arrays
     sw = qr.sweep(0.0, 1.0, N, level="acceleration", out=sw)
     ext = sw.extrema("X4")

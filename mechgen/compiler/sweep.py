@@ -3,13 +3,22 @@ STATUS)``, the quick path of a sweep for the stretches where nothing is hard. It
 what the caller gives arrays for: QD and QDD with no rows (a position sweep) are not
 written, nor the STATUS columns it does not have (protocol.STATUS_*).
 
-Per point: a Taylor predictor from the last point's velocity and acceleration, the sorted
-position solve and the combined velocity/acceleration pass, then sweep()'s branch test.
-For a small model the two solvers are written out in the loop as one piece (numba's own
-inlining of array functions costs refcount work at every return): the derivative code
-takes the sin and cos of solved coordinates from the position code, each failure status
-prints as ``return k`` (the count of points accepted) and the sin and cos the position
-code calls as a pair are turned from the last point instead (ir.Options).
+Per point of a sweep with derivatives: a Taylor predictor from the last point's velocity
+and acceleration, the sorted position solve and the combined velocity/acceleration pass,
+then sweep()'s branch test and det Φ_q's sign (the product of the velocity pass's pivots).
+A position sweep takes the derivatives at its first two points only (for the Taylor
+predictor), then predicts by the quadratic through its last three points, as sweep()
+does at level 0, and evaluates det Φ_q (jacobian_det) where its sign could have changed:
+every BRANCH_DET_EVERY-th point, after a hard solve, and where its rate of change since
+the last evaluation says it could reach zero (sweep()'s rule). A sign change sends the
+sweep back to the point evaluated last: the function then returns the count of points
+up to that one, and sweep() goes on from it.
+
+For a small model the two solvers are written out in the loop (numba's own inlining of
+array functions costs refcount work at every return): the derivative code takes the sin
+and cos of solved coordinates from the position code, each failure status prints as
+``return _sw_good`` (the count of points the loop vouches for) and the sin and cos the
+position code calls as a pair are turned from the last point instead (ir.Options).
 """
 from __future__ import annotations
 
@@ -22,15 +31,16 @@ SWEEP_RESYNC = 8       # the fast sweep calls sin and cos afresh every this many
 
 
 def options(names) -> Options:
-    """How the body prints: failures return the count of points accepted, sin and cos
-    pairs turned from the last point."""
-    return Options(names=names, failure="k", turn=True)
+    """How the body prints: failures return the count of points the loop vouches for
+    (_sw_good), sin and cos pairs turned from the last point."""
+    return Options(names=names, failure="_sw_good", turn=True)
 
 
 def written_step(plan, eq, position, derivatives):
-    """position_sorted() and derivatives_sorted() as one piece: ``position`` the body of
-    the one-function position solver, ``derivatives`` linear.derivative_code. The
-    derivative code reads the sin and cos (and other calls) the position code shares."""
+    """position_sorted() and derivatives_sorted() written out as two pieces, (position,
+    derivatives): ``position`` the body of the one-function position solver,
+    ``derivatives`` linear.derivative_code. The derivative code reads the sin and cos
+    (and other calls) the position code shares."""
     shared = plan.position.shared_map
     st = [replaced(x, lambda e: e.xreplace(shared)) for x in derivatives.statements]
     exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
@@ -38,11 +48,11 @@ def written_step(plan, eq, position, derivatives):
     used, have = free(exprs), free(list(eq.phi))
     if position[-1] != Return(0):
         raise ValueError("a position solver in parts cannot be written out in the sweep")
-    out = list(position[:-1])                   # all but its "return 0"
-    out += unpack(used - have, eq.params, "p")
+    pos = list(position[:-1])                   # all but its "return 0"
+    der = unpack(used - have, eq.params, "p")
     if T in used and T not in have:
-        out.append(time_local())
-    return out + emit(st, TempNames("_v"), plan.cse) + list(derivatives.tail)
+        der.append(time_local())
+    return pos, der + emit(st, TempNames("_v"), plan.cse) + list(derivatives.tail)
 
 
 def _memory(pairs):
@@ -57,48 +67,102 @@ def _memory(pairs):
     return init, keep
 
 
-def sweep_fast_body(step=None, pairs=()):
-    """The statements of sweep_fast's body: with ``step`` (written_step) the solvers
-    written out, else calls of position_sorted and derivatives_sorted. ``pairs``: the
-    TrigPairs the step turns."""
-    init, keep = _memory(pairs) if step is not None else ([], [])
-    predictor = If(Code("k > 0"), (
+def _predictors():
+    """The predictor of point k > 0: Taylor from the derivatives at the last point (a sweep
+    with derivatives, and the first points of a position sweep), or the quadratic through
+    the last three points (a position sweep; no motion predicted where two of their
+    times coincide). _sw_move: the predicted move, _sw_size: the size of q."""
+    start = (Code("_sw_move = 0.0"), Code("_sw_size = 0.0"))
+    quadratic = If(Code("k > 2 and not _sw_all"), start + (
+        Code("_sw_ta = ts[k - 1]"),
+        Code("_sw_tb = ts[k - 2]"),
+        Code("_sw_tc = ts[k - 3]"),
+        Code("_sw_wa = 1.0"),
+        Code("_sw_wb = 0.0"),
+        Code("_sw_wc = 0.0"),
+        If(Code("(_sw_ta - _sw_tb) * (_sw_ta - _sw_tc) * (_sw_tb - _sw_tc) != 0.0"), (
+            Code("_sw_wa = (t - _sw_tb) * (t - _sw_tc) / ((_sw_ta - _sw_tb) * (_sw_ta - _sw_tc))"),
+            Code("_sw_wb = (t - _sw_ta) * (t - _sw_tc) / ((_sw_tb - _sw_ta) * (_sw_tb - _sw_tc))"),
+            Code("_sw_wc = (t - _sw_ta) * (t - _sw_tb) / ((_sw_tc - _sw_ta) * (_sw_tc - _sw_tb))"))),
+        Loop(Code("for j in range(N_COORDS)"), (
+            Code("_sw_x = _sw_wa * q[j] + _sw_wb * _sw_q1[j] + _sw_wc * _sw_q2[j]"),
+            Code("_sw_move = max(_sw_move, abs(_sw_x - q[j]))"),
+            Code("_sw_size = max(_sw_size, abs(q[j]))"),
+            Code("_sw_q2[j] = _sw_q1[j]"),
+            Code("_sw_q1[j] = q[j]"),
+            Code("q[j] = _sw_x"),
+            Code("_sw_qp[j] = _sw_x"))),
+    ), orelse=(If(Code("k > 0"), start + (
         Code("_sw_h = t - ts[k - 1]"),
-        Code("_sw_move = 0.0"),
-        Code("_sw_size = 0.0"),
+        If(Code("not _sw_all"), (
+            Loop(Code("for j in range(N_COORDS)"), (
+                Code("_sw_q2[j] = _sw_q1[j]"),
+                Code("_sw_q1[j] = q[j]"))),)),
         Loop(Code("for j in range(N_COORDS)"), (
             Code("_sw_dq = _sw_h * (qd[j] + 0.5 * _sw_h * qdd[j])"),
             Code("_sw_move = max(_sw_move, abs(_sw_dq))"),
             Code("_sw_size = max(_sw_size, abs(q[j]))"),
             Code("q[j] += _sw_dq"),
             Code("_sw_qp[j] = q[j]"))),
-    ))
+    )),))
+    return quadratic
+
+
+def _position_det():
+    """A position sweep's watch on det Φ_q: evaluated where its sign could have changed
+    since the point evaluated last (_sw_good - 1, at time _sw_tk); a change sends the
+    sweep back there (see the module's docstring)."""
+    due = ("k < 2 or k + 1 - _sw_good >= BRANCH_DET_EVERY or info[INFO_ITERATIONS] > 2 or "
+           "abs(_sw_det) <= 8.0 * _sw_rate * abs(t - _sw_tk)")
+    return If(Code(due), (
+        Code("_sw_d = jacobian_det(q, t, p)"),
+        If(Code("k > 0"), (
+            If(Code("_sw_d * _sw_det <= 0.0"), (Code("return _sw_good"),),
+               tail="      # a sign change: sweep() goes on from the last evaluated"),
+            If(Code("t != _sw_tk"), (
+                Code("_sw_rate = abs(_sw_d - _sw_det) / abs(t - _sw_tk)"),)))),
+        Code("_sw_det = _sw_d"),
+        Code("_sw_good = k + 1"),
+        Code("_sw_tk = t")))
+
+
+def sweep_fast_body(step=None, pairs=()):
+    """The statements of sweep_fast's body: with ``step`` (written_step: the position and
+    the derivative statements) the solvers written out, else calls of position_sorted and
+    derivatives_sorted. ``pairs``: the TrigPairs the step turns."""
+    init, keep = _memory(pairs) if step is not None else ([], [])
     if step is not None:
-        solve = [Comment("position_sorted() and derivatives_sorted() written out here as one "
-                         "piece, the"),
-                 Comment("sin and cos of solved coordinates computed once for both; a failure "
-                         "ends the"),
-                 Comment("quick path at this point")] + list(step)
+        position, derivatives = step
+        solve = [Comment("position_sorted() and derivatives_sorted() written out here, the "
+                         "sin and cos"),
+                 Comment("of solved coordinates computed once for both; a failure ends the "
+                         "quick path at"),
+                 Comment("this point")] + list(position)
         warm = [Code(f"_sw_warm = k % {SWEEP_RESYNC} != 0   # turn sin and cos from the last "
                      "point")]
     else:
         solve = [If(Code("position_sorted(q, t, p, tol, xtol, maxit, info) != 0"),
-                    (Code("return k"),)),
-                 If(Code("derivatives_sorted(q, t, p, qd, qdd, piv) != 0"), (Code("return k"),))]
+                    (Code("return _sw_good"),))]
+        derivatives = [If(Code("derivatives_sorted(q, t, p, qd, qdd, piv) != 0"),
+                          (Code("return _sw_good"),))]
         warm = []
+    solve.append(If(Code("_sw_all or k < 2"), tuple(derivatives)))
     checks = [
         Code("_sw_corr = 0.0"),
         Code("_sw_bad = 0.0          # x * 0 is 0 for every finite x, NaN for inf and NaN"),
         Loop(Code("for j in range(N_COORDS)"), (
             Code("_sw_bad += (q[j] + qd[j] + qdd[j]) * 0.0"),
             Code("_sw_corr = max(_sw_corr, abs(q[j] - _sw_qp[j]))"))),
-        If(Code("_sw_bad != 0.0"), (Code("return k"),)),
+        If(Code("_sw_bad != 0.0"), (Code("return _sw_good"),)),
         If(Code("k > 0"), (
             If(Code("_sw_corr > BRANCH_RATIO * _sw_move + BRANCH_ATOL * (1.0 + _sw_size)"),
-               (Code("return k"),)),
-            If(Code("piv[0] * _sw_det <= 0.0"), (Code("return k"),),
-               tail="        # a sign change: a singular point between"))),
-        Code("_sw_det = piv[0]"),
+               (Code("return _sw_good"),)),)),
+        If(Code("_sw_all"), (
+            If(Code("k > 0 and piv[0] * _sw_det <= 0.0"), (Code("return _sw_good"),),
+               tail="        # a sign change: a singular point between"),
+            Code("_sw_det = piv[0]"),
+            Code("_sw_good = k + 1")),
+           orelse=(_position_det(),)),
         Loop(Code("for j in range(N_COORDS)"), (Code("Q[k, j] = q[j]"),)),
         If(Code("_sw_keep_d"), (
             Loop(Code("for j in range(N_COORDS)"), (Code("QD[k, j] = qd[j]"),)),)),
@@ -106,11 +170,14 @@ def sweep_fast_body(step=None, pairs=()):
             Loop(Code("for j in range(N_COORDS)"), (Code("QDD[k, j] = qdd[j]"),)),)),
         Code("STATUS[k, STATUS_CODE] = OK"),
         If(Code("_sw_iterations"), (
-            Code("STATUS[k, STATUS_ITERATIONS] = min(info[0], STATUS_MAX)"),)),
+            Code("STATUS[k, STATUS_ITERATIONS] = min(info[INFO_ITERATIONS], STATUS_MAX)"),)),
         If(Code("_sw_substeps"), (Code("STATUS[k, STATUS_SUBSTEPS] = 0"),)),
     ]
     loop = Loop(Code("for k in range(ts.shape[0])"),
-                tuple([Code("t = ts[k]")] + warm + [predictor] + solve + checks + keep))
+                tuple([Code("t = ts[k]")] + warm + [_predictors()] + solve + checks + keep))
+    last = If(Code("_sw_good < ts.shape[0]"), (
+        If(Code("jacobian_det(q, ts[ts.shape[0] - 1], p) * _sw_det <= 0.0"),
+           (Code("return _sw_good"),)),), tail="     # a position sweep: the last point's det Φ_q")
     return [
         Comment("(the loop's own names start with _sw: the solver code written into it uses "
                 "others)"),
@@ -119,17 +186,26 @@ def sweep_fast_body(step=None, pairs=()):
         Code("qd = np.zeros(N_COORDS)"),
         Code("qdd = np.zeros(N_COORDS)"),
         Code("piv = np.zeros(1)"),
-        Code("info = np.zeros(4)"),
+        Code("info = np.zeros(POSITION_INFO_SIZE)"),
         Code("_sw_qp = q0.copy()"),
+        Code("_sw_q1 = q0.copy()      # a position sweep: the two points before the last"),
+        Code("_sw_q2 = q0.copy()"),
         Code("_sw_det = 0.0"),
+        Code("_sw_good = 0            # points vouched for: accepted, det Φ_q's sign seen up "
+             "to there"),
+        Code("_sw_tk = 0.0            # a position sweep: the time det Φ_q was evaluated last, "
+             "its rate"),
+        Code("_sw_rate = 0.0"),
         Code("_sw_move = 0.0"),
         Code("_sw_size = 0.0"),
         Code("_sw_keep_d = QD.shape[0] > 0       # velocities stored (no rows: a position "
              "sweep)"),
         Code("_sw_keep_dd = QDD.shape[0] > 0"),
+        Code("_sw_all = _sw_keep_d or _sw_keep_dd   # derivatives at every point"),
         Code("_sw_iterations = STATUS.shape[1] > STATUS_ITERATIONS"),
         Code("_sw_substeps = STATUS.shape[1] > STATUS_SUBSTEPS"),
         *init,
         loop,
+        last,
         Code("return ts.shape[0]"),
     ]

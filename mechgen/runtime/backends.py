@@ -19,12 +19,10 @@ import numpy as np
 from ..errors import MechgenError
 from ..protocol import JUMP, OK, STATUS_CODE, THROUGH_SINGULAR
 from .chunks import (DESIGN_INFO_COLUMNS, DESIGN_INFO_DTYPE, Collector, TableData, chunks,
-                     solve_chunk, sweep_chunk)
+                     guided_chunks, solve_chunk, sweep_chunk)
 from .reduce import design_status
 
 BACKENDS = ("cpu", "dask", "cuda")
-# chunks per thread, at least: the threads finish close together (load balance)
-PARTS_PER_WORKER = 4
 
 
 def cpu_count() -> int:
@@ -52,8 +50,10 @@ def run_cpu(module, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=
     if getattr(module, "__mechgen_tier__", "compiled") == "python":
         workers = 1         # the plain-Python tier holds the GIL: threads gain nothing
     workers = cpu_count() if workers is None else workers
-    parts = max(PARTS_PER_WORKER * workers, 50 if progress is not None else 0)
-    spans = chunks(D, N, parts)
+    if workers == 1:
+        spans = chunks(D, N, 50 if progress is not None else 1)
+    else:           # big chunks first, small ones last: the threads finish together
+        spans = guided_chunks(D, N, workers, None if progress is None else -(-D // 50))
     out = Collector(D, N, nq, slots, lev)
     local = threading.local()
     if slots is None:       # the chunks write straight into the table's arrays (no

@@ -19,6 +19,8 @@ DESIGN_INFO_DTYPE = np.int16
 # solved points (designs x times) per chunk: big enough that a call's overhead vanishes,
 # small enough that a reduced table's buffers stay small and progress moves
 CHUNK_POINTS = 100_000
+# the smallest chunk of a guided split (guided_chunks): a call's overhead still small
+TAIL_POINTS = 5_000
 
 
 class TableData:
@@ -40,6 +42,25 @@ def chunks(D, N, parts, least=0):
     size = max(1, min(-(-D // max(parts, 1)), CHUNK_POINTS // max(N, 1)))
     size = max(size, min(D, -(-least // max(N, 1))))
     return [(a, min(D, a + size)) for a in range(0, D, size)]
+
+
+def guided_chunks(D, N, workers, most=None):
+    """[(a, b)] splitting D designs for ``workers`` threads taking chunks in turn: each
+    chunk a share of the designs still to go (OpenMP's guided schedule), at most about
+    CHUNK_POINTS points (and at most ``most`` designs), none under about TAIL_POINTS
+    points: big chunks first, so that calls are few, then smaller and smaller ones, so
+    that the threads run out of work together instead of one finishing a big chunk
+    alone."""
+    cap = max(1, CHUNK_POINTS // max(N, 1))
+    if most is not None:
+        cap = max(1, min(cap, most))
+    least = max(1, min(cap, TAIL_POINTS // max(N, 1), -(-D // (2 * max(workers, 1)))))
+    out, a = [], 0
+    while a < D:
+        size = min(cap, max(least, -(-(D - a) // (2 * max(workers, 1)))))
+        out.append((a, min(D, a + size)))
+        a += size
+    return out
 
 
 def scratch_arrays(scratch, D, N, nq, names):

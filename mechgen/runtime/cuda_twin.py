@@ -471,7 +471,10 @@ def build_twin(module, cuda, status_columns=1, max_registers=None):
     ns = dict(vars(module))
     ns.update(cuda=cuda, _cu_f8=types.float64, _cu_i8=types.int64, _cu_b1=types.boolean,
               _cu_i2=types.int16, _CU_NOUT=max(1, len(module.OUTPUTS)),
-              _CU_SCOLS=int(status_columns))
+              _CU_SCOLS=int(status_columns),
+              # the reducing kernels see each point of sweep_fast() as it is accepted:
+              # its position sweeps evaluate det Φ_q at every point and never go back
+              BRANCH_DET_EVERY=1)
     ns["__name__"] = f"{module.__name__}_cuda"
     exec(compile(text, filename, "exec"), ns)   # noqa: S102 - our own translation
     tree = ast.parse(text)

@@ -18,6 +18,7 @@ compiles what each call needs on first use (no worker).
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -43,15 +44,27 @@ def tier_choice(tier=None) -> str:
     return chosen
 
 
+@functools.lru_cache(maxsize=1)
+def numba_version() -> str:
+    """The installed numba's version, read from its package metadata (importing numba
+    costs what the plain-Python tier is there to avoid); "" when it cannot be read."""
+    try:
+        from importlib.metadata import version
+        return version("numba")
+    except Exception:       # noqa: BLE001 - no metadata: the mark keys on the rest
+        return ""
+
+
 def state_paths(path: str) -> tuple[str, str]:
     """(mark, lock) of the module file at ``path``: the mark exists when numba's cache
     holds every entry point of exactly this file (its time stamp included, which numba's
-    cache checks) for this Python, mechgen and cache folder; the lock is held while a
-    process writes the cache."""
+    cache checks) for this Python, numba (whose cache another version does not read),
+    mechgen and cache folder; the lock is held while a process writes the cache."""
     path = os.path.abspath(path)
     st = os.stat(path)
     where = f"{path}\0{os.environ.get('NUMBA_CACHE_DIR', '')}"
-    key = f"{where}\0{st.st_mtime_ns}\0{st.st_size}\0{sys.version}\0{MECHGEN_VERSION}"
+    key = (f"{where}\0{st.st_mtime_ns}\0{st.st_size}\0{sys.version}\0{MECHGEN_VERSION}"
+           f"\0{numba_version()}")
     name = os.path.splitext(os.path.basename(path))[0]
     folder = state_dir(path)
     return (os.path.join(folder, f"{name}-{hashlib.sha1(key.encode()).hexdigest()[:16]}.compiled"),
@@ -237,5 +250,6 @@ def dump_mark(path: str, stages) -> None:
     tmp = f"{mark}.{os.getpid()}.tmp"
     with open(tmp, "w", encoding="utf-8") as fh:
         json.dump({"module": os.path.abspath(path), "stages": list(stages),
-                   "python": sys.version, "mechgen": MECHGEN_VERSION}, fh)
+                   "python": sys.version, "mechgen": MECHGEN_VERSION,
+                   "numba": numba_version()}, fh)
     os.replace(tmp, mark)
