@@ -213,6 +213,27 @@ def test_build_keeps_dash_o_dir_and_outdir_is_the_same_option():
     assert args.output == "d.png" and args.outdir == "gen"
 
 
+def test_build_keeps_an_unchanged_models_module(capsys, tmp_path):
+    """A second `mechgen build` of an unchanged model leaves the module file as it is (its
+    time stamp keys numba's compiled cache); --force writes it again; an edit rebuilds."""
+    src = model_file(tmp_path, os.path.join(EXAMPLES, "fourbar.py"))
+    out_dir = tmp_path / "gen"
+    code, out, err = run(capsys, "build", src, "-o", out_dir)
+    target = out_dir / "fourbar.py"
+    assert code == 0 and out.strip() == f"wrote {target}", err
+    before = os.stat(target).st_mtime_ns
+    code, out, _ = run(capsys, "build", src, "-o", out_dir)
+    assert code == 0 and "is up to date" in out and str(target) in out
+    assert os.stat(target).st_mtime_ns == before
+    code, out, _ = run(capsys, "build", src, "-o", out_dir, "--force")
+    assert code == 0 and out.strip() == f"wrote {target}"
+    with open(src, "a") as fh:
+        fh.write("\nm.param('extra', 1.5)\n")
+    text = open(target).read()
+    code, out, _ = run(capsys, "build", src, "-o", out_dir)
+    assert code == 0 and out.strip() == f"wrote {target}" and open(target).read() != text
+
+
 # -- columns, expressions, -0 ----------------------------------------------------------------
 def test_sweep_columns_pick_the_level_they_need(capsys, outdir):
     code, out, err = run(capsys, "sweep", QR, "--outdir", outdir, "-n", 11,

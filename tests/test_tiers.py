@@ -271,10 +271,12 @@ def test_a_large_call_compiles_what_it_needs(fresh):
         small = m.sweep(0, 1, 50, level="acceleration")
         tiers.BIG_CALL = 1e-9                        # any sweep is large now
         big = m.sweep(0, 1, 50, level="acceleration")
-        assert m.tier == "compiled" and m._tiers.worker is None
+        assert m.tier == "compiled"
         assert np.abs(big.Q - small.Q).max() <= 1e-12 and np.abs(big.QDD - small.QDD).max() <= 1e-9
         assert np.array_equal(big.info, small.info, equal_nan=True)   # NaN: not kept
         assert not tiers.cache_ready({path!r})      # the worker was stopped before the end
+        assert m._tiers.worker is not None          # and started again for the rest
+        m._tiers.stop_worker()
         print("ok")
     """
     out = _run(code, env)

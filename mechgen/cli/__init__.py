@@ -24,14 +24,31 @@ DESCRIPTION = ("Kinematics of planar mechanisms: symbolic equations compiled to 
 
 # -- commands -------------------------------------------------------------------------
 def cmd_build(args):
-    from ..compiler.build import build     # late: see mechgen.cli.loading
+    from ..compiler.build import build, build_if_changed     # late: see mechgen.cli.loading
     outdir = module_folder(args.outdir)
     outputs = [o.strip() for o in args.outputs.split(",") if o.strip()] if args.outputs else None
     for model in models(args):
         kwargs = dict(sort=not args.no_sort, level=args.level, outputs=outputs,
                       closed_forms=args.closed_forms)
-        path = build(model, outdir, **kwargs)
-        print(f"wrote {path}")
+        if args.force:
+            print(f"wrote {build(model, outdir, **kwargs)}")
+            continue
+        # an unchanged model keeps its module file (and numba's compiled cache of it)
+        path = os.path.join(outdir, f"{model.name}.py")
+        before = _stamp(path)
+        path = build_if_changed(model, outdir, **kwargs)
+        if before is not None and _stamp(path) == before:
+            print(f"{path} is up to date (--force writes it again)")
+        else:
+            print(f"wrote {path}")
+
+
+def _stamp(path):
+    try:
+        st = os.stat(path)
+    except OSError:
+        return None
+    return st.st_mtime_ns, st.st_size
 
 
 def cmd_equations(args):
@@ -88,6 +105,10 @@ def parser() -> argparse.ArgumentParser:
                    help="folder of generated modules (default: generated/)")
     p.add_argument("--no-sort", action="store_true",
                    help="full Newton only (no block sorting): the reference path")
+    p.add_argument("--force", action="store_true",
+                   help="render and write the module even when the model has not changed "
+                        "(by default an unchanged model's module, and numba's compiled cache "
+                        "of it, are kept)")
     p.add_argument("--level", choices=LEVELS, default="acceleration",
                    help="highest derivative level to emit (default acceleration)")
     p.add_argument("--outputs", metavar="NAMES",

@@ -11,7 +11,8 @@ the compiled module (from the cache, no compiling) and the Mechanism uses it fro
 on. A call too large for Python (a long sweep, a design table: ``expect``) switches at
 once: from the cache when it is ready, else by compiling what the call needs in this
 process (the worker, if it is ours, is stopped first, and a lock keeps two processes
-from writing one module's cache at once; a worker of another process is waited for).
+from writing one module's cache at once; a worker of another process is waited for),
+then starts a worker again for the rest.
 
 ``tier="python"`` never compiles; ``tier="compiled"`` imports with numba at once and
 compiles what each call needs on first use (no worker).
@@ -229,6 +230,11 @@ class Tiers:
             return
         self.stop_worker()
         self._switch_or_stay(lambda: self._compile_here(mech, kind))
+        if self.tier == "compiled" and not cache_ready(self.path):
+            # the entry points this call did not need, compiled in the background again:
+            # numba looks in its cache before compiling, so this process's later first
+            # calls load them from there once the worker has written them
+            self.start_worker()
 
     def _compile_here(self, mech, kind):
         """Compile in this process, under the module's lock, what a ``kind`` call needs."""
