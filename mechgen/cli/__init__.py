@@ -24,7 +24,7 @@ DESCRIPTION = ("Kinematics of planar mechanisms: symbolic equations compiled to 
 
 # -- commands -------------------------------------------------------------------------
 def cmd_build(args):
-    from ..compiler.build import build, build_if_changed     # late: see mechgen.cli.loading
+    from ..compiler.build import build, update_module     # late: see mechgen.cli.loading
     outdir = module_folder(args.outdir)
     outputs = [o.strip() for o in args.outputs.split(",") if o.strip()] if args.outputs else None
     for model in models(args):
@@ -34,21 +34,8 @@ def cmd_build(args):
             print(f"wrote {build(model, outdir, **kwargs)}")
             continue
         # an unchanged model keeps its module file (and numba's compiled cache of it)
-        path = os.path.join(outdir, f"{model.name}.py")
-        before = _stamp(path)
-        path = build_if_changed(model, outdir, **kwargs)
-        if before is not None and _stamp(path) == before:
-            print(f"{path} is up to date (--force writes it again)")
-        else:
-            print(f"wrote {path}")
-
-
-def _stamp(path):
-    try:
-        st = os.stat(path)
-    except OSError:
-        return None
-    return st.st_mtime_ns, st.st_size
+        path, written = update_module(model, outdir, **kwargs)
+        print(f"wrote {path}" if written else f"{path} is up to date (--force writes it again)")
 
 
 def cmd_equations(args):

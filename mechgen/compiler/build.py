@@ -56,13 +56,18 @@ def build_if_changed(model, outdir, **kwargs) -> str:
     A model unchanged since the module was written (the same build fingerprint,
     mechgen.compiler.fingerprint) is not even rendered again; otherwise the module is
     rendered and written only where its text differs."""
+    return update_module(model, outdir, **kwargs)[0]
+
+
+def update_module(model, outdir, **kwargs) -> tuple[str, bool]:
+    """build_if_changed, and whether it wrote the file: (path, written)."""
     path = os.path.join(outdir, f"{model.name}.py")
     try:
         digest = fingerprint(model, **kwargs)
     except Exception:  # noqa: BLE001 - a model the digest cannot read: render it
         digest = None
     if digest is not None and up_to_date(path, digest):
-        return path
+        return path, False
     from .render import render
     text = render(model, **kwargs)
     try:
@@ -74,4 +79,4 @@ def build_if_changed(model, outdir, **kwargs) -> str:
         write_module(text, path)
     if digest is not None:
         record(path, digest, text)
-    return path
+    return path, not same
