@@ -135,7 +135,7 @@ def _best(fn, rounds):
 
 
 def measure(designs=1_000_000, times=1000, sample=2000, rounds=3, threads=None,
-            max_registers=None):
+            max_registers=None, level="position"):
     """The comparison as a dict (see the module docstring); None without a GPU."""
     import mechgen
     from mechgen.runtime.cuda import design_status, quantity_slots, run_table_cuda, simulated
@@ -150,7 +150,7 @@ def measure(designs=1_000_000, times=1000, sample=2000, rounds=3, threads=None,
     tpb = threads or (8 if simulated() else 128)
 
     def gen(PP=P):
-        return run_table_cuda(mech, ts, PP, q0, 0, mech.tol, mech.maxit, slots,
+        return run_table_cuda(mech, ts, PP, q0, level, mech.tol, mech.maxit, slots,
                               threads=tpb, max_registers=max_registers)
 
     def hand(PP=P):
@@ -160,7 +160,7 @@ def measure(designs=1_000_000, times=1000, sample=2000, rounds=3, threads=None,
     t0 = time.perf_counter()
     gen(warm)
     # method="full" sends every design to the second kernel: both are compiled before timing
-    run_table_cuda(mech, ts[:5], P[:2], q0, 0, mech.tol, mech.maxit, slots,
+    run_table_cuda(mech, ts[:5], P[:2], q0, level, mech.tol, mech.maxit, slots,
                    method="full", threads=tpb, max_registers=max_registers)
     compile_gen = time.perf_counter() - t0
     t0 = time.perf_counter()
@@ -175,7 +175,7 @@ def measure(designs=1_000_000, times=1000, sample=2000, rounds=3, threads=None,
     idx = np.unique(np.linspace(0, designs - 1, min(sample, designs)).astype(int))
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")         # designs that fail are counted below
-        tab = mech.sweep(0.0, 1.0, times, params={"longitud": P[idx, 0]}, level="position")
+        tab = mech.sweep(0.0, 1.0, times, params={"longitud": P[idx, 0]}, level=level)
     X4 = tab["X4"]
     ok = tab.done == times
     cpu = np.stack([X4.min(axis=1), X4.max(axis=1)], axis=1)
@@ -186,7 +186,8 @@ def measure(designs=1_000_000, times=1000, sample=2000, rounds=3, threads=None,
         np.asarray(cpu_status).reshape(-1)
     bad_status = int(np.sum((g["done"][idx] != tab.done) | (g["status"][idx] != cpu_status)))
     points = designs * times
-    return dict(designs=designs, times=times, points=points, second_pass=g["second_pass"],
+    return dict(designs=designs, times=times, points=points, level=level,
+                second_pass=g["second_pass"],
                 gen_points_per_s=points / t_gen, hand_points_per_s=points / t_hand,
                 ratio=t_gen / t_hand, gen_s=t_gen, hand_s=t_hand,
                 compile_gen_s=compile_gen, compile_hand_s=compile_hand,
@@ -204,18 +205,21 @@ def main(argv=None):
     ap.add_argument("--threads", type=int, default=None, help="threads per block")
     ap.add_argument("--max-registers", type=int, default=None,
                     help="cap the generated kernel's registers per thread (numba's max_registers)")
+    ap.add_argument("--level", default="position",
+                    help="position, velocity or acceleration (the hand kernel always does all)")
     ap.add_argument("--sim", action="store_true", help="numba's CUDA simulator, tiny sizes")
     args = ap.parse_args(argv)
     designs = args.designs or (4 if args.sim else 1_000_000)
     times = args.times or (40 if args.sim else 1000)
     rounds = 1 if args.sim else args.rounds
-    r = measure(designs, times, args.sample, rounds, args.threads, args.max_registers)
+    r = measure(designs, times, args.sample, rounds, args.threads, args.max_registers,
+                args.level)
     if r is None:
         print("bench_cuda: no CUDA GPU here (numba.cuda.is_available() is False): skipped")
         return 0
     where = "numba's CUDA simulator (timings mean nothing)" if r["simulated"] else "GPU"
     print(f"quick-return, {r['designs']} designs × {r['times']} times = {r['points']:.3g} "
-          f"points, on {where}")
+          f"points, level {r['level']}, on {where}")
     print(f"  generated (backend='cuda'): {r['gen_points_per_s']:.3g} points/s "
           f"({r['gen_s']:.3g} s; {r['second_pass']} designs needed the second kernel; "
           f"compiling both kernels {r['compile_gen_s']:.3g} s)")
