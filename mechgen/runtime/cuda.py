@@ -48,6 +48,11 @@ _TWINS = {}                     # (id(module), max_registers) -> (module, twin n
 
 def require_cuda():
     """numba.cuda, or one clear MechgenError when no GPU can run the kernels."""
+    if not hasattr(np, "row_stack"):
+        # numba-cuda 0.2x registers an overload of np.row_stack, which numpy 2.5 removed:
+        # its first kernel compile then fails (seen on a GPU machine with numba 0.68 and
+        # numpy 2.5.2). row_stack was always an alias of vstack.
+        np.row_stack = np.vstack
     try:
         from numba import cuda
     except Exception as exc:                        # pragma: no cover - numba always has it
