@@ -15,6 +15,7 @@ Symbols are matched by name against the mechanism's coordinates (``X4``), veloci
 """
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import os
@@ -262,6 +263,25 @@ def _sympy_version() -> str:
     return "unknown"
 
 
+@functools.lru_cache(maxsize=1)
+def _builder_digest() -> str:
+    """A digest of the code that writes a module (mechgen's model and compiler packages and
+    the templates): a manifest made by other code (a newer checkout of the same version)
+    is not taken for this one's."""
+    here = os.path.dirname(os.path.abspath(__file__))
+    h = hashlib.sha256()
+    for folder in ("model", "compiler", os.path.join("compiler", "library"),
+                   os.path.join("..", "templates"), "templates"):
+        where = os.path.join(here, folder)
+        if not os.path.isdir(where):
+            continue
+        for name in sorted(os.listdir(where)):
+            if name.endswith((".py", ".j2")):
+                h.update(name.encode())
+                h.update(_digest(os.path.join(where, name)).encode())
+    return h.hexdigest()
+
+
 def _digest(path) -> str | None:
     try:
         with open(path, "rb") as fh:
@@ -277,7 +297,8 @@ def _manifest_path(path, outdir, name, options) -> str:
         text = fh.read()
     key = json.dumps([os.path.abspath(path), hashlib.sha256(text).hexdigest(), name,
                       os.path.abspath(outdir), sorted((k, repr(v)) for k, v in options.items()),
-                      MECHGEN_VERSION, _sympy_version(), sys.version], sort_keys=True)
+                      MECHGEN_VERSION, _builder_digest(), _sympy_version(), sys.version],
+                     sort_keys=True)
     return os.path.join(cache_folder(), "manifests",
                         hashlib.sha256(key.encode()).hexdigest()[:24] + ".json")
 

@@ -66,7 +66,7 @@ def test_a_sign_change_goes_back_to_the_last_evaluated_point(fourbar, N):
     ts = np.linspace(0.0, 1.0, N)
     done, Q, _ = _fast(mech, ts, 0, GUESS)
     assert 0.8 * CROSS < ts[done - 1] < CROSS
-    det = [mech.module.jacobian_det(Q[k], ts[k], mech.p) for k in range(done)]
+    det = [mech.module.jacobian_det(Q[k], ts[k], mech.p, np.zeros(2)) for k in range(done)]
     assert np.all(np.sign(det) == np.sign(det[0]))
 
 

@@ -21,11 +21,15 @@ SINGULAR = 2           # status: Φ_q lost rank, the derivatives are not determi
 class LinearCode:
     """The forward substitution block by block: per block (statements, unknowns), the
     symbols standing for Φ_q's entries (``_j<i>_<j>``) and the right sides (``_n<i>``,
-    ``_g<i>``), and the unknowns that come out constant ({symbol: value})."""
+    ``_g<i>``), the unknowns that come out constant ({symbol: value}) and each block's
+    determinant (a symbol or expression; None where it is a constant: its sign never
+    changes), which the fast sweep watches (a block of three or more unknowns has one only
+    when asked for: ``dets``)."""
     blocks: tuple
     jsym: dict
     rsym: dict
     constants: dict
+    dets: tuple = ()
 
 
 def _rhs_symbols(eq, order):
@@ -52,13 +56,15 @@ def linear_blocks(plan, eq, order, known=None) -> LinearCode:
     return _LAST[order]
 
 
-def linear_code(plan, eq, order, known=None) -> LinearCode:
+def linear_code(plan, eq, order, known=None, dets=False) -> LinearCode:
     """The block forward substitution for Φ_q x = rhs (ν for order 1, γ for order 2).
     Unknowns that come out as constants (``X2d = 0``) are substituted forward so that
     nothing is multiplied by a known zero; only constants found here are used, so it stays
-    exact for any (q, q̇) it is given. ``known``: rows of the right side known constant."""
+    exact for any (q, q̇) it is given. ``known``: rows of the right side known constant.
+    ``dets``: a block of three or more unknowns also takes its determinant from its
+    elimination (``_det<row> = _diag_product(_A)``)."""
     xs = list(eq.qd if order == 1 else eq.qdd)
-    jsym, consts, out = {}, {}, []
+    jsym, consts, out, block_dets = {}, {}, [], []
     for (i, j), x in eq.nonzeros.items():
         jsym[i, j] = x if x.is_number else sym(f"_j{i}_{j}")
     cols = eq.row_columns
@@ -81,6 +87,7 @@ def linear_code(plan, eq, order, known=None) -> LinearCode:
             a, x = A[0][0], xs[b.vars[0]]
             if not a.is_number:
                 body.append(Guard(a, sp.Float(SING_RTOL) * scale[0], SINGULAR))
+            block_dets.append(None if a.is_number else a)
             value = bvec[0] / a
             if value.is_number:
                 consts[x] = value
@@ -89,6 +96,7 @@ def linear_code(plan, eq, order, known=None) -> LinearCode:
             det = sym(f"_det{b.rows[0]}")
             body.append(Assign(det, A[0][0] * A[1][1] - A[0][1] * A[1][0]))
             body.append(Guard(det, sp.Float(SING_RTOL) * scale[0] * scale[1], SINGULAR))
+            block_dets.append(det)
             body.append(Assign(xs[b.vars[0]], (bvec[0] * A[1][1] - A[0][1] * bvec[1]) / det))
             body.append(Assign(xs[b.vars[1]], (A[0][0] * bvec[1] - A[1][0] * bvec[0]) / det))
         else:
@@ -99,9 +107,15 @@ def linear_code(plan, eq, order, known=None) -> LinearCode:
                 body += [Store(f"_A[{i}, {j}]", A[i][j]) for j in range(k)]
                 body.append(Store(f"_b[{i}]", bs[i]))
             body.append(If(Code(f"_gauss(_A, _b) < {k}"), (Return(SINGULAR),)))
+            if dets:
+                det = sym(f"_det{b.rows[0]}")
+                body.append(Code("{0} = _diag_product(_A)", (det,)))
+                block_dets.append(det)
+            else:
+                block_dets.append(sp.nan)
             body += [Code(f"{{0}} = _b[{i}]", (xs[v],)) for i, v in enumerate(b.vars)]
         out.append((tuple(body), tuple(xs[v] for v in b.vars)))
-    return LinearCode(tuple(out), jsym, rsym, consts)
+    return LinearCode(tuple(out), jsym, rsym, consts, tuple(block_dets))
 
 
 def _guards_and_exprs(body):
@@ -198,11 +212,11 @@ def derivative_code(plan, eq):
     head = linear_head(eq, 1, vbody + abody, vel.jsym, vel.rsym)
     gamma = [Assign(x.target, x.expr.subs(vconst), x.comment)
              for x in linear_head(eq, 2, abody, {}, acc.rsym)]
-    # det Φ_q up to a constant sign: the product of the block pivots (the fast sweep
-    # watches its sign; NaN when a block of three or more unknowns hides its pivot)
-    pivots = [x.value for x in vbody if isinstance(x, Guard)]
-    big = any(b.size > 2 for b in plan.blocks)
-    det = [Store("piv[0]", sp.nan if big else sp.Mul(*pivots), "det Φ_q (up to sign)")]
+    # det Φ_q up to a constant sign (the product of the block determinants) and the
+    # pattern of their signs: the fast sweep watches both (a branch is their signs)
+    vdets = linear_code(plan, eq, 1, dets=True)
+    vbody = [x for piece in vdets.blocks for x in piece[0]]
+    det = branch_code(vdets.dets, "piv")
     tail = []
     for k, (v, a) in enumerate(zip(eq.qd, eq.qdd)):
         if plan.solved[k]:
@@ -221,25 +235,46 @@ def derivatives_sorted_body(plan, eq, code):
             + list(code.tail) + [Return(0)])
 
 
+def branch_code(dets, array):
+    """``array[0] = `` the product of the block determinants ``dets`` (det Φ_q up to a
+    constant sign), ``array[1] = `` the pattern of their signs: the sum of 2**i over the
+    blocks i (constant ones left out, i modulo 52) whose determinant is negative. Along a
+    branch neither changes sign nor pattern; a step to another assembly mode flips at
+    least one block, also where two flips would leave the product's sign as it was."""
+    watched = [d for d in dets if d is not None]
+    st = [Store(f"{array}[0]", sp.Mul(*watched), "det Φ_q (up to sign)"),
+          Code(f"{array}[1] = 0.0  # the pattern of the blocks' signs")]
+    for i, d in enumerate(watched):
+        st.append(Code(f"{array}[1] += {float(2 ** (i % 52))!r} * ({{0}} < 0.0)", (d,)))
+    return st
+
+
 def jacobian_det_body(plan, eq):
     """det Φ_q as the product of the determinants of its diagonal blocks in the solving
     order (equal to det Φ_q up to the constant sign of the permutation): its sign changes
-    exactly where Φ_q loses rank along a branch, which the sweep watches for."""
+    exactly where Φ_q loses rank along a branch, which the sweep watches for. It goes to
+    piv[0] and is returned; piv[1] receives the pattern of the blocks' signs
+    (branch_code)."""
     J = eq.phi_q
     st, factors = [], []
     for b in plan.blocks:
         A = [[J[e, v] for v in b.vars] for e in b.rows]
+        d = sym(f"_det{b.rows[0]}")
         if b.size == 1:
-            factors.append(A[0][0])
+            value = A[0][0]
         elif b.size == 2:
-            factors.append(A[0][0] * A[1][1] - A[0][1] * A[1][0])
+            value = A[0][0] * A[1][1] - A[0][1] * A[1][0]
         else:
-            d = sym(f"_det{b.rows[0]}")
             st.append(Code(f"_A = np.empty(({b.size}, {b.size}))"))
             st += [Store(f"_A[{i}, {j}]", A[i][j]) for i in range(b.size) for j in range(b.size)]
             st.append(Code("{0} = _det(_A)", (d,)))
             factors.append(d)
-    d = sym("_d")
-    st.append(Assign(d, sp.Mul(*factors)))
+            continue
+        if value.is_number:
+            factors.append(None if value != 0 else value)
+        else:
+            st.append(Assign(d, value))
+            factors.append(d)
+    st += branch_code(factors, "piv")
     exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
-    return prologue(eq, exprs) + emit(st, TempNames(), plan.cse) + [Return(d)]
+    return prologue(eq, exprs) + emit(st, TempNames(), plan.cse) + [Code("return piv[0]")]

@@ -5,12 +5,13 @@ written, nor the STATUS columns it does not have (protocol.STATUS_*).
 
 Per point of a sweep with derivatives: a Taylor predictor from the last point's velocity
 and acceleration, the sorted position solve and the combined velocity/acceleration pass,
-then sweep()'s branch test and det Φ_q's sign (the product of the velocity pass's pivots).
+then sweep()'s branch test and the signs of Φ_q's blocks (det Φ_q, the product of the
+velocity pass's block determinants, and the pattern of their signs) at every point.
 A position sweep takes the derivatives at its first two points only (for the Taylor
 predictor), then predicts by the quadratic through its last three points, as sweep()
 does at level 0, and evaluates det Φ_q (jacobian_det) where its sign could have changed:
 every BRANCH_DET_EVERY-th point, after a hard solve, and where its rate of change since
-the last evaluation says it could reach zero (sweep()'s rule). A sign change sends the
+the last evaluation says it could reach zero (sweep()'s rule). A block's sign change sends the
 sweep back to the point evaluated last: the function then returns the count of points
 up to that one, and sweep() goes on from it.
 
@@ -115,13 +116,14 @@ def _position_det():
     due = ("k < 2 or k + 1 - _sw_good >= BRANCH_DET_EVERY or info[INFO_ITERATIONS] > 2 or "
            "abs(_sw_det) <= 8.0 * _sw_rate * abs(t - _sw_tk)")
     return If(Code(due), (
-        Code("_sw_d = jacobian_det(q, t, p)"),
+        Code("_sw_d = jacobian_det(q, t, p, piv)"),
         If(Code("k > 0"), (
-            If(Code("_sw_d * _sw_det <= 0.0"), (Code("return _sw_good"),),
-               tail="      # a sign change: sweep() goes on from the last evaluated"),
+            If(Code("not _sw_d * _sw_det > 0.0 or piv[1] != _sw_sig"), (Code("return _sw_good"),),
+               tail="      # a block's sign changed: sweep() goes on from the last evaluated"),
             If(Code("t != _sw_tk"), (
                 Code("_sw_rate = abs(_sw_d - _sw_det) / abs(t - _sw_tk)"),)))),
         Code("_sw_det = _sw_d"),
+        Code("_sw_sig = piv[1]"),
         Code("_sw_good = k + 1"),
         Code("_sw_tk = t")))
 
@@ -158,9 +160,11 @@ def sweep_fast_body(step=None, pairs=()):
             If(Code("_sw_corr > BRANCH_RATIO * _sw_move + BRANCH_ATOL * (1.0 + _sw_size)"),
                (Code("return _sw_good"),)),)),
         If(Code("_sw_all"), (
-            If(Code("k > 0 and piv[0] * _sw_det <= 0.0"), (Code("return _sw_good"),),
-               tail="        # a sign change: a singular point between"),
+            If(Code("k > 0 and (not piv[0] * _sw_det > 0.0 or piv[1] != _sw_sig)"),
+               (Code("return _sw_good"),),
+               tail="        # a block's sign changed: another branch, or a singular point"),
             Code("_sw_det = piv[0]"),
+            Code("_sw_sig = piv[1]"),
             Code("_sw_good = k + 1")),
            orelse=(_position_det(),)),
         Loop(Code("for j in range(N_COORDS)"), (Code("Q[k, j] = q[j]"),)),
@@ -176,7 +180,8 @@ def sweep_fast_body(step=None, pairs=()):
     loop = Loop(Code("for k in range(ts.shape[0])"),
                 tuple([Code("t = ts[k]")] + warm + [_predictors()] + solve + checks + keep))
     last = If(Code("_sw_good < ts.shape[0]"), (
-        If(Code("jacobian_det(q, ts[ts.shape[0] - 1], p) * _sw_det <= 0.0"),
+        If(Code("not jacobian_det(q, ts[ts.shape[0] - 1], p, piv) * _sw_det > 0.0 or "
+                "piv[1] != _sw_sig"),
            (Code("return _sw_good"),)),), tail="     # a position sweep: the last point's det Φ_q")
     return [
         Comment("(the loop's own names start with _sw: the solver code written into it uses "
@@ -185,12 +190,13 @@ def sweep_fast_body(step=None, pairs=()):
              "next"),
         Code("qd = np.zeros(N_COORDS)"),
         Code("qdd = np.zeros(N_COORDS)"),
-        Code("piv = np.zeros(1)"),
+        Code("piv = np.zeros(2)         # det Φ_q and the pattern of its blocks' signs"),
         Code("info = np.zeros(POSITION_INFO_SIZE)"),
         Code("_sw_qp = q0.copy()"),
         Code("_sw_q1 = q0.copy()      # a position sweep: the two points before the last"),
         Code("_sw_q2 = q0.copy()"),
         Code("_sw_det = 0.0"),
+        Code("_sw_sig = 0.0"),
         Code("_sw_good = 0            # points vouched for: accepted, det Φ_q's sign seen up "
              "to there"),
         Code("_sw_tk = 0.0            # a position sweep: the time det Φ_q was evaluated last, "

@@ -34,8 +34,10 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
     the smaller of the predicted and the actual move, (2) at level >= 1, moves as the
     trapezoidal rule on the velocities at both ends says to the same fraction (both plus
     BRANCH_ATOL times the size of q), (3) turns no angle (a coordinate Φ does not see
-    turned by 2π) by more than BRANCH_TURN, and (4) changes det Φ_q by at most half of
-    itself (its sign never, and in small steps near a singular configuration). A jump
+    turned by 2π) by more than BRANCH_TURN, and (4) keeps the sign of every block
+    determinant of Φ_q (det Φ_q's sign and the pattern of its blocks' signs, jacobian_det:
+    tested at every point) and, where det Φ_q could reach zero, changes it by at most half
+    of itself. A jump
     towards another assembly mode, or across a stretch where the mechanism does not
     assemble, fails them: the step is then halved, down to BRANCH_HMIN of the sweep's
     step, and the way is taken in substeps (not recorded) that grow again as they pass.
@@ -69,15 +71,17 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
     ta = 0.0
     tb = 0.0
     tc0 = 0.0
-    da = 0.0                    # det Φ_q at td, the last time it was evaluated, and
-    td = 0.0                    # how fast it changes: it is evaluated again only where
-    rate = 0.0                  # it could have changed sign, after a hard solve (more than
+    db = 0.0                    # det Φ_q at ta (its sign pattern: sa)
+    da = 0.0                    # det Φ_q at td, the last time its change was limited, and
+    td = 0.0                    # how fast it changes: the change is limited again only
+    rate = 0.0                  # where it could reach zero, after a hard solve (more than
     skipped = 0                 # two Newton iterations) and every 16th point
     have = 0                    # configurations reached so far
     va = False                  # qda holds the velocity at ta
     fresh = False               # ta was reached by a jump: predict no motion from it
     info = np.zeros(POSITION_INFO_SIZE)
-    piv = np.zeros(1)
+    piv = np.zeros(2)           # det Φ_q and its blocks' sign pattern at tc (jacobian_det)
+    sa = 0.0                    # the sign pattern at ta
     # the angles: coordinates Φ does not see turned by a full turn
     angle = np.zeros(n, dtype=np.bool_)
     if ts.shape[0] > 1:
@@ -149,9 +153,10 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
                 continue
             # position, velocity, acceleration (written out: a call costs here)
             status = solve_position(q, tc, p, tol, xtol, maxit, method, info)
+            both = False                # det Φ_q and its pattern came with the derivatives
             if SORTED and LEVEL >= 2 and status == OK and level >= 2 and \
                     method != METHOD_FULL and derivatives_sorted(q, tc, p, qd, qdd, piv) == OK:
-                pass                    # both in one pass; else one by one, with fallbacks
+                both = True             # both in one pass; else one by one, with fallbacks
             elif status == OK and level >= 1:
                 status = solve_velocity(q, tc, p, method, qd)
                 if status != OK:
@@ -165,18 +170,25 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
             dc = da
             ok = status == OK
             checked = False
+            seen = both                 # piv holds det Φ_q and its pattern at (q, tc)
+            if ok and have > 0:
+                # the branch: every accepted point keeps the signs of the blocks of Φ_q
+                # (det Φ_q's sign and the pattern of its blocks' signs) of the point before
+                if not both:
+                    jacobian_det(q, tc, p, piv)
+                    seen = True
+                flip = not piv[0] * db > 0.0 or piv[1] != sa
             if ok and have > 0 and (skipped >= 15 or rate == 0.0 or info[INFO_ITERATIONS] > 2 or
                                     abs(da) <= 8.0 * rate * abs(tc - td)):
+                dc = piv[0]
                 if td != ta:            # compare with det Φ_q at the last point reached
-                    d0 = jacobian_det(qa, ta, p)
+                    d0 = db
                     rate = abs(d0 - da) / abs(ta - td)
                     da = d0
                     td = ta
-                dc = jacobian_det(q, tc, p)
                 # det Φ_q may change by half of itself in a step at most: near a singular
                 # configuration the steps shrink, and a sign change is never stepped over
-                flip = (dc > 0.0 and da < 0.0) or (dc < 0.0 and da > 0.0) or \
-                    abs(dc - da) > 0.5 * min(abs(da), abs(dc))
+                flip = flip or abs(dc - da) > 0.5 * min(abs(da), abs(dc))
                 checked = True
             if ok and have > 0 and jump == 0.0:
                 for j in range(n):
@@ -260,6 +272,10 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
             qc, qb, qa, q = qb, qa, q, qc
             qda, qd = qd, qda
             qdda, qdd = qdd, qdda
+            if not seen:                # accepted without the test (first point, a jump or
+                jacobian_det(qa, ta, p, piv)    # a singular configuration passed)
+            db = piv[0]
+            sa = piv[1]
             if checked:
                 if dc != 0.0:
                     if tc != td:
@@ -277,7 +293,7 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
                 have = 1                # step starts from the configuration reached
                 wild = False
             if have == 1:
-                da = jacobian_det(qa, ta, p)
+                da = db
                 td = ta
             if full:
                 break

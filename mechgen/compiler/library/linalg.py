@@ -49,9 +49,11 @@ def _gauss(A, b):
         if not (big > TINY and big > SING_RTOL * amax):
             return c
         if piv != c:
+            # swap the rows and negate the one moved down: the same solution (negation is
+            # exact), and det A stays the product of the pivots (see _diag_product)
             for j in range(k):
-                A[c, j], A[piv, j] = A[piv, j], A[c, j]
-            b[c], b[piv] = b[piv], b[c]
+                A[c, j], A[piv, j] = A[piv, j], -A[c, j]
+            b[c], b[piv] = b[piv], -b[c]
         for r in range(c + 1, k):
             f = A[r, c] / A[c, c]
             for j in range(c, k):
@@ -63,6 +65,16 @@ def _gauss(A, b):
             s -= A[c, j] * b[j]
         b[c] = s / A[c, c]
     return k
+
+
+@njit(cache=True)
+def _diag_product(A):
+    """The product of A's diagonal: after _gauss(A, b), the determinant of the A it was
+    given (the block's det, whose sign the sweeps watch)."""
+    d = 1.0
+    for i in range(A.shape[0]):
+        d *= A[i, i]
+    return d
 
 
 @njit(cache=True)

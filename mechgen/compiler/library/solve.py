@@ -8,7 +8,6 @@ above it stand for what a generated module defines (the toy model's here). The s
 solvers are used only where the module built them: SORTED and LEVEL are constants of the
 module, which numba compiles in, so the branches of a module without them cost nothing.
 """
-import math
 
 import numpy as np
 
@@ -16,8 +15,8 @@ from .linalg import _det, _fp_eliminate, _fp_solve, _consistent, _max_abs
 from .toy import (ACCELERATION, ALL_SOLVED, INFO_ITERATIONS, INFO_METHOD, INFO_RANK,
                   INFO_RESIDUAL, METHOD_FULL, METHOD_SORTED, LEVEL, N_COORDS, N_EQS,
                   NO_CONVERGENCE, NOT_FINITE, OK, PIVOT_RTOL, POINT_PIVOT, POINT_RESIDUAL,
-                  SING_RTOL, SINGULAR, SORTED, VELOCITY, acceleration_sorted, gamma, nu, phi,
-                  phi_q, position_sorted, velocity_sorted, njit)
+                  SING_RTOL, SINGULAR, SORTED, VELOCITY, acceleration_sorted, gamma,
+                  jacobian_det, nu, phi, phi_q, position_sorted, velocity_sorted, njit)
 
 # -- module body: below this line, the text as a generated module holds it --
 # ---------------------------------------------------------------------------------------
@@ -129,8 +128,9 @@ def acceleration_full(q, qd, t, p, out):
 @njit(cache=True, inline="always")
 def derivatives_in_turn(q, t, p, qd, qdd, piv):
     """velocity_sorted(), then acceleration_sorted(): the combined pass of a model whose
-    solvers are too large for one function. piv[0] = NaN (no det Φ_q on the way)."""
-    piv[0] = math.nan
+    solvers are too large for one function. piv: as jacobian_det's (no det Φ_q on the
+    way)."""
+    jacobian_det(q, t, p, piv)
     status = velocity_sorted(q, t, p, qd)
     if status != OK:
         return status

@@ -193,15 +193,17 @@ def acceleration_sorted(q, qd, t, p, out):
 
 
 @njit(cache=True)
-def jacobian_det(q, t, p):
-    """det Φ_q = b cos ph."""
-    return p[1] * math.cos(q[1])
+def jacobian_det(q, t, p, piv):
+    """det Φ_q = b cos ph into piv[0] (returned), the pattern of its sign into piv[1]."""
+    piv[0] = p[1] * math.cos(q[1])
+    piv[1] = 1.0 if piv[0] < 0.0 else 0.0
+    return piv[0]
 
 
 @njit(cache=True, inline=INLINE)
 def derivatives_sorted(q, t, p, qd, qdd, piv):
-    """Velocities and accelerations; piv[0] = det Φ_q."""
-    piv[0] = jacobian_det(q, t, p)
+    """Velocities and accelerations; piv as jacobian_det's."""
+    jacobian_det(q, t, p, piv)
     status = velocity_sorted(q, t, p, qd)
     if status != OK:
         return status
@@ -218,9 +220,10 @@ def sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS):
     qd = np.zeros(N_COORDS)
     qdd = np.zeros(N_COORDS)
     qp = q0.copy()
-    piv = np.zeros(1)
+    piv = np.zeros(2)
     info = np.zeros(POSITION_INFO_SIZE)
     det = 0.0
+    sig = 0.0
     for k in range(ts.shape[0]):
         move = 0.0
         size = 0.0
@@ -240,9 +243,10 @@ def sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS):
         for j in range(N_COORDS):
             corr = max(corr, abs(q[j] - qp[j]))
         if k > 0 and (corr > BRANCH_RATIO * move + BRANCH_ATOL * (1.0 + size) or
-                      piv[0] * det <= 0.0):
+                      not piv[0] * det > 0.0 or piv[1] != sig):
             return k
         det = piv[0]
+        sig = piv[1]
         for j in range(N_COORDS):
             Q[k, j] = q[j]
         if QD.shape[0] > 0:
