@@ -1,0 +1,89 @@
+"""Every accepted point of a sweep lies on the branch of the point before: the signs of
+Φ_q's blocks (det Φ_q and the pattern of its blocks' signs, jacobian_det) are watched at
+every point, whatever the size of the blocks. Checked against closed forms written here."""
+import math
+import textwrap
+import warnings
+
+import numpy as np
+import pytest
+
+import mechgen
+
+# issue 20's reproducer: an offset slider-crank driven by its slider (crank a = 1, rod
+# b = 3.2, slider on y = e = 0.4) pushed to and fro so hard (θ̈ = -913 at the start) that
+# a coarse sweep's predictor lands near the other assembly mode
+A, B, E = 1.0, 3.2, 0.4
+TH0 = 0.5 + math.pi / 2 - 0.5625 * math.pi
+X0 = math.cos(TH0) + math.sqrt(B ** 2 - (math.sin(TH0) - E) ** 2)
+SLIDER_CRANK = f'''
+from mechgen import Model, T, pi, sin
+m = Model("offset_slider_crank_driven")
+g = m.ground("g", points=[(0, 0)])
+crank = m.body("crank", points=[(0, 0), ({A}, 0)], guess=(0, 0, 0.3))
+rod = m.body("rod", points=[(0, 0), ({B}, 0)], guess=(0.95, 0.3, 0.0))
+slider = m.body("slider", points=[(0, 0)], guess=(4.1, {E}, 0))
+m.revolute(g[1], crank[1])
+m.revolute(crank[2], rod[1])
+m.revolute(rod[2], slider[1])
+m.relative_y(slider[1], {E})
+m.rotation_lock(slider, 0)
+m.relative_x(slider[1], {X0!r} - 0.6 * sin(2 * pi * T), name="slider driver")
+'''
+
+
+def crank_angle(t, sign=1.0):
+    """The crank angle on the branch of θ(0) = TH0 (the crank above the rod's line):
+    (x - cos θ)² + (e - sin θ)² = b² is R cos(θ - φ) = C, and θ = φ + acos(C / R)
+    along the whole motion (the slider never reaches a dead centre); sign -1: the other
+    assembly mode, θ = φ - acos(C / R)."""
+    x = X0 - 0.6 * np.sin(2 * np.pi * np.asarray(t))
+    R, phi = np.hypot(x, E), np.arctan2(E, x)
+    C = (x ** 2 + A ** 2 + E ** 2 - B ** 2) / 2
+    return phi + sign * np.arccos(C / R)
+
+
+@pytest.fixture(scope="module")
+def slider_crank(tmp_path_factory):
+    path = tmp_path_factory.mktemp("branch") / "offset_slider_crank.py"
+    path.write_text(textwrap.dedent(SLIDER_CRANK))
+    return mechgen.compile(str(path), outdir=str(path.parent))
+
+
+def test_the_closed_form_is_the_branch_of_the_start():
+    assert crank_angle(0.0) == pytest.approx(TH0, abs=1e-12)
+
+
+@pytest.mark.parametrize("method", [None, "sorted", "full"])
+@pytest.mark.parametrize("level", ["position", "velocity", "acceleration"])
+@pytest.mark.parametrize("n", [5, 9, 17, 40])
+def test_a_coarse_sweep_never_takes_the_other_mode(slider_crank, method, level, n):
+    mech = slider_crank
+    start = mech.solve(0.0, level="acceleration")
+    assert start["Th2"] == pytest.approx(TH0, abs=1e-9)
+    assert start["Th2dd"] == pytest.approx(-913.0, abs=0.5)     # as the issue says
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        sw = mech.sweep(0.0, 0.45, n, level=level, guess=start, method=method)
+    ok = np.asarray(sw.status).reshape(-1) == 0
+    want = crank_angle(sw.t)
+    err = np.abs((sw["Th2"] - want + np.pi) % (2 * np.pi) - np.pi)
+    assert ok.all()                     # every point on the branch is reachable ...
+    assert err.max() < 1e-9             # ... and reached
+
+
+def test_the_fast_pass_reports_the_det_of_a_block_of_four(slider_crank):
+    """derivatives_sorted's piv: det Φ_q (here one Newton block of four unknowns, whose
+    det used to be NaN) equal to jacobian_det's, and the blocks' sign pattern."""
+    mod, p = slider_crank.module, slider_crank.p
+    n = len(slider_crank.coordinates)
+    for t in np.linspace(0.0, 0.45, 7):
+        for sign in (1.0, -1.0):
+            s = slider_crank.solve(t, guess={"Th2": crank_angle(t, sign)})
+            assert s["Th2"] == pytest.approx(crank_angle(t, sign), abs=1e-9)
+            q = np.array([s[c] for c in slider_crank.coordinates])
+            piv, pj = np.zeros(2), np.zeros(2)
+            assert mod.derivatives_sorted(q.copy(), t, p, np.zeros(n), np.zeros(n), piv) == 0
+            det = mod.jacobian_det(q, t, p, pj)
+            assert np.isfinite(piv[0]) and piv[0] == pytest.approx(det, rel=1e-10)
+            assert piv[1] == pj[1] == (1.0 if det < 0 else 0.0)
