@@ -87,3 +87,69 @@ def test_the_fast_pass_reports_the_det_of_a_block_of_four(slider_crank):
             det = mod.jacobian_det(q, t, p, pj)
             assert np.isfinite(piv[0]) and piv[0] == pytest.approx(det, rel=1e-10)
             assert piv[1] == pj[1] == (1.0 if det < 0 else 0.0)
+
+
+SIX_BAR = '''
+from mechgen import Model, T, pi
+m = Model("six_bar_two_dyads")
+g = m.ground("g", points=[(0, 0), (3, 0), (1, 3)])
+crank = m.body("crank", points=[(0, 0), (1, 0)], guess=(0, 0, 0.5))
+coupler = m.body("coupler", points=[(0, 0), (3, 0), (1.5, 0.8)], guess=(0.9, 0.5, 0.3))
+rocker = m.body("rocker", points=[(0, 0), (2.5, 0)], guess=(3, 0, 1.6))
+link5 = m.body("link5", points=[(0, 0), (2.2, 0)], guess=(2.3, 1.9, 1.0))
+link6 = m.body("link6", points=[(0, 0), (2.0, 0)], guess=(1, 3, -0.3))
+m.revolute(g[1], crank[1])
+m.revolute(crank[2], coupler[1])
+m.revolute(g[2], rocker[1])
+m.revolute(coupler[2], rocker[2])
+m.revolute(coupler[3], link5[1])
+m.revolute(g[3], link6[1])
+m.revolute(link5[2], link6[2])
+m.rotation_lock(crank, 0.6 + 2 * pi * T, name="crank angle")
+'''
+
+
+def _circles(p1, r1, p2, r2, sign):
+    """The intersection of circle (p1, r1) and circle (p2, r2) on side ``sign`` of p1→p2."""
+    d = np.subtract(p2, p1)
+    L = math.hypot(*d)
+    a = (r1 ** 2 - r2 ** 2 + L ** 2) / (2 * L)
+    h = math.sqrt(r1 ** 2 - a ** 2)
+    u = d / L
+    return np.array(p1) + a * u + sign * h * np.array([-u[1], u[0]])
+
+
+def _six_bar_pose(th, s1, s2):
+    """Body angles of the six-bar at crank angle th, dyad signs s1 and s2 (closed form)."""
+    A = np.array([math.cos(th), math.sin(th)])
+    C = _circles(A, 3.0, (3.0, 0.0), 2.5, s1)
+    th3 = math.atan2(*(C - A)[::-1])
+    th4 = math.atan2(*(C - (3.0, 0.0))[::-1])
+    P = A + np.array([[math.cos(th3), -math.sin(th3)], [math.sin(th3), math.cos(th3)]]) @ (1.5, 0.8)
+    D = _circles(P, 2.2, (1.0, 3.0), 2.0, s2)
+    th5 = math.atan2(*(D - P)[::-1])
+    th6 = math.atan2(*(D - (1.0, 3.0))[::-1])
+    return {"Th2": th, "X3": A[0], "Y3": A[1], "Th3": th3, "X4": 3.0, "Y4": 0.0, "Th4": th4,
+            "X5": P[0], "Y5": P[1], "Th5": th5, "X6": 1.0, "Y6": 3.0, "Th6": th6}
+
+
+def test_each_assembly_mode_of_a_six_bar_has_its_own_sign_pattern(tmp_path):
+    """Two dyads, four modes: det Φ_q's sign alone cannot tell (+, +) from (-, -), the
+    pattern of the blocks' signs tells all four apart (a jump of both dyads in one step
+    changes it)."""
+    path = tmp_path / "six_bar.py"
+    path.write_text(textwrap.dedent(SIX_BAR))
+    mech = mechgen.compile(str(path), outdir=str(tmp_path))
+    t = 0.1
+    seen = {}
+    for s1 in (1, -1):
+        for s2 in (1, -1):
+            pose = _six_bar_pose(0.6 + 2 * math.pi * t, s1, s2)
+            s = mech.solve(t, guess={k: v for k, v in pose.items() if k in mech.coordinates})
+            for k in ("Th3", "Th4", "Th5", "Th6"):
+                assert abs((s[k] - pose[k] + math.pi) % (2 * math.pi) - math.pi) < 1e-9
+            q = np.array([s[c] for c in mech.coordinates])
+            piv = np.zeros(2)
+            seen[s1, s2] = (np.sign(mech.module.jacobian_det(q, t, mech.p, piv)), piv[1])
+    assert seen[1, 1][0] == seen[-1, -1][0]             # the product alone: the same sign
+    assert len({pattern for _, pattern in seen.values()}) == 4
