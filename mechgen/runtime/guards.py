@@ -61,14 +61,15 @@ def method_index(method) -> int:
     return METHOD[method]
 
 
-def sweep_times(t0, t1, n, times=None) -> np.ndarray:
-    """The times of a sweep: n from t0 to t1 (both ends), or the given ones."""
+def sweep_times(t0, t1, n, times=None, each=8) -> np.ndarray:
+    """The times of a sweep: n from t0 to t1 (both ends), or the given ones. n points of
+    ``each`` bytes (a sweep's point) must fit in memory."""
     if times is None:
         t0, t1 = finite(t0, "t0"), finite(t1, "t1")
         if isinstance(n, bool) or not isinstance(n, (int, np.integer, float)) \
                 or int(n) != n or n < 1:
             raise ValueError(f"n must be a positive integer, got {n!r}")
-        fits(int(n), 8, "sweep points", "n")
+        fits(int(n), each, "sweep points", "n")
         return np.linspace(t0, t1, int(n))
     ts = np.asarray(times, dtype=np.float64)
     if ts.ndim != 1 or not np.all(np.isfinite(ts)):

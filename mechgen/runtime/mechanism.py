@@ -21,7 +21,7 @@ from .assembly import assemblies as find_assemblies
 from .entry import solve_acceleration, solve_point_derivatives, solve_velocity
 from .design import design_table
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
-                     sweep_count, sweep_times)
+                     point_bytes, sweep_count, sweep_times)
 from .tiers import Tiers
 from .locks import convergence_error, singular_error
 from .locks import singularities as find_singularities
@@ -345,15 +345,14 @@ class Mechanism:
         if lev is None:
             lev = self._level(level)
         meth = self._method(method)
-        if times is None and n.__class__ is not bool and isinstance(n, (int, float, np.integer)) \
-                and n > 1 << 20:
-            sweep_count(n, self.n, lev)     # refused before anything is allocated
         shared = times is None and t0.__class__ is float and t1.__class__ is float and \
             n.__class__ is int and n >= 1 and t0 - t0 == 0.0 and t1 - t1 == 0.0
         if shared:
+            if n > 1 << 20:
+                sweep_count(n, self.n, lev)         # refused before anything is allocated
             ts = sweep_times_of(t0, t1, n)          # plain numbers: no further checks
         else:
-            ts = sweep_times(t0, t1, n, times)
+            ts = sweep_times(t0, t1, n, times, each=point_bytes(self.n, lev))
         tol = self.tol if tol is None else positive_tol(tol)
         maxit = self.maxit if maxit is None else positive_count(maxit, "maxit")
         q0 = self.guess.copy() if guess is None else self._start(guess)
