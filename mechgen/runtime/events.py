@@ -235,11 +235,13 @@ class Events(list):
     def __repr__(self):
         if not self:
             return "Events([])"
-        lines = [f"{'kind':>8}  {'t':>16}  {'value':>16}  {'t (interp.)':>12}  "
+        w = max(8, max(len(e.kind) + (0 if e.at == "interior" else len(e.at) + 3)
+                       for e in self))
+        lines = [f"{'kind':>{w}}  {'t':>16}  {'value':>16}  {'t (interp.)':>12}  "
                  f"{'value (interp.)':>15}"]
         for e in self:
             kind = e.kind if e.at == "interior" else f"{e.kind} ({e.at})"
-            lines.append(f"{kind:>8}  {e.t:16.10f}  {e.value:16.10g}  {e.t_interp:12.7g}  "
+            lines.append(f"{kind:>{w}}  {e.t:16.10f}  {e.value:16.10g}  {e.t_interp:12.7g}  "
                          f"{e.value_interp:15.7g}")
         return "\n".join(lines)
 
