@@ -393,3 +393,11 @@ def test_arguments_are_named(qr, call, words):
         call(qr)
     for word in words:
         assert word in str(info.value), (word, str(info.value))
+
+
+@pytest.mark.parametrize("name", ["cmath", "random", "numpy", "numba"])
+def test_a_model_may_not_shadow_a_module(name):
+    """A generated module named cmath would shadow the standard library's (numba imports
+    it again when it loads its cache, and fails): refused at the Model line."""
+    with pytest.raises(mechgen.ModelError, match=f"'{name}' is the name of a Python module"):
+        mechgen.Model(name)

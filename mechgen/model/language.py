@@ -4,6 +4,7 @@ from __future__ import annotations
 import keyword
 import math
 import numbers
+import sys
 import unicodedata
 
 import sympy as sp
@@ -36,6 +37,9 @@ API_NAMES = frozenset({
 REFUSED = API_NAMES | {"T"} | set(keyword.kwlist)
 
 
+# modules the generated code, numba or mechgen import: a model may not take their names
+_IMPORTED = frozenset({"numpy", "numba", "llvmlite", "scipy", "sympy", "jinja2", "mechgen",
+                       "matplotlib", "mpmath", "dask", "distributed", "pandas"})
 _CREATED = None     # while model.loader runs a file: the list of every Model it creates
 
 
@@ -58,6 +62,10 @@ class Model(CamsMixin, Mech2D, StageMixin):
         if not _is_identifier(name) or keyword.iskeyword(name):
             raise ModelError(f"Model name {name!r} must be a Python identifier that is not a "
                              "keyword (it names the generated module)")
+        if name in getattr(sys, "stdlib_module_names", ()) or name in _IMPORTED:
+            raise ModelError(f"Model name {name!r} is the name of a Python module (the "
+                             "standard library's, or one mechgen and numba import): the "
+                             "generated module would shadow it; choose another name")
         self.name = name
         self.doc = ""
         self.params: dict[str, tuple[sp.Symbol, float]] = {}

@@ -68,12 +68,13 @@ def load_models(path: str) -> list[Model]:
     except BaseException as exc:  # a model file that raises: name its line
         raise ModelError(f"the model file raised {type(exc).__name__}: {exc}",
                          where=_line_in(path, exc)) from None
-    _refuse_twins(created)
     models, seen = [], set()
     for value in namespace.values():
         if isinstance(value, Model) and id(value) not in seen:
             seen.add(id(value))
             models.append(value)
+    # those it created (kept or not) and those it holds (an imported one included)
+    _refuse_twins(created + [m for m in models if all(m is not c for c in created)])
     if not models:
         raise ModelError("the file defines no mechgen.Model at module level", where=path)
     doc = namespace.get("__doc__")
