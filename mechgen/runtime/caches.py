@@ -18,6 +18,7 @@ numpy-free; numba is imported only to locate its cache folder.
 from __future__ import annotations
 
 import atexit
+import glob
 import hashlib
 import json
 import os
@@ -163,6 +164,13 @@ def check(path: str, digest: str) -> list:
                 pass
             current.pop(name, None)
     if removed:
+        # the tiers' mark (runtime.tiers) says the cache is complete: no longer
+        marks = os.path.join(glob.escape(state_dir(path)), f"{glob.escape(stem)}-*.compiled")
+        for mark in glob.glob(marks):
+            try:
+                os.remove(mark)
+            except OSError:
+                pass
         warnings.warn(f"numba's cache of {path} was damaged ({', '.join(sorted(removed))}): "
                       "deleted; those functions compile again", RuntimeWarning, stacklevel=3)
     if current != sums:
