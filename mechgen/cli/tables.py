@@ -8,6 +8,7 @@ import numpy as np
 
 from ..errors import MechgenError
 from ..protocol import LEVELS
+from ..runtime.guards import fits, point_bytes
 from ..runtime.quantity import column_names
 
 
@@ -17,6 +18,7 @@ def times(t0, t1, n) -> np.ndarray:
     round-off (0.15000000000000002), that shorter decimal (0.15)."""
     if n < 1:
         raise MechgenError(f"n must be a positive integer, got {n}")
+    fits(n, point_bytes(1, 0), "sweep points", "-n")    # before any allocation
     if n == 1:
         return np.array([float(t0)])
     out = np.empty(n)

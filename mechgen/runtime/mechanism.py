@@ -21,7 +21,7 @@ from .assembly import assemblies as find_assemblies
 from .entry import solve_acceleration, solve_point_derivatives, solve_velocity
 from .design import design_table
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
-                     sweep_times)
+                     point_bytes, sweep_count, sweep_times)
 from .tiers import Tiers
 from .locks import convergence_error, singular_error
 from .locks import singularities as find_singularities
@@ -147,7 +147,11 @@ class Mechanism:
                                      f"(coordinates: {', '.join(self.coordinates)})")
                 base[self._index[name]] = finite(value, f"guess for {name}")
             return base
-        arr = np.asarray(guess, dtype=np.float64)
+        try:
+            arr = np.asarray(guess, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"guess must be a dict of coordinates, a Solution or an array of "
+                             f"{self.n} numbers, got {_short(guess)}") from None
         if arr.shape != (self.n,):
             raise ValueError(f"guess must be a dict of coordinates or an array of shape ({self.n},), "
                              f"got shape {arr.shape}")
@@ -344,9 +348,11 @@ class Mechanism:
         shared = times is None and t0.__class__ is float and t1.__class__ is float and \
             n.__class__ is int and n >= 1 and t0 - t0 == 0.0 and t1 - t1 == 0.0
         if shared:
+            if n > 1 << 20:
+                sweep_count(n, self.n, lev)         # refused before anything is allocated
             ts = sweep_times_of(t0, t1, n)          # plain numbers: no further checks
         else:
-            ts = sweep_times(t0, t1, n, times)
+            ts = sweep_times(t0, t1, n, times, each=point_bytes(self.n, lev))
         tol = self.tol if tol is None else positive_tol(tol)
         maxit = self.maxit if maxit is None else positive_count(maxit, "maxit")
         q0 = self.guess.copy() if guess is None else self._start(guess)
@@ -426,3 +432,8 @@ class Mechanism:
         fn = (self.module.outputs, self.module.outputs_d, self.module.outputs_dd)[order]
         fn(q, z if qd is None else qd, z if qdd is None else qdd, float(t), self.p, out)
         return out
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
