@@ -48,6 +48,21 @@ def test_velocities_and_accelerations_at_015(qr):
         assert abs(s[name]) < 1e-12
 
 
+def test_velocities_left_by_the_velocity_table(qr):
+    """Section (7) prints SetGuess[] after veltab = SolveMech[postab, Solution->Velocity]
+    (postab = SolveMech[{0,1},11]): T -> 1., the guessed positions, and the velocities of
+    the table's last point, T = 1: Th2d -> 6.28319, Th3d -> 1.6632 (1.66320 to 6 digits),
+    X4d -> -8.88405, the others 0."""
+    sw = qr.sweep(0.0, 1.0, 11, level="velocity")
+    assert sw.t[-1] == 1.0
+    assert close(sw["Th2d"][-1], 6.28319) and close(sw["Th3d"][-1], 1.66320)
+    assert close(sw["X4d"][-1], -8.88405)
+    for name in ("X2d", "Y2d", "X3d", "Y3d", "Y4d", "Th4d"):
+        assert abs(sw[name][-1]) < 1e-12
+    s = qr.solve(1.0, level="velocity")                   # the same point, solved alone
+    assert close(s["Th3d"], 1.66320) and close(s["X4d"], -8.88405)
+
+
 def test_sweep_matches_seed(qr):
     sw = qr.sweep(0.0, 1.0, 20)            # SolveMech[{0, 1}, 20]: 20 times, both ends
     assert len(sw) == 20 and sw.t[0] == 0.0 and sw.t[-1] == 1.0
