@@ -74,14 +74,9 @@ def test_reductions_equal_the_full_tables(qr, serial, workers):
 
 
 def quick_return_x4(t, L):
-    """The slider's X4 in closed form (40 digits): the crank pin P = (L cos 2πt, 5 + L sin 2πt)
-    sets the lever's direction P/|P|; its end C = 9 P/|P|; the slider on y = 10 lies 5 from C,
-    on the side of larger x (the seed's assembly)."""
-    import mpmath as mp
-    th = 2 * mp.pi * t
-    px, py = L * mp.cos(th), 5 + L * mp.sin(th)
-    r = mp.hypot(px, py)
-    return 9 * px / r + mp.sqrt(25 - (10 - 9 * py / r) ** 2)
+    """The slider's X4 in closed form (tests/closed_forms.py) with the crank length L."""
+    from closed_forms import quick_return
+    return quick_return(t, longitud=L)[6]
 
 
 def closed_form_extreme(L, t0):

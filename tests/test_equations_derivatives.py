@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 import sympy as sp
 
+from closed_forms import motion, quick_return
 from conftest import example_model
 from mechgen import Line, Model, T, cos, sin
 
@@ -70,35 +71,12 @@ def test_the_coupled_model_has_mixed_time_terms():
 
 
 # -- the generated module's ν, γ and solves against closed forms (mpmath) --------------------
-def quick_return_exact(t):
-    """The seed's quick-return (longitud 3, velocidad 2π, anguloI 0) in closed form: the crank
-    pin P = (3 cos θ, 5 + 3 sin θ), θ = 2πT; the lever through the origin and P (its end
-    9 P/|P|); the slider on y = 10 at 5 from the lever's end, on the side of larger x."""
-    import mpmath as mp
-    th = 2 * mp.pi * t
-    px, py = 3 * mp.cos(th), 5 + 3 * mp.sin(th)
-    r = mp.hypot(px, py)
-    x4 = 9 * px / r + mp.sqrt(25 - (10 - 9 * py / r) ** 2)
-    return [0, 5, th, 0, 0, mp.atan2(-px, py), x4, 10, 0]
-
-
 def coupled_exact(t, amp=0.5):
     """coupled_model() in closed form: the crank about the origin at the driven angle, the
     slider on the x axis where its constraint puts it."""
     import mpmath as mp
     th = mp.mpf("0.3") + amp * mp.sin(2 * t)
     return [0, 0, th, 3 * mp.cos(th) + mp.mpf("0.5") * mp.sin(t) * th, 0, 0]
-
-
-def exact_motion(fn, t):
-    """q, q̇, q̈ at t from a closed form, differentiated by mpmath at 30 digits."""
-    import mpmath as mp
-    with mp.workdps(30):
-        tt = mp.mpf(t)
-        n = len(fn(tt))
-        comp = [lambda u, k=k: fn(u)[k] for k in range(n)]
-        return tuple(np.array([float(mp.diff(f, tt, order)) for f in comp])
-                     for order in (0, 1, 2))
 
 
 @pytest.fixture(scope="module")
@@ -110,7 +88,7 @@ def coupled_mech(tmp_path_factory):
                            tier="python")
 
 
-CASES = {"quick_return": (quick_return_exact, (0.1, 0.15, 0.37, 0.62, 0.9)),
+CASES = {"quick_return": (quick_return, (0.1, 0.15, 0.37, 0.62, 0.9)),
          "coupled": (coupled_exact, (0.0, 0.4, 1.1, 2.3))}
 
 
@@ -130,7 +108,7 @@ def test_module_nu_gamma_and_solves_against_the_closed_form(name, qr, coupled_me
     mod, p, n = mech.module, mech.p, len(mech.coordinates)
     angles = np.array([c.startswith("Th") for c in mech.coordinates])
     for t in times:
-        q, qd, qdd = exact_motion(fn, t)
+        q, qd, qdd = motion(fn, t)
         phi, J, nu, gamma = np.zeros(n), np.zeros((n, n)), np.zeros(n), np.zeros(n)
         mod.phi(q, t, p, phi)
         mod.phi_q(q, t, p, J)
@@ -158,7 +136,7 @@ def test_a_gamma_without_its_time_terms_would_not_pass(coupled_mech):
                     (-phi_q_qd).subs(dict(zip(eq.params, [0.5]))), "numpy")
     n = len(eq.q)
     for t in (0.0, 0.4, 1.1):
-        q, qd, qdd = exact_motion(coupled_exact, t)
+        q, qd, qdd = motion(coupled_exact, t)
         J, gamma = np.zeros((n, n)), np.zeros(n)
         coupled_mech.module.phi_q(q, t, coupled_mech.p, J)
         coupled_mech.module.gamma(q, qd, t, coupled_mech.p, gamma)
