@@ -189,7 +189,7 @@ def test_command_line_design_table(qr, tmp_path, capsys):
 # -- dask: one LocalCluster of two worker processes for the module ------------------------------
 @pytest.fixture(scope="module")
 def client():
-    distributed = pytest.importorskip("distributed")
+    import distributed                   # in the test extra: never skipped
     cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                        dashboard_address=None)
     cl = distributed.Client(cluster)
