@@ -7,16 +7,17 @@ import mpmath as mp
 import numpy as np
 
 
-def quick_return(t, longitud=3, velocidad=None, anguloI=0):
+def quick_return(t, longitud=3, velocidad=None, anguloI=0, side=1):
     """examples/quick_return.py (seed 001, crank-driven) at T = t: the crank pin
     P = (L cos θ, 5 + L sin θ), θ = velocidad·T + anguloI, about the pivot (0, 5); the lever
     (colisa) about the origin through P, its end 9 P/|P|; the slider on y = 10 at 5 from
-    the lever's end, on the side of larger x (the seed's assembly mode)."""
+    the lever's end, on the side of larger x (side=1: the seed's assembly mode) or of
+    smaller x (side=-1: the other)."""
     velocidad = 2 * mp.pi if velocidad is None else velocidad
     th = velocidad * t + anguloI
     px, py = longitud * mp.cos(th), 5 + longitud * mp.sin(th)
     r = mp.hypot(px, py)
-    x4 = 9 * px / r + mp.sqrt(25 - (10 - 9 * py / r) ** 2)
+    x4 = 9 * px / r + side * mp.sqrt(25 - (10 - 9 * py / r) ** 2)
     return [0, 5, th, 0, 0, mp.atan2(-px, py), x4, 10, 0]
 
 
