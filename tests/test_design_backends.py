@@ -160,6 +160,11 @@ def test_optimize_a_stroke(qr):
     assert best.rejected > 0 and best.evaluated == best.rejected + sum(seen)
     ev = best.mechanism.sweep(0.0, 1.0, 60, level="velocity").extrema("X4")
     assert ev.maxima.value[0] - ev.minima.value[0] == pytest.approx(8.0, abs=1e-8)
+    # and in the closed form: the crank length found gives the slider a stroke of 8
+    L = best.params["longitud"]
+    lo = closed_form_extreme(L, ev.minima.t[0])[1]
+    hi = closed_form_extreme(L, ev.maxima.t[0])[1]
+    assert hi - lo == pytest.approx(8.0, abs=1e-8)
     assert best.params["longitud"] < 5.0 and best.seconds > 0 and "designs evaluated" in repr(best)
     with pytest.raises(ValueError, match="low < high"):
         qr.optimize(objective, bounds={"longitud": (2.0, 1.0)}, t0=0, t1=1, n=10)
