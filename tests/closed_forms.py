@@ -34,9 +34,10 @@ def motion(fn, t, dps=30):
 def slider_driven_configurations(t, centro=4.13931, amplitud=5.40447, longitud=3.0):
     """Every configuration of examples/quick_return_slider.py at T = t, as (Th2, Th3, X4)
     with the angles in (−π, π]: the slider at X4 = centro + amplitud sin 2πT on y = 10;
-    the lever's end E = 9 (−sin φ, cos φ) lies 5 from it, so 18 X4 sin φ − 180 cos φ =
-    −156 − X4² (two φ at most); the crank pin, on the lever's line at s (−sin φ, cos φ), lies
-    L from the pivot (0, 5): s² − 10 s cos φ + 25 − L² = 0 (two s at most)."""
+    the lever's end E = 9 (−sin φ, cos φ) lies 5 from it, so
+    18 X4 sin φ − 180 cos φ = −156 − X4² (two φ at most); the crank pin, on the lever's
+    line at s (−sin φ, cos φ), lies L from the pivot (0, 5): s² − 10 s cos φ + 25 − L² = 0
+    (two s at most)."""
     x4 = centro + amplitud * math.sin(2 * math.pi * t)
     a, b, c = 18 * x4, -180.0, -156.0 - x4 ** 2
     R, beta = math.hypot(a, b), math.atan2(b, a)         # a sin φ + b cos φ = R sin(φ + β)

@@ -161,7 +161,8 @@ def contract():
     import math
     import mechgen
     mech = mechgen.load(os.path.join(ROOT, "generated", "quick_return.py"))
-    span, params = (0.0, 1.0, 8), {"longitud": [1.0, 2.25, 3.5, 6.0], "velocidad": [2 * math.pi, 3.0]}
+    span = (0.0, 1.0, 8)
+    params = {"longitud": [1.0, 2.25, 3.5, 6.0], "velocidad": [2 * math.pi, 3.0]}
     cpu = _cpu_table(mech, span, params, "velocity", on_fail="ignore")
     gpu = _cpu_table(mech, span, params, "velocity", on_fail="ignore", backend="cuda")
     nt = len(cpu.t)
