@@ -240,9 +240,6 @@ def test_random_slider_cranks_match_closed_form(mechs, params, sigma):
     COUNTS["slider-cranks"] += 1
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="issue 20: a sweep near a toggle changes assembly mode with status OK "
-                          "(a = 1, b = 1.0001, e = 0); remove this mark with the fix")
 @SETTINGS
 @given(params=slider_cranks(near=True), sigma=st.sampled_from([1.0, -1.0]))
 def test_random_slider_cranks_near_a_toggle_match_closed_form(mechs, params, sigma):
