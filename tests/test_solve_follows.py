@@ -331,3 +331,10 @@ def test_cli_solve_and_draw_follow_the_motion(geared_file, tmp_path, monkeypatch
     assert main(["draw", geared_file, "-t", str(t), "-o", str(png),
                  "--outdir", str(tmp_path)]) == 0
     assert png.exists() and calls == [None]
+
+
+def test_a_time_too_far_from_the_guess_is_refused_before_any_work(fourbar_mech):
+    mech = fourbar_mech.with_params()
+    with pytest.raises(ValueError, match=r"solve\(t=1000000\).*farther.*guess near t"):
+        mech.solve(1e6)
+    assert mech._path is None or mech._path.count == {1: 0, -1: 0}

@@ -21,7 +21,7 @@ import warnings
 import numpy as np
 
 from ..errors import BranchJumpWarning, SolveError
-from ..protocol import (JUMP, LEVEL, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE, STATUS_CODE,
+from ..protocol import (JUMP, LEVEL, METHOD, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE, STATUS_CODE,
                         STATUS_COLUMNS, THROUGH_SINGULAR)
 from .entry import solve_point
 from .locks import convergence_error
@@ -29,18 +29,25 @@ from .sweeping import failure, no_rows
 
 CELL = 1.0 / 16.0       # time between the configurations kept on the way (a 16th of a
                         # turn of a driver at one turn per unit of time)
+MAX_CELLS = 1 << 20     # the farthest a solve follows: 65,536 units of time from the guess
+CHUNK = 4096            # cells solved by one call of the careful sweep
 _POSITION = LEVEL["position"]
+_NAMES = {index: name for name, index in METHOD.items()}
 
 
 class Path:
     """The configurations reached from one guess: at t0 (``q0``) and every CELL of time
-    on either side of it, as far as solves have gone (``ahead[k]`` at t0 + (k+1) CELL,
-    ``behind[k]`` at t0 - (k+1) CELL), and the times of singular configurations passed."""
-    __slots__ = ("key", "t0", "q0", "ahead", "behind", "crossings")
+    on either side of it, as far as solves have gone (row k - 1 of ``side[+1]`` at
+    t0 + k CELL, of ``side[-1]`` at t0 - k CELL; ``count[sign]`` rows hold), and the
+    times of singular configurations passed."""
+    __slots__ = ("key", "t0", "q0", "side", "count", "crossings")
 
     def __init__(self, key, t0, q0):
         self.key, self.t0, self.q0 = key, t0, q0
-        self.ahead, self.behind, self.crossings = [], [], []
+        n = q0.shape[0]
+        self.side = {1: np.empty((16, n)), -1: np.empty((16, n))}
+        self.count = {1: 0, -1: 0}
+        self.crossings = []
 
     def cell_time(self, k) -> float:
         """The time of cell k (0: t0; k > 0 ahead, k < 0 behind)."""
@@ -49,9 +56,18 @@ class Path:
     def cell(self, k):
         if k == 0:
             return self.q0
-        side = self.ahead if k > 0 else self.behind
-        return side[abs(k) - 1]
+        return self.side[1 if k > 0 else -1][abs(k) - 1]
 
+    def keep(self, sign, rows):
+        """Append configurations (rows of an array) to a side, growing it as needed."""
+        have, arr = self.count[sign], self.side[sign]
+        need = have + rows.shape[0]
+        if need > arr.shape[0]:
+            grown = np.empty((max(need, 2 * arr.shape[0]), arr.shape[1]))
+            grown[:have] = arr[:have]
+            arr = self.side[sign] = grown
+        arr[have:need] = rows
+        self.count[sign] = need
 
 
 def _key(mech, tol, maxit, meth):
@@ -89,7 +105,7 @@ def _start(mech, tol, maxit, meth) -> Path:
 
 def _segment(mech, ts, q0, tol, maxit, meth):
     """The careful sweep over ts from q0 (a configuration at ts[0]): (Q, count solved,
-    status rows, report)."""
+    status rows, report). A module with stages goes two times at a time (the ends)."""
     N, n = ts.shape[0], mech.n
     Q = np.empty((N, n))
     S = np.zeros((N, STATUS_COLUMNS), dtype=np.int16)
@@ -99,10 +115,11 @@ def _segment(mech, ts, q0, tol, maxit, meth):
         last = mech._last
         try:
             sw = mech.sweep(float(ts[0]), float(ts[-1]), N, times=ts, guess=q0,
-                            level="position", method=meth, tol=tol, maxit=maxit)
+                            level="position", method=_NAMES[meth], tol=tol,
+                            maxit=maxit)
         finally:
             mech._last = last
-        return sw.Q[[0, -1]] if N == 2 else sw.Q, N, S, report
+        return sw.Q[[0, -1]], N, S[[0, -1]], report      # (two times: the ends)
     done = mech.module.sweep(ts, q0.copy(), mech.p, _POSITION, tol, mech.xtol, maxit, meth,
                              Q, no_rows(n), no_rows(n), S, report)
     return Q, done, S, report
@@ -115,13 +132,12 @@ def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth):
     code = S[:done, STATUS_CODE]
     if done == ts.shape[0] and not code.any():        # the usual case, in short
         if sign:
-            (path.ahead if sign > 0 else path.behind).extend(Q[1:].copy())
+            path.keep(sign, Q[1:])
         return Q[-1]
     jumped = np.flatnonzero(code == JUMP)
     ok = done if not jumped.size else int(jumped[0])
-    if sign:
-        side = path.ahead if sign > 0 else path.behind
-        side.extend(Q[k].copy() for k in range(1, ok))
+    if sign and ok > 1:
+        path.keep(sign, Q[1:ok])
     for k in np.flatnonzero(code[:ok] == THROUGH_SINGULAR):
         if float(ts[k]) not in path.crossings:
             path.crossings.append(float(ts[k]))
@@ -151,13 +167,22 @@ def follow(mech, t, tol, maxit, meth) -> np.ndarray:
         return path.q0.copy()
     sign = 1 if t > t0 else -1
     m = int(math.floor(abs(t - t0) / CELL))     # the last cell between t0 and t
+    if m > MAX_CELLS:
+        raise ValueError(
+            f"solve(t={t:.10g}): t is {abs(t - t0):.6g} from the guess's time t={t0:.10g}, "
+            f"farther than solve(t) follows the motion ({MAX_CELLS * CELL:.0f}); give a "
+            "guess near t (guess=, or set_guess() a configuration at a time near it)")
     while m and abs(path.cell_time(sign * m) - t0) > abs(t - t0):
         m -= 1                                  # (rounding of t0 + m CELL)
-    have = len(path.ahead if sign > 0 else path.behind)
-    if m > have:                                # the cells still missing, in one sweep
-        ks = np.arange(have, m + 1)
-        ts = np.array([path.cell_time(sign * int(k)) for k in ks])
-        _extend(mech, path, ts, path.cell(sign * have), sign, t, tol, maxit, meth)
+    have = path.count[sign]
+    if m > have:                                # the cells still missing, CHUNK at a time
+        mech._tiers.expect(mech, m - have)
+        chunk = 1 if mech.module.__dict__.get("SWITCH_TIMES") else CHUNK
+        while have < m:
+            ks = np.arange(have, min(m, have + chunk) + 1)
+            ts = path.t0 + (sign * ks) * CELL
+            _extend(mech, path, ts, path.cell(sign * have), sign, t, tol, maxit, meth)
+            have = path.count[sign]
     tc = path.cell_time(sign * m)
     qc = path.cell(sign * m)
     if tc == t:
