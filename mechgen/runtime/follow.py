@@ -40,7 +40,7 @@ class Path:
     on either side of it, as far as solves have gone (row k - 1 of ``side[+1]`` at
     t0 + k CELL, of ``side[-1]`` at t0 - k CELL; ``count[sign]`` rows hold), and the
     times of singular configurations passed."""
-    __slots__ = ("key", "t0", "q0", "side", "count", "crossings")
+    __slots__ = ("key", "t0", "q0", "side", "count", "crossings", "step")
 
     def __init__(self, key, t0, q0):
         self.key, self.t0, self.q0 = key, t0, q0
@@ -48,6 +48,7 @@ class Path:
         self.side = {1: np.empty((16, n)), -1: np.empty((16, n))}
         self.count = {1: 0, -1: 0}
         self.crossings = []
+        self.step = None        # the arrays of the last step's sweep (_last_step)
 
     def cell_time(self, k) -> float:
         """The time of cell k (0: t0; k > 0 ahead, k < 0 behind)."""
@@ -110,7 +111,7 @@ def _segment(mech, ts, q0, tol, maxit, meth):
     Q = np.empty((N, n))
     S = np.zeros((N, STATUS_COLUMNS), dtype=np.int16)
     report = np.zeros(REPORT_SIZE)
-    if mech.module.__dict__.get("SWITCH_TIMES"):
+    if getattr(mech.module, "SWITCH_TIMES", ()):
         # stages: Mechanism.sweep runs each stage's piece on its own (runtime.stages)
         last = mech._last
         try:
@@ -156,6 +157,24 @@ def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth):
     return Q[-1]
 
 
+def _last_step(mech, path, tc, qc, t, tol, maxit, meth) -> np.ndarray:
+    """The careful sweep from the cell (tc, qc) to t, in the path's own two-point arrays
+    when nothing is in the way (the cost of a solve once the way is known)."""
+    mod = mech.module
+    if not getattr(mod, "SWITCH_TIMES", ()):
+        if path.step is None:
+            n = mech.n
+            path.step = (np.empty(2), np.empty((2, n)), np.empty((2, STATUS_COLUMNS),
+                         dtype=np.int16), np.empty(REPORT_SIZE), no_rows(n))
+        ts, Q, S, report, none = path.step
+        ts[0], ts[1] = tc, t
+        done = mod.sweep(ts, qc.copy(), mech.p, _POSITION, tol, mech.xtol, maxit, meth,
+                         Q, none, none, S, report)
+        if done == 2 and S[0, STATUS_CODE] == 0 and S[1, STATUS_CODE] == 0:
+            return Q[1].copy()
+    return _extend(mech, path, np.array([tc, t]), qc, 0, t, tol, maxit, meth).copy()
+
+
 def follow(mech, t, tol, maxit, meth) -> np.ndarray:
     """The configuration at t on the assembly mode of the guess, reached by continuation
     from the guess's time (see the module docstring): a position that solves Φ to the
@@ -177,7 +196,7 @@ def follow(mech, t, tol, maxit, meth) -> np.ndarray:
     have = path.count[sign]
     if m > have:                                # the cells still missing, CHUNK at a time
         mech._tiers.expect(mech, m - have)
-        chunk = 1 if mech.module.__dict__.get("SWITCH_TIMES") else CHUNK
+        chunk = 1 if getattr(mech.module, "SWITCH_TIMES", ()) else CHUNK
         while have < m:
             ks = np.arange(have, min(m, have + chunk) + 1)
             ts = path.t0 + (sign * ks) * CELL
@@ -188,7 +207,7 @@ def follow(mech, t, tol, maxit, meth) -> np.ndarray:
     if tc == t:
         q = qc.copy()
     else:
-        q = _extend(mech, path, np.array([tc, t]), qc, 0, t, tol, maxit, meth).copy()
+        q = _last_step(mech, path, tc, qc, t, tol, maxit, meth)
     passed = [c for c in path.crossings if min(t0, t) < c <= max(t0, t)]
     if passed:
         warnings.warn(
