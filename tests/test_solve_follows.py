@@ -338,3 +338,23 @@ def test_a_time_too_far_from_the_guess_is_refused_before_any_work(fourbar_mech):
     with pytest.raises(ValueError, match=r"solve\(t=1000000\).*farther.*guess near t"):
         mech.solve(1e6)
     assert mech._path is None or mech._path.count == {1: 0, -1: 0}
+
+
+def test_an_unsorted_build_keeps_the_mode_too(tmp_path):
+    """A --no-sort build solves by the full Newton alone: an explicit guess off by whole
+    turns, and solve(t) following the motion, stay on the mode."""
+    from conftest import example_model
+    from mechgen.compiler.build import build
+    mech = mechgen.load(build(example_model("fourbar"), str(tmp_path), sort=False),
+                        tier="python")
+    assert not mech.module.SORTED
+    dims = (0.8, 2.5, 2.0, 3.0)
+    rng = np.random.default_rng(7)
+    for t in np.concatenate([[1.25], rng.uniform(-2, 2, size=12)]):
+        for mode in (1, -1):
+            exact = fourbar_closed(dims, math.pi / 3 + TWO_PI * t, mode)
+            guess = exact.copy()
+            guess[FB_ANGLES] = wrap(guess[FB_ANGLES]) + TWO_PI * rng.integers(-1, 2, size=3)
+            assert close(mech.solve(t, guess=guess).q, exact, FB_ANGLES, 0) <= 1e-10
+        assert close(mech.solve(t).q, fourbar_closed(dims, math.pi / 3 + TWO_PI * t, 1),
+                     FB_ANGLES, 0) <= 1e-10
