@@ -358,3 +358,28 @@ def test_an_unsorted_build_keeps_the_mode_too(tmp_path):
             assert close(mech.solve(t, guess=guess).q, exact, FB_ANGLES, 0) <= 1e-10
         assert close(mech.solve(t).q, fourbar_closed(dims, math.pi / 3 + TWO_PI * t, 1),
                      FB_ANGLES, 0) <= 1e-10
+
+
+@pytest.mark.parametrize("code", ["JUMP", "THROUGH_SINGULAR"])
+def test_a_flagged_step_on_the_way_is_said(fourbar_mech, monkeypatch, code):
+    """Where the careful sweep marks a point reached by a jump it could not avoid, the
+    solve raises; a singular configuration passed on the way is a BranchJumpWarning."""
+    from mechgen import protocol
+    from mechgen.errors import BranchJumpWarning
+    mech = fourbar_mech.with_params()
+    real = mech.module.sweep
+
+    def flagged(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, S, report):
+        done = real(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, S, report)
+        S[done - 1, protocol.STATUS_CODE] = getattr(protocol, code)
+        report[protocol.REPORT_JUMP] = 0.5
+        return done
+    monkeypatch.setattr(mech.module, "sweep", flagged)
+    if code == "JUMP":
+        with pytest.raises(SolveError, match=r"solve\(t=0.3\).*could not keep the assembly"):
+            mech.solve(0.3)
+    else:
+        with pytest.warns(BranchJumpWarning, match=r"solve\(t=0.3\).*singular configuration"):
+            s = mech.solve(0.3)
+        exact = fourbar_closed((0.8, 2.5, 2.0, 3.0), math.pi / 3 + TWO_PI * 0.3, 1)
+        assert close(s.q, exact, FB_ANGLES, 0) <= 1e-10
