@@ -40,7 +40,7 @@ class Path:
     on either side of it, as far as solves have gone (row k - 1 of ``side[+1]`` at
     t0 + k CELL, of ``side[-1]`` at t0 - k CELL; ``count[sign]`` rows hold), and the
     times of singular configurations passed."""
-    __slots__ = ("key", "t0", "q0", "side", "count", "crossings", "step")
+    __slots__ = ("key", "t0", "q0", "side", "count", "crossings", "step", "last")
 
     def __init__(self, key, t0, q0):
         self.key, self.t0, self.q0 = key, t0, q0
@@ -49,6 +49,7 @@ class Path:
         self.count = {1: 0, -1: 0}
         self.crossings = []
         self.step = None        # the arrays of the last step's sweep (_last_step)
+        self.last = (None, None)    # the last time solved and its configuration
 
     def cell_time(self, k) -> float:
         """The time of cell k (0: t0; k > 0 ahead, k < 0 behind)."""
@@ -184,6 +185,8 @@ def follow(mech, t, tol, maxit, meth) -> np.ndarray:
     t0 = path.t0
     if t == t0:
         return path.q0.copy()
+    if t == path.last[0]:
+        return path.last[1].copy()
     sign = 1 if t > t0 else -1
     m = int(math.floor(abs(t - t0) / CELL))     # the last cell between t0 and t
     if m > MAX_CELLS:
@@ -215,5 +218,7 @@ def follow(mech, t, tol, maxit, meth) -> np.ndarray:
             f"passes a singular configuration (dead centre, lock or branch point) near "
             f"t={passed[0]:.10g}: there the mechanism may continue in another assembly "
             "mode (mech.singularities locates it)", BranchJumpWarning, stacklevel=3)
+    else:
+        path.last = (t, q.copy())
     return q
 
