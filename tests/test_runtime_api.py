@@ -215,9 +215,15 @@ def test_guards_raise_before_any_jitted_call(spied, call, match):
 
 def test_spy_sees_calls(spied):
     """The spy works: a good solve goes through the generated module."""
-    spied.solve(0.1)
+    spied.solve(0.1, guess=spied.guess)
     # the sorted solver with the checks: the full Newton is not called (nor compiled)
     assert spied.module.calls == ["solve_point_sorted"], spied.module.calls
+    # without a guess: the guess solved at t = 0, the careful sweep to t, the solve at t
+    spied.module.calls.clear()
+    spied.solve(0.1)
+    calls = spied.module.calls
+    assert calls[0] == calls[-1] == "solve_point_sorted" and set(calls) == \
+        {"solve_point_sorted", "sweep"}, calls
 
 
 def test_unknown_names_when_indexing(qr):

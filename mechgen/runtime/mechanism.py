@@ -20,6 +20,7 @@ from ..protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, L
 from .assembly import assemblies as find_assemblies
 from .entry import solve_acceleration, solve_point_derivatives, solve_velocity
 from .design import design_table
+from .follow import follow
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
                      point_bytes, sweep_count, sweep_times)
 from .tiers import Tiers
@@ -70,6 +71,8 @@ class Mechanism:
         if params:
             self.p = self._params_array(params)
         self.guess = np.array(module.GUESS, dtype=np.float64)
+        self.guess_t = 0.0      # the time the guess is a configuration for (see set_guess)
+        self._path = None       # solve(t)'s way from the guess (mechgen.runtime.follow)
         self.tol, self.xtol, self.maxit = float(tol), float(xtol), int(maxit)
         method_index(method)
         self.method = method
@@ -130,7 +133,7 @@ class Mechanism:
                           method=self.method)
         other.p = self._params_array(values)
         other.model, other.symbolic = self.model, self.symbolic
-        other.guess = self.guess.copy()
+        other.guess, other.guess_t = self.guess.copy(), self.guess_t
         return other
 
     # -- guesses ----------------------------------------------------------------------
@@ -159,13 +162,19 @@ class Mechanism:
             raise ValueError("guess holds NaN or infinite values")
         return arr.copy()
 
-    def set_guess(self, guess=None):
+    def set_guess(self, guess=None, t=None):
         """Mech's SetGuess[]: the start of later solves becomes ``guess`` (a dict of
-        coordinates, an array or a Solution), or the model's own guess when None."""
+        coordinates, an array or a Solution), or the model's own guess when None. The
+        guess is a configuration at time ``t``: a Solution's own time, else 0 (the
+        model's guess is one at t = 0); solve(t) follows the motion from there."""
         if guess is not None:
             self.guess = self._start(guess)
         else:
             self.guess = np.array(self.module.GUESS, dtype=np.float64)
+        if t is not None:
+            self.guess_t = finite(t, "t")
+        else:
+            self.guess_t = float(guess.t) if isinstance(guess, Solution) else 0.0
 
     # -- checked arguments ------------------------------------------------------------
     def _level(self, level) -> int:
@@ -182,17 +191,20 @@ class Mechanism:
 
     # -- solving ----------------------------------------------------------------------
     def solve(self, t, guess=None, level="position", method=None, tol=None, maxit=None) -> Solution:
-        """Solve at time t (Mech's SolveMech[t]) starting from the guess (the model's, or
-        set_guess(), with ``guess`` overriding some or all coordinates; a Solution such as
-        ``mech.last`` works too). The result becomes ``last``. Raises ConvergenceError or
-        SingularError rather than returning a configuration that does not satisfy the
-        constraints."""
+        """Solve at time t (Mech's SolveMech[t]). Without ``guess``: the configuration the
+        mechanism reaches by moving from its guess (the model's, a configuration at t = 0,
+        or set_guess()'s at its time) to t, on the assembly mode connected to it
+        (mechgen.runtime.follow); a way blocked by a lock raises, naming where. With
+        ``guess`` (some or all coordinates, or a Solution such as ``mech.last``): Newton
+        from it at t. Angles are taken modulo 2π as the drivers ask. The result becomes
+        ``last``. Raises ConvergenceError or SingularError rather than returning a
+        configuration that does not satisfy the constraints."""
         t = finite(t, "t")
         lev = self._level(level)
         meth = self._method(method)
         tol = self._tol(tol)
         maxit = self._maxit(maxit)
-        q = self._start(guess)
+        q = follow(self, t, tol, maxit, meth) if guess is None else self._start(guess)
         qd, qdd, residual, singular = self._solve_point(t, q, lev, meth, tol, maxit)
         self._report_redundancy(q, t)
         info = self._info
