@@ -55,6 +55,20 @@ def pitch_marker(p, r):
     return p.body.at(p.local[0] + r, p.local[1])
 
 
+def rolling_row(u, psi, total):
+    """(r1 + r2) times the angle from the pitch direction w = u/(r1 + r2) to e_ψ =
+    (cos ψ, sin ψ), in (−π, π]: (r1 + r2) atan2(w × e_ψ, w · e_ψ). Zero exactly where w
+    points along e_ψ, the gears meshed at phase c; where it points against e_ψ (phase
+    c + π (r1 + r2), which u × e_ψ = 0 also allows) the row is ±π (r1 + r2), not 0. The
+    atan2's cut lies there, half a turn of phase from every solution, so Φ is smooth along
+    any motion; at a solution the row's gradient is that of u × e_ψ."""
+    across = u[0] * sp.sin(psi) - u[1] * sp.cos(psi)      # u × e_ψ = |u| sin(ψ − β)
+    along = u[0] * sp.cos(psi) + u[1] * sp.sin(psi)       # u · e_ψ = |u| cos(ψ − β)
+    # the sign of r1 + r2 turns u into w; a number's sign is folded, a parameter's kept
+    side = 1 if total.is_positive else -1 if total.is_negative else total
+    return total * sp.atan2(side * across, side * along)
+
+
 class _Gears(Constraint):
     """Two gears; ``components`` picks the rows ("distance", "rolling")."""
 
@@ -75,7 +89,7 @@ class _Gears(Constraint):
         u = p2.r - p1.r
         psi = (r1 * p1.body.th + r2 * p2.body.th - c) / total
         rows = {"distance": u[0] ** 2 + u[1] ** 2 - total ** 2,
-                "rolling": u[0] * sp.sin(psi) - u[1] * sp.cos(psi)}
+                "rolling": rolling_row(u, psi, total)}
         self.exprs = [rows[k] for k in self.components]
         self.radii = (r1, r2)
         self.drawn = [p1, pitch_marker(p1, r1), p2, pitch_marker(p2, r2)]
