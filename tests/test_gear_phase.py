@@ -260,3 +260,19 @@ def test_a_cam_pivot_shows_its_symbol_and_no_bar_crosses_the_cam(tmp_path):
     arm_tri = tri[(3.0, 3.0)].get_xy()
     assert np.all(arm_tri[:3, 1] <= 3.0 + 1e-12)
     assert not [a for a in d.artists["ground"] if isinstance(a, Polygon) and a.get_zorder() < 1.2]
+
+
+@pytest.mark.parametrize("t", [0.1, 0.55, 0.85])
+def test_quick_return_assemblies_against_closed_form(qr, t):
+    """Seed 001's quick-return: the lever through the crank pin C = (0, 5) + 3 (cos φ,
+    sin φ) ends at 9 C/|C|; the slider on y = 10 lies 5 from it, on either side: two
+    modes, X4 = x ± √(25 − (10 − y)²)."""
+    phi = 2 * math.pi * t
+    C = np.array([3 * math.cos(phi), 5 + 3 * math.sin(phi)])
+    tip = 9 * C / math.hypot(*C)
+    half = math.sqrt(25 - (10 - tip[1]) ** 2)
+    modes = qr.assemblies(t, starts=64)
+    assert sorted(s["X4"] for s in modes) == pytest.approx([tip[0] - half, tip[0] + half],
+                                                           abs=1e-9)
+    for s in modes:
+        assert same_angle(s["Th3"], math.atan2(C[1], C[0]) - math.pi / 2)
