@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ..model.dag import replace
 from ..model.profiles import ProfileFunction
 from .ir import Code, Helper, Store
 from .printer import Local
@@ -27,11 +28,13 @@ def profile_helpers(model, eq, cse=True):
     for con in model.constraints:
         for pt in getattr(con, "points", ()):
             exprs += list(pt.r)
-    out = []
+    out, memos = [], {}
     for cls in used_profiles(exprs):
         args = [Local("_s", real=True)] + [Local(f"_a{k}", real=True)
                                            for k in range(len(cls.params))]
-        expr = cls.diffed().subs(dict(zip((cls.var,) + cls.params, args)))
+        rule = dict(zip((cls.var,) + cls.params, args))
+        memo = memos.setdefault((cls.var,) + cls.params, {})   # shared by x, y, x', ...
+        expr = replace(cls.diffed(), rule, memo)
         shown = ", ".join(["s"] + [p.name for p in cls.params])
         doc = (f"Profile coordinate {cls.base}" + (f", derivative {cls.order}" if cls.order
                                                     else "") + f", of ({shown}).")
