@@ -169,3 +169,37 @@ def test_a_cusp_in_a_piecewise_profile_is_refused_as_before():
             "cam_to_point 2, cam 'cam': the profile 'astroid' has a cusp at s = 0 (its "
             "tangent vanishes or turns back there)")):
         m.cam_to_point(cam, astroid, f[1], contact="s", guess=1.4)
+
+
+# -- the forward-mode code of a profile's derivatives ---------------------------------------
+def _run(statements, values):
+    """The value the statements store in _v, each statement evaluated with lambdify."""
+    from mechgen.compiler.ir import Assign, Store
+    env = dict(values)
+    for st in statements:
+        free = sorted(sp.sympify(st.expr).free_symbols, key=str)
+        v = sp.lambdify(free, st.expr, modules="numpy")(*[env[f] for f in free])
+        if isinstance(st, Assign):
+            env[st.target] = v
+        else:
+            assert isinstance(st, Store) and st.lhs == "_v"
+            return v
+    raise AssertionError("no Store")
+
+
+@pytest.mark.parametrize("k", range(len(PROFILES)))
+def test_forward_mode_derivatives_against_sympys(k):
+    """The statements a module's profile helper is printed from (orders 1..3, one program)
+    against lambdify of sympy's own derivative, at random points and parameters."""
+    from mechgen.compiler.profile_derivatives import Derivatives
+    expr, var = PROFILES[k]
+    params = sorted(sp.sympify(expr).free_symbols - {var}, key=str)
+    rng = np.random.default_rng(11 + k)
+    values = {p: float(v) for p, v in zip(params, rng.uniform(0.5, 2.0, len(params)))}
+    prog, ref = Derivatives(expr, var), expr
+    for order in (1, 2, 3):
+        ref = sympy_diff(ref, var)
+        s = rng.uniform(0.01, 10, 50)
+        want = sp.lambdify([var] + params, ref, modules="numpy")(s, *values.values())
+        got = _run(prog.statements(order), {var: s, **values})
+        assert np.all(np.abs(got - want) <= 1e-11 * (1 + np.abs(want))), order
