@@ -120,6 +120,7 @@ class Derivatives:
 
 
 def _statements(prog, out):
+    """The statements of the operations ``out`` needs, in order."""
     # the operations the result needs, and how often each is read
     reads, stack, need = {}, [out], set()
     while stack:
@@ -140,19 +141,17 @@ def _statements(prog, out):
             for _, c in prog.exprs[s].args:
                 tested |= c.free_symbols
     inline = {s for s in need if reads.get(s, 0) == 1 and s not in tested}
-    value, names, body = {}, {}, []
+    value, body = {}, []
     for sym in prog.order:
         if sym not in need:
             continue
-        e = prog.exprs[sym].xreplace(value)
+        e = prog.exprs[sym].xreplace(value)       # its operands: names or expressions
         if sym in inline or _trivial(e):
             value[sym] = e
         else:
-            names[sym] = Local(f"_u{len(names)}", real=True)
-            body.append(Assign(names[sym], e.xreplace(names)))
-            value[sym] = names[sym]
-    result = value.get(out, out) if out in prog.exprs else out
-    body.append(Store("_v", sp.sympify(result).xreplace(names)))
+            value[sym] = Local(f"_u{len(body)}", real=True)
+            body.append(Assign(value[sym], e))
+    body.append(Store("_v", value.get(out, out)))
     return body
 
 
