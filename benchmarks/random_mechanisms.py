@@ -59,8 +59,8 @@ def main(argv=None):
                      wrongs, args.show)
             counts[(f"{name} (mechanisms)", "right")] += 1
             if args.solves:
-                rc.tally(counts, f"{name}/solve", rc.single_solves(fam, spec, rng, args.solves),
-                         wrongs, args.show)
+                for kind, v in rc.single_solves(fam, spec, rng, args.solves):
+                    rc.tally(counts, f"{name}/solve-{kind}", [v], wrongs, args.show)
             if args.table_every and i % args.table_every == 0:
                 rc.tally(counts, f"{name}/table", rc.run_table(fam, spec, rng, designs=4),
                          wrongs, args.show)

@@ -227,11 +227,16 @@ def reachable(fam, p, t0, ts, sigma):
     return np.array(out)
 
 
-def single_solves(fam, spec, rng, count=4, mech=None):
-    """Single solves at random times of the spec's mechanism: with a guess (its mode at t,
-    angles wrapped to (-pi, pi], moved 2 % of the way to the other mode) the answer is
-    that mode; without one (set_guess(exact start), then solve(t)) it is the mode
-    connected to the start, where no lock window lies between. Returns verdicts."""
+SOLVES = ("guess", "wrapped", "none")
+
+
+def single_solves(fam, spec, rng, count=4, mech=None, kinds=SOLVES):
+    """Single solves at random times t of the spec's mechanism, as (kind, Verdict):
+    "guess": the guess is its mode's exact configuration at t moved 2 % of the way to
+    the nearest other mode, and the answer must be that mode; "wrapped": the same with
+    its angles taken to (-pi, pi] (the same configuration: angles count modulo 2 pi);
+    "none": set_guess(the exact start), then solve(t) without a guess, which must give
+    the mode connected to the start (only times that no lock window separates from it)."""
     p = spec.params
     m = (mech or fam.mech()).with_params(**p)
     per = fam.period(p)
@@ -241,33 +246,35 @@ def single_solves(fam, spec, rng, count=4, mech=None):
     ok = reachable(fam, p, spec.t0, ts, spec.sigma)
     out = []
     for t, connected in zip(ts, ok):
-        for with_guess in (True, False):
-            if not with_guess and not connected:
+        here = fam.exact(p, spec.sigma, np.array([t]), 0)[0][0]
+        if not np.isfinite(here).all():
+            continue
+        others = [fam.exact(p, s, np.array([t]), 0)[0][0] for s in fam.modes()
+                  if s != spec.sigma]
+        gap = min([np.max(np.abs(wrap(o - here, fam.angle_mask))) for o in others
+                   if np.isfinite(o).all()] + [1.0])
+        nudge = 0.02 * min(gap, 0.5) * rng.uniform(-1, 1, here.shape)
+        for kind in kinds:
+            if kind == "none" and not connected:
                 continue
-            here = fam.exact(p, spec.sigma, np.array([t]), 0)[0][0]
-            if not np.isfinite(here).all():
-                continue
-            what = f"{spec} solve({t!r}, guess={'near' if with_guess else 'none'})"
+            what = f"{spec} solve({float(t)!r}, guess={kind})"
             try:
-                if with_guess:
-                    g = wrap(here, fam.angle_mask)
-                    others = [fam.exact(p, s, np.array([t]), 0)[0][0] for s in fam.modes()
-                              if s != spec.sigma]
-                    gap = min([np.max(np.abs(wrap(o - here, fam.angle_mask))) for o in others
-                               if np.isfinite(o).all()] + [1.0])
-                    g = g + 0.02 * min(gap, 0.5) * rng.uniform(-1, 1, g.shape)
-                    s = m.solve(float(t), guess=g, level=spec.level, method=spec.method)
-                else:
+                if kind == "none":
                     m.set_guess(q0)
                     s = m.solve(float(t), level=spec.level, method=spec.method)
+                else:
+                    g = here + nudge
+                    if kind == "wrapped":
+                        g = wrap(g, fam.angle_mask)
+                    s = m.solve(float(t), guess=g, level=spec.level, method=spec.method)
             except REFUSALS:
-                out.append(Verdict("refused", Counter(raised=1)))
+                out.append((kind, Verdict("refused", Counter(raised=1))))
                 continue
             arrs = [s.q[None], None if s.qd is None else s.qd[None],
                     None if s.qdd is None else s.qdd[None]]
-            v = judge(fam, p, [t], *arrs[:lev + 1], status=[1 if s.singular else OK],
-                      sigma=spec.sigma, what=what)
-            out.append(v)
+            out.append((kind, judge(fam, p, [t], *arrs[:lev + 1],
+                                    status=[1 if s.singular else OK], sigma=spec.sigma,
+                                    what=what)))
     return out
 
 
