@@ -235,8 +235,9 @@ def single_solves(fam, spec, rng, count=4, mech=None, kinds=SOLVES):
     "guess": the guess is its mode's exact configuration at t moved 2 % of the way to
     the nearest other mode, and the answer must be that mode; "wrapped": the same with
     its angles taken to (-pi, pi] (the same configuration: angles count modulo 2 pi);
-    "none": set_guess(the exact start), then solve(t) without a guess, which must give
-    the mode connected to the start (only times that no lock window separates from it)."""
+    "none": set_guess(the exact start) and solve(t0) (so that both the guess and
+    mech.last are the start), then solve(t) without a guess, which must give the mode
+    connected to the start (only times that no lock window separates from it)."""
     p = spec.params
     m = (mech or fam.mech()).with_params(**p)
     per = fam.period(p)
@@ -261,6 +262,7 @@ def single_solves(fam, spec, rng, count=4, mech=None, kinds=SOLVES):
             try:
                 if kind == "none":
                     m.set_guess(q0)
+                    m.solve(spec.t0, level=spec.level, method=spec.method)   # mech.last
                     s = m.solve(float(t), level=spec.level, method=spec.method)
                 else:
                     g = here + nudge
