@@ -312,20 +312,29 @@ def run_table(fam, spec, rng, designs=4, backend="cpu", client=None, mech=None):
     return out
 
 
+CRASHES = []
+
+
 def tally(counts, kind, verdicts, wrongs, keep=20):
+    """Count verdicts under kind; keep the first wrong ones' details (crashes in
+    CRASHES)."""
     for v in verdicts:
         counts[(kind, v.outcome)] += 1
         if v.outcome == "wrong" and len(wrongs) < keep:
             wrongs.append(v.detail)
+        if v.outcome == "crashed":
+            CRASHES.append(v.detail)
 
 
 def summary(counts, wrongs=()):
-    """Lines of per-family counts: right / refused / wrong."""
+    """Lines of per-family counts: right / refused / wrong (and crashed: mechgen raised
+    something other than ConvergenceError or SingularError)."""
     rows = {}
     for (kind, outcome), n in counts.items():
         rows.setdefault(kind, Counter())[outcome] += n
-    lines = [f"{'family/run':38s} {'right':>7s} {'refused':>8s} {'wrong':>6s}"]
+    lines = [f"{'family/run':38s} {'right':>7s} {'refused':>8s} {'wrong':>6s} {'crashed':>8s}"]
     for kind in sorted(rows):
         c = rows[kind]
-        lines.append(f"{kind:38s} {c['right']:7d} {c['refused']:8d} {c['wrong']:6d}")
+        lines.append(f"{kind:38s} {c['right']:7d} {c['refused']:8d} {c['wrong']:6d} "
+                     f"{c['crashed']:8d}")
     return lines
