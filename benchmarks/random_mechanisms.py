@@ -48,6 +48,8 @@ def main(argv=None):
     ap.add_argument("--solves", type=int, default=2, help="random times solved per mechanism")
     ap.add_argument("--table-every", type=int, default=5,
                     help="a design table (4 designs) for every k-th mechanism (5)")
+    ap.add_argument("--by-method", action="store_true",
+                    help="count sweeps and solves per method (auto, sorted, full) too")
     ap.add_argument("--show", type=int, default=12, help="wrong runs printed per family")
     args = ap.parse_args(argv)
     names = [n.strip() for n in args.families.split(",") if n.strip()]
@@ -65,13 +67,14 @@ def main(argv=None):
         for i in range(per):
             rng = np.random.default_rng([args.seed, k, i])
             spec = rc.draw_spec(fam, rng)
-            kind = f"{name}/{spec.variant}/sweep"
+            by = f"/{spec.method}" if args.by_method else ""
+            kind = f"{name}/{spec.variant}/sweep{by}"
             rc.tally(counts, kind, guarded(spec, lambda: [rc.run_sweep(fam, spec)]), wrongs,
                      args.show)
             if args.solves:
                 for kind, v in guarded(spec, lambda: rc.single_solves(fam, spec, rng, args.solves),
                                        pairs=True):
-                    rc.tally(counts, kind if "/" in kind else f"{name}/solve-{kind}", [v],
+                    rc.tally(counts, kind if "/" in kind else f"{name}/solve-{kind}{by}", [v],
                              wrongs, args.show)
             if args.table_every and i % args.table_every == 0:
                 rc.tally(counts, f"{name}/table",
