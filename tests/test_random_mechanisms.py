@@ -213,7 +213,7 @@ def test_dask_design_tables_stay_on_their_mode(client, variant):
     for _ in range(2):
         spec = rc.draw_spec(FOURBAR, rng, variant=variant)
         _no_wrong("fourbar/table-dask", rc.run_table(FOURBAR, spec, rng, designs=3,
-                                                     backend="dask", client=client))
+                                                    backend="dask", client=client))
 
 
 def test_cuda_simulator_design_tables_stay_on_their_mode():
