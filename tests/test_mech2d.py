@@ -21,7 +21,8 @@ import pytest
 import sympy as sp
 
 from conftest import example_model
-from test_equations_derivatives import STENCIL, H, chain_rule, check_fd, newton, numeric
+from fd_helpers import STENCIL, H, check_fd, newton, numeric
+from test_equations_derivatives import chain_rule
 
 from mechgen import I, Line, Model, ModelError, T, exp, pi
 
