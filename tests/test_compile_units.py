@@ -59,11 +59,12 @@ import json, sys
 import mechgen
 mech = mechgen.load(sys.argv[1])
 mod = mech.module
-mech.solve(0.15)
+guess = dict(zip(mech.coordinates, mech._start(None)))   # Newton from it (no following)
+mech.solve(0.15, guess=guess)
 after_position = {name: len(getattr(mod, name).signatures) for name in
                   ("solve_point_sorted", "newton_full", "velocity_sorted", "acceleration_sorted",
                    "solve_point", "solve_point_derivatives", "sweep_fast")}
-mech.solve(0.15, level="acceleration")
+mech.solve(0.15, guess=guess, level="acceleration")
 after_acceleration = {name: len(getattr(mod, name).signatures) for name in
                       ("newton_full", "velocity_full", "acceleration_full",
                        "solve_derivatives_sorted", "solve_point_derivatives")}
@@ -72,7 +73,7 @@ print(json.dumps([after_position, after_acceleration]))
 
 
 def test_a_position_solve_compiles_only_the_position_path(tmp_path):
-    """In a fresh process with an empty numba cache: after solve(), the full Newton, the
+    """In a fresh process with an empty numba cache: after solve(t, guess=), the full Newton, the
     derivative passes and the sweep have no compiled version; after an acceleration solve
     the sorted passes (in one call) have one and the full fallbacks still none."""
     env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "numba"),

@@ -124,6 +124,8 @@ def test_solve_point_equals_the_call_by_call_solve(qr, qr_slider):
                         (qr_slider, [(0.0, None), (T1, NEAR_T1), (0.25, NEAR_T1)])):
         mod, p = mech.module, mech.p
         for t, guess in cases:
+            if guess is None:       # Newton from the model's guess (no guess follows the motion)
+                guess = dict(zip(mech.coordinates, mech._start(None)))
             for level in LEVELS:
                 lev = LEVEL[level]
                 q, info = mech._start(guess), np.zeros(POINT_INFO_SIZE)

@@ -9,6 +9,8 @@ solvers are used only where the module built them: SORTED and LEVEL are constant
 module, which numba compiles in, so the branches of a module without them cost nothing.
 """
 
+import math
+
 import numpy as np
 
 from .linalg import _det, _fp_eliminate, _fp_solve, _consistent, _max_abs
