@@ -158,10 +158,13 @@ def unwrap_turns(q, t, p):
     the one the drivers ask for (else its first step turns the driven angle by 2π and
     drags the other coordinates into another assembly mode). An angle here is a
     coordinate that Φ sees only through periodic rows (unchanged when it turns by 2π,
-    as sweep() tests) and rows linear in it (changed by 2π times their derivative).
-    Returns the count of coordinates turned."""
+    as sweep() tests) and rows linear in it (changed by 2π times their derivative). A
+    body's angle that rows of neither kind also read (a gear's rolling row, which counts
+    turns) is turned by the whole turns, up to three either way, that bring the residual
+    nearest to 0. Returns the count of coordinates turned."""
     r0 = np.empty(N_EQS)
     r1 = np.empty(N_EQS)
+    r2 = np.empty(N_EQS)
     d = np.empty(N_EQS)
     J = np.empty((N_EQS, N_COORDS))
     phi(q, t, p, r0)
@@ -173,21 +176,45 @@ def unwrap_turns(q, t, p):
         qj = q[j]
         q[j] = qj + 2.0 * math.pi
         phi(q, t, p, r1)
+        q[j] = qj - 2.0 * math.pi       # a row linear in it changes by as much the other
+        phi(q, t, p, r2)                # way (a gear's rolling row, with its jump, may not)
         q[j] = qj
         seen = False            # a periodic row depends on it: it is an angle
         linear = False          # a row it enters linearly: a whole turn changes it
+        other = False           # a row neither (a gear's rolling row counts its turns)
         for i in range(N_EQS):
             d[i] = r1[i] - r0[i]
             if abs(d[i]) <= 1e-9 * (1.0 + abs(r0[i])):
                 d[i] = 0.0
                 if J[i, j] != 0.0:
                     seen = True
-            elif abs(d[i] - 2.0 * math.pi * J[i, j]) <= 1e-9 * (1.0 + abs(d[i]) + abs(r0[i])):
+            elif abs(d[i] - 2.0 * math.pi * J[i, j]) <= 1e-9 * (1.0 + abs(d[i]) + abs(r0[i])) \
+                    and abs(r0[i] - r2[i] - d[i]) <= 1e-9 * (1.0 + abs(d[i]) + abs(r0[i])):
                 linear = True
             else:
-                seen = False    # a row neither periodic nor linear in it: not an angle
-                linear = False
-                break
+                other = True    # left out of the linear rows' reckoning below
+                d[i] = 0.0
+        if seen and other and not linear:
+            # a body's angle that such a row reads and no driver: the whole turns (a few
+            # either way) that bring the residual nearest to 0 (a driven angle before it
+            # in q is already where its driver asks)
+            worst0 = _max_abs(r0)
+            least = worst0
+            best = 0.0
+            for k in range(-3, 4):
+                if k == 0:
+                    continue
+                q[j] = qj + 2.0 * math.pi * k
+                phi(q, t, p, r1)
+                worst = _max_abs(r1)
+                if worst < least:
+                    least = worst
+                    best = float(k)
+            q[j] = qj + 2.0 * math.pi * best
+            if best != 0.0:
+                phi(q, t, p, r0)
+                turned += 1
+            continue
         if not (seen and linear):
             continue
         best = 0.0              # the whole turns that bring the linear rows nearest to 0
@@ -211,8 +238,7 @@ def unwrap_turns(q, t, p):
                 best = k
         if best != 0.0 and least < worst0:
             q[j] = qj + 2.0 * math.pi * best
-            for i in range(N_EQS):
-                r0[i] += best * d[i]
+            phi(q, t, p, r0)        # afresh: a row that is not linear changed too
             turned += 1
     return turned
 
