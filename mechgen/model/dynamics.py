@@ -1,0 +1,118 @@
+"""The generalized forces of a model's masses and loads, in its coordinates (sympy only).
+
+In body coordinates (X, Y, Th of each body's origin) a body's centroid is
+r_G = (X, Y) + R(Th)·c. With J_P = ∂r_P/∂q the Jacobian of a point:
+
+- applied, non-conservative, Q_a = Σ J_Pᵀ F (forces), + M on the body's Th (moments),
+  − c·L̇·∂L/∂q (dampers, L the distance of their points);
+- conservative, Q_c = −∂V/∂q, V = −Σ m g·r_G (gravity) + Σ ½k(L − L0)² (springs);
+- inertial, I = Σ m J_Gᵀ a_G + J θ̈ on Th, a_G = J_G q̈ + J̇_G q̇ (the centroid offset's
+  velocity terms come from J̇_G);
+- kinetic energy ½Σ(m|v_G|² + J θ̇²), potential V.
+
+The multipliers of a solution satisfy Φ_qᵀ λ = Q_a + Q_c − I (level "dynamic"; level
+"static" takes q̇ = q̈ = 0). A driver row's ``factor`` is ∂Φ/∂f, f its driven quantity, so
+that the driver's effort (torque or force) is λ·factor and its power input λ·Φ_t.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .geometry import T
+from .symbolic import total_derivative
+
+
+@dataclass(frozen=True)
+class Dynamics:
+    """The force terms of a model as sympy expressions of q, q̇, q̈, T and parameters."""
+    applied: sp.Matrix        # Q_a, n × 1
+    conservative: sp.Matrix   # Q_c = −∂V/∂q
+    inertial: sp.Matrix       # I
+    kinetic: sp.Expr
+    potential: sp.Expr
+    potential_t: sp.Expr      # ∂V/∂T (a load or spring that changes with time)
+    drivers: tuple            # (row of Φ, factor ∂Φ/∂f) per driver row
+
+
+def dynamics(model, eq=None) -> Dynamics:
+    """The Dynamics of ``model`` (its equations ``eq`` for the rows and coordinates)."""
+    eq = model.equations() if eq is None else eq
+    q = list(eq.q)
+    n = len(q)
+    index = {c: j for j, c in enumerate(q)}
+    qd, qdd = list(eq.qd), list(eq.qdd)
+    applied = sp.zeros(n, 1)
+    inertial = sp.zeros(n, 1)
+    kinetic = sp.Integer(0)
+    potential = sp.Integer(0)
+    g = model.gravity_vector
+
+    def jac(r):
+        return sp.Matrix(r).jacobian(q)
+
+    for body in model.moving_bodies:
+        m, J, c = body.mass, body.inertia, body.centroid
+        th = index[body.th]
+        if m != 0:
+            r_g = body.to_global(c)
+            v_g = total_derivative(r_g, q, 1)
+            a_g = total_derivative(r_g, q, 2)
+            inertial += m * jac(r_g).T * a_g
+            kinetic += m * (v_g[0] ** 2 + v_g[1] ** 2) / 2
+            if g is not None:
+                potential -= m * (g[0] * r_g[0] + g[1] * r_g[1])
+        if J != 0:
+            inertial[th] += J * qdd[th]
+            kinetic += J * qd[th] ** 2 / 2
+    for load in model.loads:
+        if load.kind == "force":
+            applied += jac(load.point.r).T * load.vector
+        elif load.kind == "moment":
+            for body, sign in zip(load.bodies, (1, -1)):
+                if not body.is_ground:
+                    applied[index[body.th]] += sign * load.value
+        elif load.kind == "spring":
+            length = _distance(load.points)
+            potential += load.k * (length - load.length) ** 2 / 2
+        elif load.kind == "damper":
+            length = _distance(load.points)
+            rate = total_derivative(length, q, 1)
+            applied -= load.c * rate * jac([length]).T
+    conservative = -jac([potential]).T if potential != 0 else sp.zeros(n, 1)
+    return Dynamics(applied=applied, conservative=conservative, inertial=inertial,
+                    kinetic=kinetic, potential=potential, potential_t=sp.diff(potential, T),
+                    drivers=driver_factors(model, eq))
+
+
+def _distance(points):
+    d = points[0].r - points[1].r
+    return sp.sqrt(d[0] ** 2 + d[1] ** 2)
+
+
+def driver_factors(model, eq):
+    """(row, ∂Φ/∂f) per row of a driver (a constraint whose rows hold T). A row
+    g(q) − f(T) (rotation_lock, relative_x, relative_y, an axis angle) gives −1: the
+    driven quantity is g, its rate ν. A relative_distance row |r1 − r2|² − d(T)² drives
+    d = |r1 − r2|: −2|r1 − r2|. Any other row that does not separate into g(q) + h(T)
+    gets NaN: its effort is not defined by this slice."""
+    drivers = {c.number: c for c in model.constraints if c.is_driver}
+    coords = set(eq.q)
+    out = []
+    for i, (number, _) in enumerate(eq.rows):
+        con = drivers.get(number)
+        if con is None:
+            continue
+        row = sp.sympify(eq.phi[i])
+        timed = [a for a in sp.Add.make_args(row) if T in a.free_symbols]
+        untimed = [a for a in sp.Add.make_args(row) if T not in a.free_symbols]
+        separable = not any(a.free_symbols & coords for a in timed)
+        if not separable:
+            factor = sp.nan
+        elif con.kind == "relative_distance":
+            factor = -2 * sp.sqrt(sp.Add(*untimed))
+        else:
+            factor = sp.Integer(-1)
+        out.append((i, factor))
+    return tuple(out)
