@@ -378,3 +378,17 @@ def test_lock_with_a_load_is_singular(tmp_path):
         mech.solve(0.0, level="static")
     s = mech.solve(0.05, level="static")      # off the dead centre: a finite force
     assert math.isfinite(s.driver("push"))
+
+
+def test_changed_mass_rebuilds(tmp_path, monkeypatch):
+    """The build fingerprint covers masses and loads: a changed mass is a new module."""
+    first = mechgen.compile(slider_crank(), outdir=str(tmp_path), tier="python")
+    tau1 = first.solve(0.4, level="dynamic").driver("crank driver")
+    m = slider_crank()
+    m.bodies["rod"].mass = sp.Float(2.5)
+    second = mechgen.compile(m, outdir=str(tmp_path), tier="python")
+    tau2 = second.solve(0.4, level="dynamic").driver("crank driver")
+    monkeypatch.setitem(MASS, "rod", (2.5, J3))
+    expected = power_torque(closed_form(0.4))
+    assert abs(tau2 - tau1) > 1e-3
+    np.testing.assert_allclose(tau2, expected, rtol=1e-9)
