@@ -392,3 +392,13 @@ def test_changed_mass_rebuilds(tmp_path, monkeypatch):
     expected = power_torque(closed_form(0.4))
     assert abs(tau2 - tau1) > 1e-3
     np.testing.assert_allclose(tau2, expected, rtol=1e-9)
+
+
+def test_equations_print_the_mass_matrix_and_loads():
+    from mechgen.model.printing import equations_text
+    text = equations_text(slider_crank())
+    forces = text[text.index("Forces:"):]
+    # the crank turns about its origin: M[Th2, Th2] = m |c|² + J
+    assert f"[Th2, Th2]  {M2 * (C2[0] ** 2 + C2[1] ** 2) + J2:g}" in forces
+    assert "[X4]   -500" in forces and "press: force(slider[1], (-500" in forces
+    assert f"[Y4]   {-G:g}*mass4" in forces      # Q_c: the slider's weight, a parameter

@@ -75,7 +75,7 @@ def fingerprint(model, **options) -> str:
         put("gravity", _part(model.gravity_vector))
     for load in model.loads:
         put("load", load.kind, load.name, sorted((k, _part(v)) for k, v in vars(load).items()
-                                                 if k not in ("kind", "name")))
+                                                 if k not in ("kind", "name", "text")))
     return h.hexdigest()
 
 

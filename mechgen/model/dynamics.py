@@ -116,3 +116,51 @@ def driver_factors(model, eq):
             factor = sp.Integer(-1)
         out.append((i, factor))
     return tuple(out)
+
+
+def forces_lines(model, eq, show, rows) -> list:
+    """The text of ``mechgen equations`` for the masses and loads: M (I = M q̈ + h), h, Q_a,
+    Q_c and V, per coordinate (``show`` prints an expression, ``rows`` lays out labelled
+    rows as the kinematic ones)."""
+    dyn = dynamics(model, eq)
+    q, qdd = list(eq.q), list(eq.qdd)
+    n = len(q)
+    mass = dyn.inertial.jacobian(qdd)
+    mass = mass.applyfunc(_tidy)
+    h = (dyn.inertial - mass * sp.Matrix(qdd)).applyfunc(_tidy)
+    width = max(len(str(c)) for c in q) + 2
+
+    def tag(name):
+        return f"[{name}]".ljust(width)
+
+    def vector(vec):
+        return rows([((tag(q[j]), show(vec[j])), "") for j in range(n) if vec[j] != 0]) \
+            or ["  (zero)"]
+
+    lines = ["", "Forces: Phi_q^T lambda = Q_a + Q_c - (M qdd + h)       [Mech: Generalized]"]
+    for b in model.moving_bodies:
+        if b.mass != 0 or b.inertia != 0:
+            lines.append(f"  body {b.name}: mass {show(b.mass)}, inertia {show(b.inertia)} "
+                         f"about the centroid ({show(b.centroid[0])}, {show(b.centroid[1])})")
+    if model.gravity_vector is not None:
+        gx, gy = model.gravity_vector
+        lines.append(f"  gravity: ({show(gx)}, {show(gy)})")
+    for load in model.loads:
+        lines.append(f"  {load.label}")
+    lines += ["", "M, the mass matrix (nonzero entries)"]
+    entries = [((f"[{q[i]}, {q[j]}]", show(mass[i, j])), "") for i in range(n) for j in range(n)
+               if mass[i, j] != 0]
+    lines += rows(entries) or ["  (zero)"]
+    lines += ["", "h, the velocity terms of I = M qdd + h"] + vector(h)
+    lines += ["", "Q_a, applied (forces, moments, dampers)"] + vector(dyn.applied)
+    lines += ["", "Q_c = -dV/dq, conservative (gravity, springs)"] + vector(dyn.conservative)
+    lines += ["", f"V = {show(dyn.potential)}"]
+    return lines
+
+
+def _tidy(e):
+    """An entry as printed: expanded, sin² + cos² folded, and the ~1e-19 that cancelling
+    floating coefficients leave shown as 0."""
+    e = sp.expand(e)
+    e = e.xreplace({f: 0 for f in e.atoms(sp.Float) if abs(f) < 1e-15})
+    return sp.trigsimp(e) if e.has(sp.sin, sp.cos) else e

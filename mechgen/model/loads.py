@@ -28,7 +28,9 @@ class Load:
 
     @property
     def label(self) -> str:
-        return f"{self.name}: {self.kind}" if self.name else self.kind
+        """``kind(arguments)``, prefixed by ``name: `` when the load has a name."""
+        text = getattr(self, "text", self.kind)
+        return f"{self.name}: {text}" if self.name else text
 
     def __repr__(self):
         return f"<load {self.label}>"
@@ -104,12 +106,14 @@ class LoadsMixin:
             mag = self._load_value(f, "force: magnitude")
             u = along.u
             vec = sp.Matrix([mag * u[0], mag * u[1]]) / sp.sqrt(u[0] ** 2 + u[1] ** 2)
+            text = f"force({p.label}, {mag}, along={along!r})"
         else:
             fx, fy = as_pair(f, "force: (fx, fy)")
             vec = sp.Matrix([self._load_value(fx, "force: fx"),
                              self._load_value(fy, "force: fy")])
+            text = f"force({p.label}, ({vec[0]}, {vec[1]}))"
         return self._add_load(Load("force", self._load_name(name, "force"), point=p,
-                                   vector=vec))
+                                   vector=vec, text=text))
 
     def moment(self, b1, b2_or_value, value=None, name=None):
         """A pure moment: ``moment(body, M)`` on one body (counter-clockwise positive),
@@ -119,8 +123,9 @@ class LoadsMixin:
         else:
             bodies = (self._load_body(b1, "moment", 1), self._load_body(b2_or_value, "moment", 2))
         m = self._load_value(value, "moment: M")
+        text = f"moment({', '.join(b.name for b in bodies)}, {m})"
         return self._add_load(Load("moment", self._load_name(name, "moment"), bodies=bodies,
-                                   value=m))
+                                   value=m, text=text))
 
     def spring(self, p1, p2, k, length, name=None):
         """A spring between two points: tension k·(distance − length) along p1–p2
@@ -130,7 +135,8 @@ class LoadsMixin:
         k = self._load_value(k, "spring: k", velocities=False)
         length = self._load_value(length, "spring: length", velocities=False)
         return self._add_load(Load("spring", self._load_name(name, "spring"), points=(a, b),
-                                   k=k, length=length))
+                                   k=k, length=length,
+                                   text=f"spring({a.label}, {b.label}, k={k}, length={length})"))
 
     def damper(self, p1, p2, c, name=None):
         """A damper between two points: tension c·(rate of change of their distance)."""
@@ -138,7 +144,7 @@ class LoadsMixin:
         b = self._load_point(p2, "damper", 2)
         c = self._load_value(c, "damper: c")
         return self._add_load(Load("damper", self._load_name(name, "damper"), points=(a, b),
-                                   c=c))
+                                   c=c, text=f"damper({a.label}, {b.label}, c={c})"))
 
     # -- checks -----------------------------------------------------------------------
     def _add_load(self, load):
