@@ -402,3 +402,21 @@ def test_equations_print_the_mass_matrix_and_loads():
     assert f"[Th2, Th2]  {M2 * (C2[0] ** 2 + C2[1] ** 2) + J2:g}" in forces
     assert "[X4]   -500" in forces and "press: force(slider[1], (-500" in forces
     assert f"[Y4]   {-G:g}*mass4" in forces      # Q_c: the slider's weight, a parameter
+
+
+def test_flywheel_of_the_slider_crank(sc):
+    """ΔE = the largest swing of ∫(T − T̄) dθ over a turn (trapezoids on the closed-form
+    torque), inertia ΔE / (cs ω²)."""
+    n = 721
+    sw = sc.sweep(0.0, 2 * math.pi / W, n, level="dynamic")
+    th = np.linspace(0.0, 2 * math.pi, n)
+    torque = np.array([power_torque(closed_form(x / W)) for x in th])
+    work = np.concatenate([[0.0], np.cumsum(np.diff(th) * (torque[1:] + torque[:-1]) / 2)])
+    swing = work - work[-1] * th / th[-1]
+    energy = swing.max() - swing.min()
+    fw = sw.flywheel(0.05)
+    assert energy > 1.0
+    np.testing.assert_allclose(fw["energy"], energy, rtol=1e-9)
+    np.testing.assert_allclose(fw["inertia"], energy / (0.05 * W ** 2), rtol=1e-9)
+    with pytest.raises(ValueError, match="positive"):
+        sw.flywheel(0.0)

@@ -302,6 +302,39 @@ class ForceSweep(Sweep):
         return {"kinetic": self.ENERGY[:, 0].copy(), "potential": self.ENERGY[:, 1].copy(),
                 "total": self.ENERGY[:, 0] + self.ENERGY[:, 1]}
 
+    def flywheel(self, cs, driver=None) -> dict:
+        """The flywheel for a coefficient of speed fluctuation ``cs`` with the driver at
+        constant speed, the sweep spanning one period: "energy" ΔE, the largest swing of
+        ∫(P − P̄) dt (P the driver's power input, trapezoids on the sweep's points),
+        "inertia" ΔE / (cs ω̄²), ω̄ the mean rate of the driven quantity, and "mean_power"."""
+        cs = float(cs)
+        if not cs > 0 or not np.isfinite(cs):
+            raise ValueError(f"flywheel: the coefficient of speed fluctuation must be a "
+                             f"positive number, got {cs!r}")
+        mech, tab = self.mechanism, tables(self.mechanism)
+        names = sorted({v[0] for v in tab.constraints.values() if v[2]})
+        if driver is None:
+            if len(names) != 1:
+                raise ValueError(f"flywheel: name the driver (driver=...): model "
+                                 f"'{mech.name}' has {len(names)}: {'; '.join(names)}")
+            driver = names[0]
+        label, rows, _ = tab.constraint(driver, mech)
+        if len(rows) != 1 or len(self) < 3:
+            raise ValueError(f"flywheel: needs a one-row driver and a sweep of 3 points or "
+                             f"more ({label!r}, {len(self)} points)")
+        r = rows[0]
+        power = -self.LAM[:, r] * self.NU[:, r]
+        factor = self.FACTORS[:, tab.driver_rows.index(r)] if tab.forces else -np.ones(len(self))
+        rate = -self.NU[:, r] / factor
+        t = self.t
+        steps = np.diff(t) * (power[1:] + power[:-1]) / 2
+        work = np.concatenate([[0.0], np.cumsum(steps)])
+        mean = work[-1] / (t[-1] - t[0])
+        swing = work - mean * (t - t[0])
+        energy = float(swing.max() - swing.min())
+        omega = float(np.sum(np.diff(t) * (rate[1:] + rate[:-1]) / 2) / (t[-1] - t[0]))
+        return {"energy": energy, "inertia": energy / (cs * omega ** 2), "mean_power": mean}
+
     def shaking(self) -> np.ndarray:
         """(n, 3): the force and the moment about the ground origin that the moving parts
         apply to the frame through the constraints (drivers included)."""
