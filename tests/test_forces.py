@@ -420,3 +420,41 @@ def test_flywheel_of_the_slider_crank(sc):
     np.testing.assert_allclose(fw["inertia"], energy / (0.05 * W ** 2), rtol=1e-9)
     with pytest.raises(ValueError, match="positive"):
         sw.flywheel(0.0)
+
+
+MODEL_FILE = '''
+from mechgen import Model, T
+m = Model("cli_forces")
+base = m.ground("base", points=[(0, 0), (1, 0)])
+crank = m.body("crank", points=[(0, 0), (0.2, 0)], guess=(0, 0, 0.3), mass=1.5,
+               inertia=0.02, centroid=(0.08, 0.02))
+rod = m.body("rod", points=[(0, 0), (0.6, 0)], guess=(0.19, 0.06, -0.1), mass=2.0,
+             inertia=0.07, centroid=(0.25, -0.03))
+slider = m.body("slider", points=[(0, 0), (1, 0)], guess=(0.79, 0, 0), mass=3.0,
+                inertia=0.01, centroid=(0.05, 0.04))
+m.revolute(base[1], crank[1], name="A")
+m.revolute(crank[2], rod[1], name="B")
+m.revolute(rod[2], slider[1], name="C")
+m.translate(base.line(1, 2), slider.line(1, 2), name="guide")
+m.rotation_lock(crank, 3.0 * T + 0.3, name="crank driver")
+m.gravity(9.807)
+m.force(slider[1], (-500.0, 120.0), name="press")
+'''
+
+
+def test_cli_forces_prints_driver_and_reactions(tmp_path, capsys, monkeypatch):
+    from mechgen.cli import main
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+    path = tmp_path / "cli_forces.py"
+    path.write_text(MODEL_FILE)
+    assert main(["forces", str(path), "-t", "0.25", "--outdir", str(tmp_path / "gen")]) == 0
+    out = capsys.readouterr().out
+    line = next(x for x in out.splitlines() if x.strip().startswith("crank driver:"))
+    np.testing.assert_allclose(float(line.split()[-1]), power_torque(closed_form(0.25)),
+                               rtol=1e-9)
+    ne = newton_euler(closed_form(0.25))
+    line = next(x for x in out.splitlines() if x.strip().startswith("C: revolute") and
+                x.split(" on ")[1].split()[0] == "slider")
+    np.testing.assert_allclose([float(v) for v in line.split()[-3:]], [*ne["FC"], 0.0],
+                               rtol=1e-9, atol=1e-7)
+    assert " on base " in out

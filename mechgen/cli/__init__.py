@@ -1,4 +1,4 @@
-"""The command line: mechgen build | equations | check | solve | sweep | singularities |
+"""The command line: mechgen build | equations | check | solve | sweep | singularities | forces |
 draw | animate | plot.
 
 One meaning per option on every command: ``-o FILE`` is the file the command writes (a
@@ -13,7 +13,7 @@ import sys
 
 from ..errors import MechgenError
 from ..protocol import LEVELS
-from . import plot_commands, solve_commands
+from . import forces_command, plot_commands, solve_commands
 from .loading import models
 from .options import module_folder, number_type
 
@@ -129,6 +129,7 @@ def parser() -> argparse.ArgumentParser:
 
     solve_commands.add_commands(sub, _add_common, _add_solve_opts)
     plot_commands.add_commands(sub, _add_common)
+    forces_command.add_command(sub, _add_common)
     return ap
 
 

@@ -226,6 +226,37 @@ class ForceSolution(Solution):
                          self.lam, self.q, _point_xy(mech, self.q, self.t))
 
 
+    def reactions(self) -> dict:
+        """{(constraint label, body name): (fx, fy, moment about the body's origin)} for
+        every body each constraint acts on: those whose points it names or whose
+        coordinates its rows hold, and the ground where it takes a share."""
+        mech = self.mechanism
+        tab = tables(mech)
+        J = mech.jacobian(self.q, self.t)
+        at = _point_xy(mech, self.q, self.t)
+        mod = mech.module
+        named = {number: {mod.POINTS[k][1] for k in pts} for number, _, pts in
+                 getattr(mod, "JOINTS", ())}
+        out = {}
+        for number, _, label, count, _ in mod.CONSTRAINTS:
+            rows = tab.constraint(label, mech)[1]
+            bodies = set(named.get(number, ()))
+            for name, idx in tab.bodies.items():
+                if idx is not None and np.any(J[np.ix_(rows, idx)] != 0):
+                    bodies.add(name)
+            ground = _reaction(tab, mech, label, tab.ground, None, J, self.lam, self.q, at) \
+                if tab.ground is not None else np.zeros(3)
+            size = max((np.abs(_reaction(tab, mech, label, b, None, J, self.lam, self.q,
+                                         at)).max() for b in bodies), default=0.0)
+            if tab.ground is not None and np.abs(ground).max() > 1e-9 * max(size, 1e-300):
+                bodies.add(tab.ground)
+            for name in tab.bodies:                 # in the model's order
+                if name in bodies:
+                    out[(label, name)] = _reaction(tab, mech, label, name, None, J,
+                                                   self.lam, self.q, at)
+        return out
+
+
 def _rhs(terms):
     return terms[0] + terms[1] - terms[2]
 
