@@ -458,3 +458,20 @@ def test_cli_forces_prints_driver_and_reactions(tmp_path, capsys, monkeypatch):
     np.testing.assert_allclose([float(v) for v in line.split()[-3:]], [*ne["FC"], 0.0],
                                rtol=1e-9, atol=1e-7)
     assert " on base " in out
+
+
+def test_constraint_reference_forces_example_is_what_the_printer_gives():
+    """docs/constraints.md's worked example of masses and loads cannot rot."""
+    import os
+    import re
+    from mechgen.model.printing import equations_text
+    doc = open(os.path.join(os.path.dirname(os.path.dirname(__file__)), "docs",
+                            "constraints.md"), encoding="utf-8").read()
+    code = re.search(r"<!-- forces example -->\n```python\n(.*?)```", doc, re.S).group(1)
+    quoted = re.search(r"<!-- forces printed -->\n```text\n(.*?)```", doc, re.S).group(1)
+    space = {}
+    exec(code, space)
+    text = equations_text(space["m"])
+    assert text[text.index("Forces:"):] == quoted
+    # the crank about its pin: M[Th2, Th2] = m |c|² + J
+    assert f"[Th2, Th2]  {1.2 * (0.15 ** 2 + 0.02 ** 2) + 0.01:g}" in quoted

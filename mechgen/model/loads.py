@@ -17,6 +17,11 @@ from ..errors import ModelError
 from .geometry import Body, Line, Point, T, as_pair
 
 
+def _s(expr) -> str:
+    """An expression as a label shows it (1.5, not 1.50000000000000)."""
+    return sp.sstr(expr, full_prec=False)
+
+
 class Load:
     """One load: ``kind`` ("force", "moment", "spring", "damper"), its ``name`` (or None)
     and the parts dynamics reads: points, bodies, a vector or a value."""
@@ -106,12 +111,12 @@ class LoadsMixin:
             mag = self._load_value(f, "force: magnitude")
             u = along.u
             vec = sp.Matrix([mag * u[0], mag * u[1]]) / sp.sqrt(u[0] ** 2 + u[1] ** 2)
-            text = f"force({p.label}, {mag}, along={along!r})"
+            text = f"force({p.label}, {_s(mag)}, along={along!r})"
         else:
             fx, fy = as_pair(f, "force: (fx, fy)")
             vec = sp.Matrix([self._load_value(fx, "force: fx"),
                              self._load_value(fy, "force: fy")])
-            text = f"force({p.label}, ({vec[0]}, {vec[1]}))"
+            text = f"force({p.label}, ({_s(vec[0])}, {_s(vec[1])}))"
         return self._add_load(Load("force", self._load_name(name, "force"), point=p,
                                    vector=vec, text=text))
 
@@ -123,7 +128,7 @@ class LoadsMixin:
         else:
             bodies = (self._load_body(b1, "moment", 1), self._load_body(b2_or_value, "moment", 2))
         m = self._load_value(value, "moment: M")
-        text = f"moment({', '.join(b.name for b in bodies)}, {m})"
+        text = f"moment({', '.join(b.name for b in bodies)}, {_s(m)})"
         return self._add_load(Load("moment", self._load_name(name, "moment"), bodies=bodies,
                                    value=m, text=text))
 
@@ -136,7 +141,7 @@ class LoadsMixin:
         length = self._load_value(length, "spring: length", velocities=False)
         return self._add_load(Load("spring", self._load_name(name, "spring"), points=(a, b),
                                    k=k, length=length,
-                                   text=f"spring({a.label}, {b.label}, k={k}, length={length})"))
+                                   text=f"spring({a.label}, {b.label}, k={_s(k)}, length={_s(length)})"))
 
     def damper(self, p1, p2, c, name=None):
         """A damper between two points: tension c·(rate of change of their distance)."""
@@ -144,7 +149,7 @@ class LoadsMixin:
         b = self._load_point(p2, "damper", 2)
         c = self._load_value(c, "damper: c")
         return self._add_load(Load("damper", self._load_name(name, "damper"), points=(a, b),
-                                   c=c, text=f"damper({a.label}, {b.label}, c={c})"))
+                                   c=c, text=f"damper({a.label}, {b.label}, c={_s(c)})"))
 
     # -- checks -----------------------------------------------------------------------
     def _add_load(self, load):
