@@ -475,3 +475,46 @@ def test_constraint_reference_forces_example_is_what_the_printer_gives():
     assert text[text.index("Forces:"):] == quoted
     # the crank about its pin: M[Th2, Th2] = m |c|² + J
     assert f"[Th2, Th2]  {1.2 * (0.15 ** 2 + 0.02 ** 2) + 0.01:g}" in quoted
+
+
+def test_redundant_sweep_takes_the_svd_path(tmp_path):
+    two = _compile(parallelogram(False), tmp_path / "two")
+    with pytest.warns(mechgen.RedundancyWarning):
+        three = _compile(parallelogram(True), tmp_path / "three")
+        sw3 = three.sweep(0.0, 1.0, 21, level="dynamic")
+    sw2 = two.sweep(0.0, 1.0, 21, level="dynamic")
+    np.testing.assert_allclose(sw3.driver("drive"), sw2.driver("drive"), rtol=1e-9)
+    assert sw3.indeterminate and sw2.indeterminate == ()
+    # the shaking force is the same: the third crank is massless
+    np.testing.assert_allclose(sw3.shaking()[:, :2], sw2.shaking()[:, :2], rtol=1e-9,
+                               atol=1e-9 * np.abs(sw2.shaking()).max())
+
+
+def test_static_sweep_flags_the_dead_centre(tmp_path):
+    """Through a dead centre under load: NaN and a flag at that point, the power balance
+    of the others (τ ẋ + M θ̇ = 0) exact."""
+    m = Model("dead_centre_sweep")
+    base = m.ground("base", points=[(0, 0), (1, 0)])
+    crank = m.body("crank", points=[(0, 0), (R, 0)], guess=(0, 0, 0.01))
+    rod = m.body("rod", points=[(0, 0), (L, 0)], guess=(R, 0, 0.0))
+    slider = m.body("slider", points=[(0, 0), (1, 0)], guess=(R + L, 0, 0))
+    m.revolute(base[1], crank[1])
+    m.revolute(crank[2], rod[1])
+    m.revolute(rod[2], slider[1])
+    m.translate(base.line(1, 2), slider.line(1, 2))
+    m.relative_x(slider[1], R + L - T, name="push")
+    m.moment(crank, 3.0)
+    mech = _compile(m, tmp_path)
+    with pytest.warns(UserWarning, match="no force balance"):
+        sw = mech.sweep(0.0, 0.1, 11, level="static")
+    assert sw.force_singular[0] and not sw.force_singular[1:].any()
+    force = sw.driver("push")
+    assert np.isnan(force[0]) and np.all(np.isfinite(force[1:]))
+    # closed form: x = R cos θ + sqrt(L² − R² sin² θ) = R + L − t; the push's rate is
+    # d(R + L − x)/dt... its driven quantity is x, so F ẋ + 3 θ̇ = 0, F = −3 dθ/dx
+    for t, f in zip(sw.t[1:], force[1:]):
+        x = R + L - t
+        th = math.acos((x ** 2 + R ** 2 - L ** 2) / (2 * x * R))
+        dx_dth = -R * math.sin(th) - R ** 2 * math.sin(th) * math.cos(th) / math.sqrt(
+            L ** 2 - R ** 2 * math.sin(th) ** 2)
+        np.testing.assert_allclose(f, -3.0 / dx_dth, rtol=1e-9)

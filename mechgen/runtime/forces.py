@@ -103,8 +103,20 @@ def force_terms(mech, q, qd, qdd, t) -> np.ndarray:
 
 def multipliers(mech, q, t, rhs, level="dynamic"):
     """(λ, labels of the rows whose λ is not unique) solving Φ_qᵀ λ = rhs at (q, t), the
-    minimum-norm λ where Φ_q has dependent rows; SingularError where there is none."""
+    minimum-norm λ where Φ_q has dependent rows; SingularError where there is none. A
+    square Φ_q whose pivot ratio (the kinematic solves' measure) is at least SING_RTOL
+    is solved directly; any other by the SVD."""
     J = mech.jacobian(q, t)
+    if mech.m == mech.n and mech.pivot_ratio(q, t) >= SING_RTOL:
+        lam = np.linalg.solve(J.T, rhs)
+        if np.all(np.isfinite(lam)):
+            return lam, ()
+    return svd_multipliers(mech, J, q, t, rhs, level)
+
+
+def svd_multipliers(mech, J, q, t, rhs, level):
+    """multipliers() by the SVD of Φ_q = J: its rank on the row-equilibrated J at
+    SING_RTOL, the minimum-norm λ, and a residual check."""
     scale = np.max(np.abs(J), axis=1, initial=0.0)
     scale[scale == 0] = 1.0
     s_scaled = np.linalg.svd(J / scale[:, None], compute_uv=False)
@@ -368,53 +380,72 @@ class ForceSweep(Sweep):
 
     def shaking(self) -> np.ndarray:
         """(n, 3): the force and the moment about the ground origin that the moving parts
-        apply to the frame through the constraints (drivers included)."""
-        mech = self.mechanism
-        tab = tables(mech)
+        apply to the frame through the constraints (drivers included): Σ over the bodies
+        of Φ_qᵀλ (= Q_a + Q_c − I) on X, Y and Th, moved to the origin."""
+        tab = tables(self.mechanism)
+        gen = self.TERMS[:, 0] + self.TERMS[:, 1] - self.TERMS[:, 2]
+        gen[np.isnan(self.LAM).any(axis=1)] = np.nan
         out = np.zeros((len(self), 3))
-        for k in range(len(self)):
-            q = self.Q[k]
-            gen = mech.jacobian(q, float(self.t[k])).T @ self.LAM[k]
-            for idx in tab.bodies.values():
-                if idx is None:
-                    continue
-                fx, fy = gen[idx[0]], gen[idx[1]]
-                out[k] += (fx, fy, gen[idx[2]] + q[idx[0]] * fy - q[idx[1]] * fx)
+        for idx in tab.bodies.values():
+            if idx is None:
+                continue
+            fx, fy = gen[:, idx[0]], gen[:, idx[1]]
+            out[:, 0] += fx
+            out[:, 1] += fy
+            out[:, 2] += gen[:, idx[2]] + self.Q[:, idx[0]] * fy - self.Q[:, idx[1]] * fx
         return out
 
 
 def force_sweep(mech, t0, t1, n, level, **options) -> ForceSweep:
     """``mech.sweep(t0, t1, n, level="static"|"dynamic")``: the kinematic sweep (at
-    acceleration, or position), then λ point by point."""
+    acceleration, or position), then λ at every point: the module's force_rows fills
+    Φ_q, the force terms, ν, the energies and the pivot ratios in one compiled loop; a
+    square Φ_q with a pivot ratio of SING_RTOL or more is solved in one batch, any other
+    point by the SVD (multipliers)."""
     kin = "acceleration" if level == "dynamic" else "position"
     sw = mech.sweep(t0, t1, n, level=kin, **options)
     out = ForceSweep.__new__(ForceSweep)
     out.__dict__.update(sw.__dict__)
     out.force_level = level
-    N, tab = len(sw), tables(mech)
-    zeros = np.zeros(mech.n)
-    out.TERMS = np.zeros((N, 3, mech.n))
+    N, m, n_q, tab = len(sw), mech.m, mech.n, tables(mech)
+    out.TERMS = np.zeros((N, 3, n_q))
     out.ENERGY = np.zeros((N, 3))
-    out.LAM = np.full((N, mech.m), np.nan)
-    out.NU = np.zeros((N, mech.m))
+    out.LAM = np.zeros((N, m))
+    out.NU = np.zeros((N, m))
     out.FACTORS = np.zeros((N, len(tab.driver_rows)))
     out.force_singular = np.zeros(N, dtype=bool)
-    indeterminate = set()
-    mod, p = mech.module, mech.p
-    for k in range(N):
-        q, t = sw.Q[k], float(sw.t[k])
-        qd = zeros if level == "static" else sw.QD[k]
-        qdd = zeros if level == "static" else sw.QDD[k]
-        out.TERMS[k] = force_terms(mech, q, qd, qdd, t)
-        mod.nu(q, t, p, out.NU[k])
-        if tab.forces:
-            mod.energies(q, qd, t, p, out.ENERGY[k])
-            if tab.driver_rows:
-                mod.driver_factors(q, t, p, out.FACTORS[k])
+    out.indeterminate = ()
+    if not tab.forces or N == 0:         # no mass, no loads: every λ is zero
+        return out
+    if level == "static":
+        QD = QDD = np.zeros_like(sw.Q)
+    else:
+        QD, QDD = sw.QD, sw.QDD
+    JAC = np.empty((N, m, n_q))
+    PIV = np.empty(N)
+    ts = np.ascontiguousarray(sw.t, dtype=np.float64)
+    mech.module.force_rows(ts, np.ascontiguousarray(sw.Q), np.ascontiguousarray(QD),
+                           np.ascontiguousarray(QDD), mech.p, JAC, out.TERMS, out.NU,
+                           out.ENERGY, out.FACTORS, PIV)
+    rhs = out.TERMS[:, 0] + out.TERMS[:, 1] - out.TERMS[:, 2]
+    direct = (PIV >= SING_RTOL) if m == n_q else np.zeros(N, dtype=bool)
+    if direct.any():
         try:
-            out.LAM[k], dependent = multipliers(mech, q, t, _rhs(out.TERMS[k]), level)
+            lam = np.linalg.solve(JAC[direct].transpose(0, 2, 1), rhs[direct][..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            direct[:] = False
+        else:
+            good = np.all(np.isfinite(lam), axis=1)
+            out.LAM[np.flatnonzero(direct)[good]] = lam[good]
+            direct[np.flatnonzero(direct)[~good]] = False
+    indeterminate = set()
+    for k in np.flatnonzero(~direct):
+        try:
+            out.LAM[k], dependent = svd_multipliers(mech, JAC[k], sw.Q[k], float(sw.t[k]),
+                                                    rhs[k], level)
             indeterminate.update(dependent)
         except SingularError:
+            out.LAM[k] = np.nan
             out.force_singular[k] = True
     out.indeterminate = _constraints_of(mech, indeterminate)
     if out.force_singular.any():
