@@ -547,3 +547,20 @@ def test_quick_return_power_balance_and_torque(tmp_path):
     expected /= 2 * math.pi
     np.testing.assert_allclose(sw.driver("crank driver"), expected, rtol=1e-9,
                                atol=1e-9 * np.abs(expected).max())
+
+
+def test_readme_forces_snippet_prints_its_numbers(tmp_path, monkeypatch, capsys):
+    import os
+    import re
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    text = open(os.path.join(root, "README.md"), encoding="utf-8").read()
+    section = text.split("\n## Forces\n", 1)[1].split("\n## ", 1)[0]
+    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    monkeypatch.chdir(root)
+    monkeypatch.setenv("MECHGEN_CACHE", str(tmp_path))
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+    exec(code, {})
+    out = capsys.readouterr().out.split()
+    peak, mean, residual, inertia = map(float, out)
+    np.testing.assert_allclose([peak, mean, inertia], [47054.88, 859.44, 9688.34], atol=0.01)
+    assert residual < 1e-9 * peak
