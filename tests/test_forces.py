@@ -564,3 +564,23 @@ def test_readme_forces_snippet_prints_its_numbers(tmp_path, monkeypatch, capsys)
     peak, mean, residual, inertia = map(float, out)
     np.testing.assert_allclose([peak, mean, inertia], [47054.88, 859.44, 9688.34], atol=0.01)
     assert residual < 1e-9 * peak
+
+
+def test_cli_sweep_dynamic_writes_force_columns(tmp_path, monkeypatch):
+    import csv
+    from mechgen.cli import main
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+    path = tmp_path / "cli_forces.py"
+    path.write_text(MODEL_FILE)
+    out = tmp_path / "forces.csv"
+    assert main(["sweep", str(path), "--level", "dynamic", "-n", "7", "--t1", "2",
+                 "--outdir", str(tmp_path / "gen"), "-o", str(out)]) == 0
+    rows = list(csv.DictReader(open(out)))
+    assert len(rows) == 7
+    for row in rows:
+        t = float(row["T"])
+        np.testing.assert_allclose(float(row["crank driver"]), power_torque(closed_form(t)),
+                                   rtol=1e-9)
+        ne = newton_euler(closed_form(t))
+        got = [float(row[f"C on slider {k}"]) for k in ("fx", "fy", "m")]
+        np.testing.assert_allclose(got, [*ne["FC"], 0.0], rtol=1e-9, atol=1e-7)

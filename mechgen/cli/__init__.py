@@ -13,6 +13,7 @@ import sys
 
 from ..errors import MechgenError
 from ..protocol import LEVELS
+from .tables import FORCE_LEVELS
 from . import forces_command, plot_commands, solve_commands
 from .loading import models
 from .options import module_folder, number_type
@@ -66,9 +67,10 @@ def _add_common(p, outdir=True):
 
 
 def _add_solve_opts(p):
-    p.add_argument("--level", choices=LEVELS, default=None,
+    p.add_argument("--level", choices=LEVELS + FORCE_LEVELS, default=None,
                    help="solve positions, velocities too, or accelerations too (default: "
-                        "position, or what --columns needs)")
+                        "position, or what --columns needs); static or dynamic: then the "
+                        "driver efforts and joint reactions too")
     p.add_argument("--guess", action="append", metavar="NAME=VALUE",
                    help="start value of a coordinate, e.g. X4=1 or Th3=pi/2 (repeatable; "
                         "picks an assembly mode)")

@@ -8,6 +8,8 @@ import numpy as np
 
 from ..errors import MechgenError
 from ..protocol import LEVELS
+
+FORCE_LEVELS = ("static", "dynamic")    # mechgen.runtime.forces (not imported by the parser)
 from ..runtime.quantity import column_names
 
 
@@ -33,6 +35,9 @@ def needed_level(mech, names, asked=None) -> str:
     """The level to solve at: the one asked for (--level), or the lowest that yields
     every named column. Unknown names, or names the level asked for cannot give, raise
     MechgenError listing what there is."""
+    if asked in FORCE_LEVELS:       # the forces' levels hold every kinematic column
+        needed_level(mech, names, "position" if asked == "static" else "acceleration")
+        return asked
     low = LEVELS.index(asked) if asked else 0
     need = low
     for name in names or ():

@@ -345,6 +345,39 @@ class ForceSweep(Sweep):
         return {"kinetic": self.ENERGY[:, 0].copy(), "potential": self.ENERGY[:, 1].copy(),
                 "total": self.ENERGY[:, 0] + self.ENERGY[:, 1]}
 
+    def force_columns(self) -> tuple[list, list]:
+        """(names, arrays) of the force columns of the table: each driver's effort (its
+        name), then the reaction of every constraint on every body it acts on at the first
+        point, "<constraint> on <body> fx", "... fy", "... m" (the moment about the body's
+        origin)."""
+        mech = self.mechanism
+        tab = tables(mech)
+        names, arrays = [], []
+        short = {}
+        for number, kind, label, _, driver in mech.module.CONSTRAINTS:
+            short[label] = _name_of(label, kind) or str(number)
+            if driver:
+                names.append(short[label])
+                arrays.append(self.driver(label))
+        if not len(self):
+            return names, arrays
+        first = ForceSolution(mech, self.t[0], self.Q[0])
+        first.lam = np.nan_to_num(self.LAM[0])
+        for label, body in first.reactions():
+            r = self.reaction(label, on=body)
+            for k, part in enumerate(("fx", "fy", "m")):
+                names.append(f"{short[label]} on {body} {part}")
+                arrays.append(r[:, k])
+        return names, arrays
+
+    def table(self) -> tuple[list, np.ndarray]:
+        """The kinematic table's columns, then the force columns (force_columns)."""
+        header, data = super().table()
+        names, arrays = self.force_columns()
+        if names:
+            data = np.column_stack([data] + [np.asarray(a, dtype=float) for a in arrays])
+        return header + names, data
+
     def flywheel(self, cs, driver=None) -> dict:
         """The flywheel for a coefficient of speed fluctuation ``cs`` with the driver at
         constant speed, the sweep spanning one period: "energy" ΔE, the largest swing of
