@@ -584,3 +584,39 @@ def test_cli_sweep_dynamic_writes_force_columns(tmp_path, monkeypatch):
         ne = newton_euler(closed_form(t))
         got = [float(row[f"C on slider {k}"]) for k in ("fx", "fy", "m")]
         np.testing.assert_allclose(got, [*ne["FC"], 0.0], rtol=1e-9, atol=1e-7)
+
+
+def test_every_load_kind_by_the_power_form(tmp_path):
+    """A massless crank at constant speed under a spring, a damper, a moment, a moment
+    pair with the ground, a force along a fixed axis and a drag on its tip (a load read
+    from velocity(p)): τ ω = −Σ P_loads, each P written here from the closed form."""
+    from mechgen import velocity
+    r, w, th0, c, k, l0, mo, f, b = 0.3, 2.0, 0.4, 3.0, 400.0, 0.4, 1.7, 25.0, 0.8
+    S, U = np.array([0.5, 0.4]), np.array([1.0, 2.0]) / math.sqrt(5.0)
+    m = Model("loads_kinds")
+    base = m.ground("base", points=[(0, 0), tuple(S), (1.0, 2.0)])
+    crank = m.body("crank", points=[(0, 0), (r, 0)], guess=(0, 0, th0))
+    m.revolute(base[1], crank[1], name="O")
+    m.rotation_lock(crank, w * T + th0, name="motor")
+    m.spring(base[2], crank[2], k, l0, name="spring")
+    m.damper(base[2], crank[2], c)
+    m.moment(crank, mo)
+    m.moment(crank, base, 0.5 * mo, name="pair")
+    m.force(crank[2], f, along=base.line(1, 3), name="push")
+    v = velocity(crank[2])
+    m.force(crank[2], (-b * v[0], -b * v[1]), name="drag")
+    mech = _compile(m, tmp_path)
+    sw = mech.sweep(0.0, 3.0, 50, level="dynamic")
+    expected = []
+    for t in sw.t:
+        th = w * t + th0
+        P = r * np.array([math.cos(th), math.sin(th)])
+        vP = r * w * np.array([-math.sin(th), math.cos(th)])
+        L = np.linalg.norm(P - S)
+        Ld = (P - S) @ vP / L
+        loads = (-k * (L - l0) * Ld - c * Ld ** 2 + mo * w + 0.5 * mo * w + f * U @ vP
+                 - b * vP @ vP)
+        expected.append(-loads / w)
+    np.testing.assert_allclose(sw.driver("motor"), expected, rtol=1e-9)
+    power = sw.power()
+    assert np.abs(power["residual"]).max() <= 1e-9 * np.abs(power["drivers"]).max()
