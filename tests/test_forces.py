@@ -633,3 +633,26 @@ def test_moment_pair_between_moving_bodies(tmp_path):
         phid = k["bodies"]["rod"][3]
         expected = power_torque(k) - 4.0 * (phid - k["thd"]) / k["thd"]
         np.testing.assert_allclose(s.driver("crank driver"), expected, rtol=1e-9)
+
+
+def test_distance_driver_effort_is_the_actuator_force(tmp_path):
+    """A lever raised by a linear actuator of length d(T) (relative_distance) against a
+    moment M: the effort F satisfies F ḋ + M ω = 0 (the power form), F = −M d / ((B − A)
+    · ∂B/∂θ)."""
+    r, M = 0.5, 12.0
+    A = np.array([0.6, -0.2])
+    m = Model("actuator")
+    base = m.ground("base", points=[(0, 0), tuple(A)])
+    lever = m.body("lever", points=[(0, 0), (r, 0)], guess=(0, 0, 0.5))
+    m.revolute(base[1], lever[1], name="O")
+    m.relative_distance(base[2], lever[2], 0.45 + 0.1 * T, name="actuator")
+    m.moment(lever, M)
+    mech = _compile(m, tmp_path)
+    for t in (0.0, 0.5, 1.0):
+        s = mech.solve(t, level="static")
+        th = s["Th2"]
+        B = r * np.array([math.cos(th), math.sin(th)])
+        d = np.linalg.norm(B - A)
+        assert abs(d - (0.45 + 0.1 * t)) < 1e-9
+        dB = r * np.array([-math.sin(th), math.cos(th)])
+        np.testing.assert_allclose(s.driver("actuator"), -M * d / ((B - A) @ dB), rtol=1e-9)
