@@ -455,6 +455,21 @@ def test_static_sweep_flags_the_dead_centre(tmp_path):
         np.testing.assert_allclose(f, -3.0 / dx_dth, rtol=1e-9)
 
 
+def inertia_and_weight_power(sw, bodies):
+    """Σ(m a_G·v_G + J α ω) + Σ m g v_Gy at every point of a sweep, v_G and a_G written
+    here from its coordinates and their derivatives; bodies: {number: (m, J, centroid)}."""
+    out = np.zeros(len(sw))
+    for b, (mass, J, c) in bodies.items():
+        th, om, al = sw[f"Th{b}"], sw[f"Th{b}d"], sw[f"Th{b}dd"]
+        rc = np.array([np.cos(th) * c[0] - np.sin(th) * c[1],
+                       np.sin(th) * c[0] + np.cos(th) * c[1]])
+        v = np.array([sw[f"X{b}d"], sw[f"Y{b}d"]]) + om * np.array([-rc[1], rc[0]])
+        a = np.array([sw[f"X{b}dd"], sw[f"Y{b}dd"]]) + al * np.array([-rc[1], rc[0]]) \
+            - om ** 2 * rc
+        out += mass * np.sum(a * v, axis=0) + J * al * om + mass * G * v[1]
+    return out
+
+
 def test_quick_return_power_balance_and_torque(tmp_path):
     """examples/quick_return_forces.py over a full turn at 1,000 points: its power balance
     closes to 1e-9 of the input power, and the crank torque is the power form
@@ -468,15 +483,7 @@ def test_quick_return_power_balance_and_torque(tmp_path):
     power = sw.power()
     assert np.abs(power["residual"]).max() <= 1e-9 * np.abs(power["drivers"]).max()
     bodies = {2: (2.0, 1.5, (1.5, 0.0)), 3: (5.0, 33.75, (0.0, 4.5)), 4: (3.0, 1.0, (1.0, 0.2))}
-    expected = np.zeros(len(sw))
-    for b, (mass, J, c) in bodies.items():
-        th, om, al = sw[f"Th{b}"], sw[f"Th{b}d"], sw[f"Th{b}dd"]
-        rc = np.array([np.cos(th) * c[0] - np.sin(th) * c[1],
-                       np.sin(th) * c[0] + np.cos(th) * c[1]])
-        v = np.array([sw[f"X{b}d"], sw[f"Y{b}d"]]) + om * np.array([-rc[1], rc[0]])
-        a = np.array([sw[f"X{b}dd"], sw[f"Y{b}dd"]]) + al * np.array([-rc[1], rc[0]]) \
-            - om ** 2 * rc
-        expected += mass * np.sum(a * v, axis=0) + J * al * om + mass * 9.807 * v[1]
+    expected = inertia_and_weight_power(sw, bodies)
     cut = np.where(sw["X4d"] > 0, -500.0, 0.0)
     expected -= cut * sw["X4d"]
     expected /= 2 * math.pi
@@ -574,3 +581,25 @@ def test_compiled_tier_gives_the_python_tier_s_forces(tmp_path):
     np.testing.assert_allclose(a.energy()["total"], b.energy()["total"], rtol=1e-12)
     s, t = fast.solve(0.37, level="static"), slow.solve(0.37, level="static")
     np.testing.assert_allclose(s.driver("crank driver"), t.driver("crank driver"), rtol=1e-12)
+
+
+def test_stages_driver_effort_on_both_sides_of_the_switch(tmp_path):
+    """The staged quick-return (the crank turns back at t = 0.5) with a heavy lever: the
+    stage driver's torque by the power form on each side of the switch, where the sweep
+    holds both sides' velocities."""
+    import os
+    source = open(os.path.join(os.path.dirname(os.path.dirname(__file__)), "examples",
+                               "quick_return_stages.py")).read()
+    source = source.replace('guess=(0, 0, -0.5))', 'guess=(0, 0, -0.5), mass=5.0, '
+                            'inertia=33.75, centroid=(0, 4.5))') + "\nm.gravity(9.807)\n"
+    path = tmp_path / "qrs_forces.py"
+    path.write_text(source.replace('Model("quick_return_stages")', 'Model("qrs_forces")'))
+    mech = mechgen.compile(str(path), outdir=str(tmp_path / "gen"), tier="python")
+    sw = mech.sweep(0.0, 1.0, 21, level="dynamic")
+    assert np.sum(sw.t == 0.5) == 2
+    expected = inertia_and_weight_power(sw, {3: (5.0, 33.75, (0.0, 4.5))}) / sw["Th2d"]
+    for name in ("crank forward", "crank back"):
+        np.testing.assert_allclose(sw.driver(name), expected, rtol=1e-9,
+                                   atol=1e-9 * np.abs(expected).max())
+    power = sw.power()
+    assert np.abs(power["residual"]).max() <= 1e-9 * np.abs(power["drivers"]).max()

@@ -95,27 +95,35 @@ def driver_factors(model, eq):
     """(row, ∂Φ/∂f) per row of a driver (a constraint whose rows hold T). A row
     g(q) − f(T) (rotation_lock, relative_x, relative_y, an axis angle) gives −1: the
     driven quantity is g, its rate ν. A relative_distance row |r1 − r2|² − d(T)² drives
-    d = |r1 − r2|: −2|r1 − r2|. Any other row that does not separate into g(q) + h(T)
-    gets NaN: its effort is not defined by this slice."""
+    d = |r1 − r2|: −2|r1 − r2|. A stage row (a Piecewise in T) takes each stage's factor.
+    Any other row that does not separate into g(q) + h(T) gets NaN: its effort is not
+    defined by this slice."""
     drivers = {c.number: c for c in model.constraints if c.is_driver}
     coords = set(eq.q)
     out = []
     for i, (number, _) in enumerate(eq.rows):
         con = drivers.get(number)
-        if con is None:
-            continue
-        row = sp.sympify(eq.phi[i])
-        timed = [a for a in sp.Add.make_args(row) if T in a.free_symbols]
-        untimed = [a for a in sp.Add.make_args(row) if T not in a.free_symbols]
-        separable = not any(a.free_symbols & coords for a in timed)
-        if not separable:
-            factor = sp.nan
-        elif con.kind == "relative_distance":
-            factor = -2 * sp.sqrt(sp.Add(*untimed))
-        else:
-            factor = sp.Integer(-1)
-        out.append((i, factor))
+        if con is not None:
+            out.append((i, _factor(sp.sympify(eq.phi[i]), con.kind, coords)))
+        elif getattr(model, "stages", None) and T in sp.sympify(eq.phi[i]).free_symbols:
+            out.append((i, _factor(sp.sympify(eq.phi[i]), "stages", coords)))
     return tuple(out)
+
+
+def _factor(row, kind, coords):
+    """∂Φ/∂f of one driver row (driver_factors)."""
+    if isinstance(row, sp.Piecewise):
+        pieces = [(_factor(e, kind, coords), c) for e, c in row.args]
+        if all(f == pieces[0][0] for f, _ in pieces):
+            return pieces[0][0]
+        return sp.Piecewise(*pieces)
+    timed = [a for a in sp.Add.make_args(row) if T in a.free_symbols]
+    untimed = [a for a in sp.Add.make_args(row) if T not in a.free_symbols]
+    if any(a.free_symbols & coords for a in timed) or not timed:
+        return sp.nan
+    if kind == "relative_distance":
+        return -2 * sp.sqrt(sp.Add(*untimed))
+    return sp.Integer(-1)
 
 
 def forces_lines(model, eq, show, rows) -> list:

@@ -47,7 +47,8 @@ class _Tables:
         for number, kind, label, count, driver in mod.CONSTRAINTS:
             entry = (label, tuple(range(row, row + count)), bool(driver))
             row += count
-            for key in (number, str(number), label, _name_of(label, kind)):
+            for key in (number, str(number), label, _name_of(label, kind),
+                        *_stage_names(label, kind)):
                 if key is not None:
                     self.constraints.setdefault(key, entry)
         index = {c: k for k, c in enumerate(mech.coordinates)}
@@ -81,6 +82,18 @@ def _name_of(label, kind):
     """The ``name=`` of a constraint from its label ``name: kind(args)``, or None."""
     marker = f": {kind}("
     return label.split(marker, 1)[0] if marker in label else None
+
+
+def _stage_names(label, kind):
+    """The names of a stage group's constraints, ``[stage] name: kind(args) | ...``."""
+    if kind != "stages":
+        return ()
+    out = []
+    for part in label.split(" | "):
+        part = part.split("] ", 1)[-1]
+        if ": " in part:
+            out.append(part.split(": ", 1)[0])
+    return tuple(out)
 
 
 def tables(mech) -> _Tables:
@@ -150,6 +163,8 @@ def _effort(tab, mech, name, lam_rows, factors):
                          "(its equations do not hold T)")
     if not tab.forces:           # no mass, no loads: every λ is zero
         return np.zeros(lam_rows.shape[:-1])
+    if any(r not in tab.driver_rows for r in rows):
+        raise ValueError(f"driver {label!r}: its effort is not defined (no driver row)")
     cols = [tab.driver_rows.index(r) for r in rows]
     f = factors[..., cols]
     if np.any(np.isnan(f)):
@@ -357,8 +372,11 @@ class ForceSweep(Sweep):
         for number, kind, label, _, driver in mech.module.CONSTRAINTS:
             short[label] = _name_of(label, kind) or str(number)
             if driver:
+                try:
+                    arrays.append(self.driver(label))
+                except ValueError:      # an effort this slice does not define: no column
+                    continue
                 names.append(short[label])
-                arrays.append(self.driver(label))
         if not len(self):
             return names, arrays
         first = ForceSolution(mech, self.t[0], self.Q[0])
@@ -460,6 +478,10 @@ def force_sweep(mech, t0, t1, n, level, **options) -> ForceSweep:
     mech.module.force_rows(ts, np.ascontiguousarray(sw.Q), np.ascontiguousarray(QD),
                            np.ascontiguousarray(QDD), mech.p, JAC, out.TERMS, out.NU,
                            out.ENERGY, out.FACTORS, PIV)
+    if level == "dynamic":
+        # ν = Φ_q q̇ as solved: at a stage switch the sweep holds both sides' velocities
+        # while the module's ν(t) gives the later stage's
+        out.NU = np.einsum("kij,kj->ki", JAC, QD)
     rhs = out.TERMS[:, 0] + out.TERMS[:, 1] - out.TERMS[:, 2]
     direct = (PIV >= SING_RTOL) if m == n_q else np.zeros(N, dtype=bool)
     if direct.any():
