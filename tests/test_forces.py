@@ -156,6 +156,8 @@ def test_slider_crank_pin_forces_newton_euler(sc):
                [*-ne["FC"], 0.0], scale)
         _close(s.reaction("B", on="rod"), [*ne["FB"], 0.0], scale)
         _close(s.reaction("B", on="crank", about="crank[2]"), [*-ne["FB"], 0.0], scale)
+        crank = sc.model["crank"]
+        _close(s.reaction("B", on=crank, about=crank[2]), [*-ne["FB"], 0.0], scale)
         B = closed_form(t)["B"]
         _close(s.reaction("B", on="crank"), [*-ne["FB"], _cross(B, -ne["FB"])], scale)
         _close(s.reaction("A", on="crank"), [*ne["FA"], 0.0], scale)
