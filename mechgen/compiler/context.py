@@ -17,7 +17,7 @@ from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
 from .equations_code import (gamma_body, nu_body, outputs_bodies, phi_body, phi_q_body,
                              point_list, points_body)
-from .forces_code import forces_bodies
+from .forces_code import force_blocks, forces_bodies
 from .ir import Options, code_words, render, symbols
 from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
 from .names import Names, emitter_symbols, identifiers, module_words
@@ -116,7 +116,8 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
                  for h in helpers],
         inline=inline,
         forces=dict(force_terms=text("force_terms"), energies=text("energies"),
-                    driver_factors=text("driver_factors"), driver_rows=driver_rows)
+                    driver_factors=text("driver_factors"), driver_rows=driver_rows,
+                    blocks=force_blocks(plan, eq))
         if force_parts else None,
         pivot_rtol=repr(PIVOT_RTOL),
         sing_rtol=repr(SING_RTOL),

@@ -45,3 +45,22 @@ def forces_bodies(plan, eq, model):
     bodies["driver_factors"] = straight_line(plan, eq, factors, "driver_factors") \
         if factors else ([Code("pass")], [])
     return bodies, [i for i, _ in dyn.drivers]
+
+
+def force_blocks(plan, eq):
+    """Φ_q's blocks in the solving order, flattened for the module's multipliers_sorted:
+    (starts, rows, columns), block b holding rows[starts[b]:starts[b + 1]] and as many
+    coordinate columns; None where the multipliers cannot go block by block (an unsorted
+    or pruned build, more equations than coordinates)."""
+    if not plan.sorted or not all(plan.solved) or eq.phi.rows != len(eq.q):
+        return None
+    starts, rows, cols = [0], [], []
+    for b in plan.blocks:
+        if len(b.rows) != len(b.vars):
+            return None
+        rows.extend(b.rows)
+        cols.extend(b.vars)
+        starts.append(len(rows))
+    if sorted(rows) != list(range(eq.phi.rows)) or sorted(cols) != list(range(len(eq.q))):
+        return None
+    return dict(starts=starts, rows=rows, cols=cols)

@@ -450,9 +450,11 @@ class ForceSweep(Sweep):
 def force_sweep(mech, t0, t1, n, level, **options) -> ForceSweep:
     """``mech.sweep(t0, t1, n, level="static"|"dynamic")``: the kinematic sweep (at
     acceleration, or position), then λ at every point: the module's force_rows fills
-    Φ_q, the force terms, ν, the energies and the pivot ratios in one compiled loop; a
-    square Φ_q with a pivot ratio of SING_RTOL or more is solved in one batch, any other
-    point by the SVD (multipliers)."""
+    Φ_q, the force terms, ν and the energies in one compiled loop, with the multipliers
+    block by block in the reverse solving order where the module has the blocks
+    (multipliers_sorted), else the pivot ratios and one batched numpy solve; a point whose
+    smallest pivot is below SING_RTOL (or a model with more equations than coordinates)
+    goes to the SVD (svd_multipliers)."""
     kin = "acceleration" if level == "dynamic" else "position"
     sw = mech.sweep(t0, t1, n, level=kin, **options)
     out = ForceSweep.__new__(ForceSweep)
@@ -477,14 +479,16 @@ def force_sweep(mech, t0, t1, n, level, **options) -> ForceSweep:
     ts = np.ascontiguousarray(sw.t, dtype=np.float64)
     mech.module.force_rows(ts, np.ascontiguousarray(sw.Q), np.ascontiguousarray(QD),
                            np.ascontiguousarray(QDD), mech.p, JAC, out.TERMS, out.NU,
-                           out.ENERGY, out.FACTORS, PIV)
+                           out.ENERGY, out.FACTORS, PIV, out.LAM)
     if level == "dynamic":
         # ν = Φ_q q̇ as solved: at a stage switch the sweep holds both sides' velocities
         # while the module's ν(t) gives the later stage's
         out.NU = np.einsum("kij,kj->ki", JAC, QD)
     rhs = out.TERMS[:, 0] + out.TERMS[:, 1] - out.TERMS[:, 2]
     direct = (PIV >= SING_RTOL) if m == n_q else np.zeros(N, dtype=bool)
-    if direct.any():
+    if hasattr(mech.module, "multipliers_sorted"):      # solved block by block already
+        direct &= np.all(np.isfinite(out.LAM), axis=1)
+    elif direct.any():
         try:
             lam = np.linalg.solve(JAC[direct].transpose(0, 2, 1), rhs[direct][..., None])[..., 0]
         except np.linalg.LinAlgError:
