@@ -605,3 +605,13 @@ def test_stages_driver_effort_on_both_sides_of_the_switch(tmp_path):
                                    atol=1e-9 * np.abs(expected).max())
     power = sw.power()
     assert np.abs(power["residual"]).max() <= 1e-9 * np.abs(power["drivers"]).max()
+
+
+def test_static_sweep_power_is_zero(sc):
+    """At rest nothing moves: every power of a static sweep is zero, and a flywheel
+    needs a dynamic sweep."""
+    sw = sc.sweep(0.0, 1.0, 5, level="static")
+    assert all(np.all(v == 0.0) for v in sw.power().values())
+    assert np.all(np.isfinite(sw.driver("crank driver")))
+    with pytest.raises(ValueError, match="dynamic"):
+        sw.flywheel(0.05)

@@ -401,6 +401,8 @@ class ForceSweep(Sweep):
         constant speed, the sweep spanning one period: "energy" ΔE, the largest swing of
         ∫(P − P̄) dt (P the driver's power input, trapezoids on the sweep's points),
         "inertia" ΔE / (cs ω̄²), ω̄ the mean rate of the driven quantity, and "mean_power"."""
+        if self.force_level != "dynamic":
+            raise ValueError("flywheel: needs a dynamic sweep (level=\"dynamic\")")
         cs = float(cs)
         if not cs > 0 or not np.isfinite(cs):
             raise ValueError(f"flywheel: the coefficient of speed fluctuation must be a "
@@ -474,19 +476,16 @@ def force_sweep(mech, t0, t1, n, level, **options) -> ForceSweep:
         QD = QDD = np.zeros_like(sw.Q)
     else:
         QD, QDD = sw.QD, sw.QDD
-    JAC = np.empty((N, m, n_q))
+    blocks = hasattr(mech.module, "multipliers_sorted")
+    JAC = np.empty((1 if blocks else N, m, n_q))    # one reused where λ comes back solved
     PIV = np.empty(N)
     ts = np.ascontiguousarray(sw.t, dtype=np.float64)
     mech.module.force_rows(ts, np.ascontiguousarray(sw.Q), np.ascontiguousarray(QD),
                            np.ascontiguousarray(QDD), mech.p, JAC, out.TERMS, out.NU,
                            out.ENERGY, out.FACTORS, PIV, out.LAM)
-    if level == "dynamic":
-        # ν = Φ_q q̇ as solved: at a stage switch the sweep holds both sides' velocities
-        # while the module's ν(t) gives the later stage's
-        out.NU = np.einsum("kij,kj->ki", JAC, QD)
     rhs = out.TERMS[:, 0] + out.TERMS[:, 1] - out.TERMS[:, 2]
     direct = (PIV >= SING_RTOL) if m == n_q else np.zeros(N, dtype=bool)
-    if hasattr(mech.module, "multipliers_sorted"):      # solved block by block already
+    if blocks:                                      # solved block by block already
         direct &= np.all(np.isfinite(out.LAM), axis=1)
     elif direct.any():
         try:
@@ -500,7 +499,8 @@ def force_sweep(mech, t0, t1, n, level, **options) -> ForceSweep:
     indeterminate = set()
     for k in np.flatnonzero(~direct):
         try:
-            out.LAM[k], dependent = svd_multipliers(mech, JAC[k], sw.Q[k], float(sw.t[k]),
+            J = mech.jacobian(sw.Q[k], float(sw.t[k])) if blocks else JAC[k]
+            out.LAM[k], dependent = svd_multipliers(mech, J, sw.Q[k], float(sw.t[k]),
                                                     rhs[k], level)
             indeterminate.update(dependent)
         except SingularError:
