@@ -296,12 +296,22 @@ def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -
         qd = qdd = np.zeros(mech.n)
     else:
         qd, qdd = s.qd, s.qdd
-    terms = force_terms(mech, s.q, qd, qdd, s.t)
-    lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
+    mod = mech.module
+    if hasattr(mod, "multipliers_sorted"):    # one compiled call: terms and λ by blocks
+        terms, lam, piv = np.zeros((1, 3, mech.n)), np.zeros((1, mech.m)), np.zeros(1)
+        mod.force_rows(np.array([s.t]), s.q[None], qd[None], qdd[None], mech.p,
+                       np.empty((1, mech.m, mech.n)), terms, np.zeros((1, mech.m)),
+                       np.zeros((1, 3)), np.zeros((1, len(tables(mech).driver_rows))), piv, lam)
+        terms, lam, dependent = terms[0], lam[0], ()
+        if not (piv[0] >= SING_RTOL and np.all(np.isfinite(lam))):
+            lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
+    else:
+        terms = force_terms(mech, s.q, qd, qdd, s.t)
+        lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
     out = ForceSolution(mech, s.t, s.q, s.qd, s.qdd, iterations=s.iterations,
                         residual=s.residual, singular=s.singular, method=s.method)
     out.force_level, out.lam, out.terms = level, lam, terms
-    out.indeterminate = _constraints_of(mech, dependent)
+    out.indeterminate = _constraints_of(mech, dependent) if dependent else ()
     mech.last = out
     return out
 
