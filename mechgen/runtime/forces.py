@@ -5,12 +5,15 @@ The generated module of a model with mass or loads holds ``force_terms`` (Q_a, Q
 the multipliers solve Φ_qᵀ λ = Q_a + Q_c − I (q̇ = q̈ = 0 at level "static"). A model
 without mass or loads has no such functions: its right side is zero, so are its λ.
 
-The multiplier solve is numpy's SVD of Φ_q (this slice; not yet block by block in the
-solving order): its rank is read on the row-equilibrated Φ_q at SING_RTOL, as the
-kinematic solves read it. Below full row rank (redundant constraints) λ is the
-minimum-norm solution and ``indeterminate`` names the constraints whose multipliers are
-not unique; where Φ_qᵀ λ = Q has no solution (a lock or toggle position with a load that
-would move it) the solve raises SingularError.
+A sorted square build solves the multipliers in the module, block by block in the
+reverse solving order (multipliers_sorted, through force_rows); where a block's scaled
+pivot is below SING_RTOL, or the module has no blocks (a batched numpy solve where its
+pivot ratio allows), or Φ_q has more rows than columns, numpy's SVD of Φ_q decides: its
+rank on the row-equilibrated Φ_q at SING_RTOL, as the kinematic solves read it. Below
+full row rank (redundant constraints) λ is the minimum-norm solution and
+``indeterminate`` names the constraints whose multipliers are not unique; where
+Φ_qᵀ λ = Q has no solution (a lock or toggle position with a load that would move it)
+the solve raises SingularError (a sweep: NaN and ``force_singular`` at those points).
 
 What a constraint applies to the bodies is −Φ_q[rows]ᵀ λ[rows]: its entries on a body's
 X, Y, Th are the force and the moment about the body's origin. numpy only, never sympy.
