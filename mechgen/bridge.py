@@ -241,6 +241,10 @@ def compile_model(model, outdir=None, tier=None, name=None, **kwargs):
         outdir = cache_folder()
     if isinstance(model, (str, os.PathLike)):
         return compile_file(os.fspath(model), outdir, name=name, tier=tier, **kwargs)
+    from .model.language import Model       # sympy: only for a Model itself
+    if not isinstance(model, Model):
+        raise TypeError(f"compile(model): model must be a mechgen.Model or the path of a "
+                        f"model file, got {type(model).__name__} {repr(model)[:60]}")
     if name is not None:
         raise TypeError("compile(): name= picks a model of a model file; pass the file's path")
     return attach(load(build_if_changed(model, outdir, **kwargs), tier=tier), model)

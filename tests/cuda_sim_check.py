@@ -153,6 +153,54 @@ def python_tier():
             "done": got["done"].tolist()}
 
 
+def contract():
+    """mech.sweep(..., params=..., backend="cuda") end to end (the design-table dispatch of
+    mechgen.runtime.backends into mechgen.runtime.cuda, the real kernels on the simulator)
+    against backend="cpu": full tables and reductions, with a design that cannot turn
+    (longitud 6 at velocidad 2π: it fails in mid-sweep) among them."""
+    import math
+    import mechgen
+    mech = mechgen.load(os.path.join(ROOT, "generated", "quick_return.py"))
+    span = (0.0, 1.0, 8)
+    params = {"longitud": [1.0, 2.25, 3.5, 6.0], "velocidad": [2 * math.pi, 3.0]}
+    cpu = _cpu_table(mech, span, params, "velocity", on_fail="ignore")
+    gpu = _cpu_table(mech, span, params, "velocity", on_fail="ignore", backend="cuda")
+    nt = len(cpu.t)
+    done = cpu.done.reshape(cpu.shape)
+    out = {"ok": cpu.ok.tolist(), "done": done.tolist(),
+           "status_same": bool(np.array_equal(gpu.status, cpu.status)),
+           "ok_same": bool(np.array_equal(gpu.ok, cpu.ok)),
+           "done_same": bool(np.array_equal(gpu.done, cpu.done))}
+
+    def diff(a, b):
+        """max |a - b| where b has numbers; inf where NaN does not match NaN."""
+        a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+        if not np.array_equal(np.isnan(a), np.isnan(b)):
+            return math.inf
+        return float(np.max(np.abs(a - b)[~np.isnan(b)], initial=0.0))
+
+    for name in ("X4", "X4d", "Th3", "stroke_xd"):
+        out["diff_" + name] = diff(gpu[name], cpu[name])
+    # past the failed time of a failed design: NaN, never numbers; before it: its points
+    bad = ~cpu.ok
+    out["failed_nan_after"] = bool(all(np.all(np.isnan(gpu["X4"][i][int(done[i]):])) and
+                                       np.all(np.isfinite(gpu["X4"][i][:int(done[i])]))
+                                       for i in zip(*np.nonzero(bad)))) and bool(bad.any())
+    out["failed_partial"] = bool(any(0 < int(done[i]) < nt for i in zip(*np.nonzero(bad))))
+    names = ["X4", "stroke_x"]
+    red_cpu = _cpu_table(mech, span, params, "velocity", on_fail="ignore", reduce=names)
+    red_gpu = _cpu_table(mech, span, params, "velocity", on_fail="ignore", reduce=names,
+                         backend="cuda")
+    out["reduce_status_same"] = bool(np.array_equal(red_gpu.status, red_cpu.status))
+    out["reduce_done_same"] = bool(np.array_equal(red_gpu.done, red_cpu.done))
+    out["reduce_diff"] = max(diff(getattr(red_gpu.reduced(n), w), getattr(red_cpu.reduced(n), w))
+                             for n in names for w in ("min", "max", "tmin", "tmax"))
+    # and the reductions are those of the full table (the first extreme, over solved times)
+    full = cpu["X4"]
+    out["reduce_vs_full"] = diff(red_gpu.reduced("X4").max, np.nanmax(full, axis=-1))
+    return out
+
+
 def bench():
     """benchmarks/bench_cuda.py's measure() at tiny sizes: it runs, and agrees."""
     sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
@@ -166,7 +214,7 @@ def main():
     from numba.core import config
     assert config.ENABLE_CUDASIM, "run with NUMBA_ENABLE_CUDASIM=1"
     names = sys.argv[1:] or list(CASES) + ["bench", "python_tier"]
-    extra = {"bench": bench, "python_tier": python_tier}
+    extra = {"bench": bench, "python_tier": python_tier, "contract": contract}
     print(json.dumps({n: extra[n]() if n in extra else compare(n, *CASES[n]) for n in names}))
 
 

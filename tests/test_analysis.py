@@ -10,6 +10,7 @@ import pytest
 
 import mechgen
 from mechgen.runtime.assembly import angle_coordinates
+from closed_forms import quick_return
 from conftest import ROOT, example_model
 
 T_MIN, X4_MIN = 0.6024163823, -1.257536965      # the stroke (test_output_functions
@@ -32,7 +33,7 @@ def test_interpolate_uses_the_derivatives_held(qr, level, method, err):
     assert f.method == method
     assert np.allclose(f(sw.t), sw["X4"], atol=1e-12, rtol=0)       # through the data
     ts = np.linspace(0.013, 0.987, 37)
-    exact = np.array([qr.solve(t)["X4"] for t in ts])
+    exact = np.array([float(quick_return(t)[6]) for t in ts])       # tests/closed_forms.py
     worst = np.max(np.abs(f(ts) - exact))
     assert worst < err
     if level != "position":                                          # slopes at the nodes
@@ -41,7 +42,7 @@ def test_interpolate_uses_the_derivatives_held(qr, level, method, err):
 
 def test_hermite_beats_the_spline(qr):
     ts = np.linspace(0.013, 0.987, 37)
-    exact = np.array([qr.solve(t)["X4"] for t in ts])
+    exact = np.array([float(quick_return(t)[6]) for t in ts])       # tests/closed_forms.py
     errs = [np.max(np.abs(qr.sweep(0, 1, 21, level=lev).interpolate("X4")(ts) - exact))
             for lev in ("position", "velocity", "acceleration")]
     assert errs[2] < errs[1] < errs[0]
@@ -77,8 +78,21 @@ def test_interpolate_outputs_and_derivatives(qr):
     assert f(0.4321) == pytest.approx(g(0.4321), abs=1e-12)
     fd = sw.interpolate("X4d")                    # cubic Hermite with X4dd
     assert fd.method == "cubic hermite"
-    assert fd(0.4321) == pytest.approx(qr.solve(0.4321, level="velocity")["X4d"], rel=1e-2)
-    assert np.allclose(f.derivative().roots(), (T_MIN, T_MAX), atol=1e-4)
+    # independently: scipy's Hermite pieces through the closed form's X4, X4d, X4dd at the
+    # 21 times (tests/closed_forms.py; the sweep's own values are those to 1e-12)
+    import mpmath as mp
+    from scipy.interpolate import BPoly, CubicHermiteSpline, PPoly
+    with mp.workdps(30):
+        D = np.array([[float(mp.diff(lambda u: quick_return(u)[6], mp.mpf(t), k))
+                       for k in range(3)] for t in sw.t])
+    assert np.allclose(D, np.c_[sw["X4"], sw["X4d"], sw["X4dd"]], rtol=0, atol=1e-11)
+    ts = np.linspace(0.0, 1.0, 101)
+    assert np.abs(fd(ts) - CubicHermiteSpline(sw.t, D[:, 1], D[:, 2])(ts)).max() < 1e-10
+    quintic = PPoly.from_bernstein_basis(BPoly.from_derivatives(sw.t, D))
+    assert np.abs(f(ts) - quintic(ts)).max() < 1e-10
+    assert np.allclose(f.derivative().roots(), quintic.derivative().roots(extrapolate=False),
+                       rtol=0, atol=1e-9)
+    assert np.allclose(f.derivative().roots(), (T_MIN, T_MAX), atol=1e-5)   # the spline's error
 
 
 def test_interpolate_a_decreasing_sweep(qr):
@@ -122,9 +136,11 @@ def test_extrema_of_velocity_and_constant(qr):
     sw = qr.sweep(0.0, 1.0, 41, level="acceleration")
     ev = sw.extrema("X4d")                          # needs exact accelerations
     assert [e.kind for e in ev] == ["min", "max"]
-    for e in ev:
-        s = qr.solve(e.t, level="acceleration")
-        assert abs(s["X4dd"]) < 1e-8 and s["X4d"] == pytest.approx(e.value, abs=1e-10)
+    import mpmath as mp
+    for e in ev:                                    # against the closed form's X4d, X4dd
+        with mp.workdps(30):
+            d1, d2 = (float(mp.diff(lambda u: quick_return(u)[6], mp.mpf(e.t), k)) for k in (1, 2))
+        assert abs(d2) < 1e-8 and d1 == pytest.approx(e.value, abs=1e-10)
     assert len(sw.extrema("Y4")) == 0               # constant: round-off is not an extreme
     with pytest.raises(ValueError, match="third derivative"):
         sw.extrema("X4dd")
@@ -135,7 +151,7 @@ def test_roots(qr):
     r = sw.roots("X4")                               # the slider crosses x = 0 twice
     assert [e.kind for e in r] == ["falling", "rising"]
     for e in r:
-        assert abs(qr.solve(e.t)["X4"]) < 1e-12
+        assert abs(float(quick_return(e.t)[6])) < 1e-12          # the closed form's X4
         assert abs(e.t_interp - e.t) < 1e-3
     d = qr.sweep(0.0, 1.0, 21, level="velocity").roots("X4d")
     assert np.allclose(d.t, (T_MIN, T_MAX), atol=1e-10)
@@ -170,8 +186,10 @@ def test_assemblies_fourbar(request, fixture, names):
 def test_assemblies_quick_return_at_085(qr):
     modes = qr.assemblies(0.85)
     assert len(modes) == 2
-    assert modes[0]["X4"] == pytest.approx(qr.solve(0.85)["X4"], abs=1e-12)   # the guess's first
-    assert sorted(round(s["X4"], 5) for s in modes) == [0.80263, 9.37314]
+    # the guess's mode first, then the other (tests/closed_forms.py)
+    assert modes[0]["X4"] == pytest.approx(float(quick_return(0.85)[6]), abs=1e-12)
+    assert modes[1]["X4"] == pytest.approx(float(quick_return(0.85, side=-1)[6]), abs=1e-12)
+    assert sorted(round(s["X4"], 5) for s in modes) == [0.80263, 9.37314]        # as printed
     for s in modes:
         assert same_angle(s["Th3"], -0.600822, 1e-6) and s["Th2"] == pytest.approx(5.34071, abs=1e-5)
         assert s["Th4"] == pytest.approx(0.0, abs=1e-12)

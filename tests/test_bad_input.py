@@ -271,3 +271,133 @@ def test_cli_runtime_errors(tmp_path, capsys):
         assert err.count("\n") == 1, err
         for word in words:
             assert word in err, (argv, word, err)
+
+
+# -- issue 20: absurd sizes, exits, twins, names, binary files, argument names ---------------
+FOURBAR = os.path.join(EXAMPLES, "fourbar.py")
+
+
+def _mechgen(*argv, cwd=None):
+    """``python -m mechgen ARGV`` as a user runs it: (returncode, stderr)."""
+    env = dict(os.environ, PYTHONPATH=os.path.dirname(GENERATED))
+    proc = subprocess.run([sys.executable, "-m", "mechgen", *argv], capture_output=True,
+                          text=True, timeout=300, env=env, cwd=cwd)
+    return proc.returncode, proc.stderr
+
+
+def _one_line(rc, err, *words):
+    assert rc != 0 and "Traceback" not in err, err
+    assert err.startswith("mechgen: ") and err.count("\n") == 1, err
+    for word in words:
+        assert word in err, (word, err)
+
+
+@pytest.mark.parametrize("argv,words", [
+    (["-n", "100000000000000"], ["-n", "100,000,000,000,000", "memory", "limit"]),
+    (["-n", "5", "--param", "a=0.5:1:step=1e-13"],
+     ["--param a", "5,000,000,000,001 values", "memory", "limit"]),
+    (["-n", "5", "--param", "a=0.5:1:n=99999999999999"], ["--param a", "memory"]),
+], ids=["points", "step", "count"])
+def test_cli_refuses_absurd_sizes_before_building(tmp_path, argv, words):
+    out = tmp_path / "out"
+    rc, err = _mechgen("sweep", FOURBAR, "--outdir", str(out), *argv)
+    _one_line(rc, err, *words)
+    assert not out.exists()                      # refused before the build
+
+
+def test_runtime_refuses_absurd_sizes(qr):
+    with pytest.raises(ValueError, match=r"^n: 100,000,000,000,000 sweep points .* limit"):
+        qr.sweep(0.0, 1.0, 10 ** 14)
+    with pytest.raises(ValueError, match=r"^n: .*sweep points"):
+        qr.sweep(0.0, 1.0, 1e14)
+    big = np.linspace(1.0, 2.0, 10 ** 5)
+    with pytest.raises(ValueError, match=r"^params: 10,000,000,000 designs of 10 times each"):
+        qr.sweep(0.0, 1.0, 10, params={"longitud": big, "velocidad": big})
+
+
+@pytest.mark.parametrize("source,rc_expected,words", [
+    ("from mechgen import Model\nm = Model('k')\nraise KeyboardInterrupt\n", 130,
+     ["interrupted", "model.py:3"]),
+    ("import sys\nfrom mechgen import Model\nm = Model('x')\nsys.exit(0)\n", 1,
+     ["model.py:4", "sys.exit(0)"]),
+    ("import sys\nsys.exit('bye')\n", 1, ["model.py:2", "sys.exit('bye')"]),
+], ids=["KeyboardInterrupt", "exit0", "exit_text"])
+def test_model_files_that_interrupt_or_exit(tmp_path, source, rc_expected, words):
+    src = tmp_path / "model.py"
+    src.write_text(source)
+    out = tmp_path / "out"
+    rc, err = _mechgen("build", str(src), "-o", str(out))
+    _one_line(rc, err, *words)
+    assert rc == rc_expected and not out.exists()
+
+
+def test_two_models_of_one_name_name_both_lines(tmp_path):
+    text = open(FOURBAR, encoding="utf-8").read().replace('Model("fourbar")', 'Model("twin")')
+    text += '\nm = Model("twin")\n'            # the same variable: the first one is lost
+    src = tmp_path / "twins.py"
+    src.write_text(text)
+    first = 1 + text.splitlines().index('m = Model("twin")')
+    second = len(text.splitlines())
+    out = tmp_path / "out"
+    rc, err = _mechgen("build", str(src), "-o", str(out))
+    _one_line(rc, err, f"twins.py:{second}", f"twins.py:{first}", "'twin'")
+    assert not out.exists()
+    with pytest.raises(mechgen.ModelError, match=f"twins.py:{first}"):
+        mechgen.load_model(str(src))
+
+
+def test_a_binary_file_is_not_a_model_file(tmp_path):
+    src = tmp_path / "picture.py"
+    src.write_bytes(b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR" + bytes(range(256)))
+    out = tmp_path / "out"
+    rc, err = _mechgen("build", str(src), "-o", str(out))
+    _one_line(rc, err, "picture.py", "not a Python model file")
+    assert "None" not in err and not out.exists()
+    latin = tmp_path / "latin.py"
+    latin.write_bytes("m = 'ñ'\n".encode("latin-1"))
+    rc, err = _mechgen("build", str(latin), "-o", str(out))
+    _one_line(rc, err, "latin.py", "not a Python model file")
+
+
+def test_any_identifier_names_a_model(tmp_path):
+    """API.md: any Python identifier may name a model; the module file carries it, numba's
+    cache and the plain tier load it (the rocker angle against the closed form)."""
+    from test_caches import th4_closed_form
+    text = open(FOURBAR, encoding="utf-8").read().replace('Model("fourbar")',
+                                                           'Model("biela_ñβ")')
+    src = tmp_path / "biela.py"
+    src.write_text(text, encoding="utf-8")
+    out = tmp_path / "out"
+    rc, err = _mechgen("build", str(src), "-o", str(out))
+    assert rc == 0 and "Traceback" not in err, err
+    path = out / "biela_ñβ.py"
+    assert path.exists()
+    for tier in ("python", "compiled"):
+        value = mechgen.load(str(path), tier=tier).solve(0.1)["Th4"]
+        assert min(abs(value - r) for r in th4_closed_form(0.1)) < 1e-12, tier
+    with pytest.raises(mechgen.ModelError, match="keyword"):
+        mechgen.Model("lambda")
+    with pytest.raises(mechgen.ModelError, match="identifier"):
+        mechgen.Model("two words")
+
+
+@pytest.mark.parametrize("call,words", [
+    (lambda m: mechgen.compile(42), ["compile(model)", "model must be", "int 42"]),
+    (lambda m: m.solve(0.1, maxit=10 ** 30), ["maxit", "at most", "1000000000000000000000000000000"]),
+    (lambda m: m.sweep(0, 1, 3, maxit=10 ** 30), ["maxit"]),
+    (lambda m: m.solve(0.1, guess=["a"] * 9), ["guess", "9 numbers", "'a'"]),
+    (lambda m: m.solve(0.1, guess="far"), ["guess", "'far'"]),
+], ids=["compile_int", "maxit_solve", "maxit_sweep", "guess_strings", "guess_text"])
+def test_arguments_are_named(qr, call, words):
+    with pytest.raises((TypeError, ValueError)) as info:
+        call(qr)
+    for word in words:
+        assert word in str(info.value), (word, str(info.value))
+
+
+@pytest.mark.parametrize("name", ["cmath", "random", "numpy", "numba"])
+def test_a_model_may_not_shadow_a_module(name):
+    """A generated module named cmath would shadow the standard library's (numba imports
+    it again when it loads its cache, and fails): refused at the Model line."""
+    with pytest.raises(mechgen.ModelError, match=f"'{name}' is the name of a Python module"):
+        mechgen.Model(name)

@@ -193,6 +193,10 @@ mech = mechgen.load(sys.argv[1] + "/cam_cycloidal.py")
 sw = mech.sweep(0.0, 1.0, 97, level="acceleration")
 out["cyc"] = dict(t=sw.t.tolist(), y=sw["Y3"].tolist(), yd=sw["Y3d"].tolist(),
                   ydd=sw["Y3dd"].tolist(), phi=sw["phi"].tolist(), x=sw["X3"].tolist())
+mech = mechgen.load(sys.argv[1] + "/cam_roller_arm.py")
+sw = mech.sweep(0.0, 1.0, 97, level="acceleration")
+out["arm"] = dict(t=sw.t.tolist(), th=sw["Th3"].tolist(), thd=sw["Th3d"].tolist(),
+                  thdd=sw["Th3dd"].tolist(), phi=sw["phi"].tolist())
 mech = mechgen.load(sys.argv[1] + "/cam_eccentric.py")
 sw = mech.sweep(0.0, 1.0, 41, level="acceleration")
 out["ecc"] = dict(t=sw.t.tolist(), y=sw["Y3"].tolist(), yd=sw["Y3d"].tolist(),
@@ -238,6 +242,18 @@ def test_cycloidal_cam_gives_back_its_motion_law(example_sweeps):
     assert np.max(np.abs(sw["ydd"] - omega ** 2 * a)) < 1e-9
     assert np.max(np.abs(sw["x"] - 1.0)) < 1e-12
     # the contact parameter is the cam angle: the designed pitch point is the roller's centre
+    assert np.max(np.abs(sw["phi"] - omega * sw["t"])) < 1e-9
+
+
+def test_roller_arm_cam_gives_back_its_swing(example_sweeps):
+    """examples/cam_roller_arm.py: the oscillating arm follows ψ0 − s(φ) of the cycloidal
+    rise–dwell–return–dwell law it was designed from (swing 0.3), with ω s', ω² s''."""
+    sw = example_sweeps["arm"]
+    omega, psi0 = 2 * np.pi, 2.7
+    s, v, a = cycloidal_law(omega * sw["t"], h=0.3)
+    assert np.max(np.abs(sw["th"] - (psi0 - s))) < 1e-9
+    assert np.max(np.abs(sw["thd"] + omega * v)) < 1e-9
+    assert np.max(np.abs(sw["thdd"] + omega ** 2 * a)) < 1e-8
     assert np.max(np.abs(sw["phi"] - omega * sw["t"])) < 1e-9
 
 

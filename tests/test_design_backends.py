@@ -73,16 +73,35 @@ def test_reductions_equal_the_full_tables(qr, serial, workers):
     assert header[:4] == ["longitud", "velocidad", "status", "X4_min"] and data.shape == (48, 23)
 
 
-def test_exact_extremes_agree_with_the_sweep_extrema(qr):
+def quick_return_x4(t, L):
+    """The slider's X4 in closed form (tests/closed_forms.py) with the crank length L."""
+    from closed_forms import quick_return
+    return quick_return(t, longitud=L)[6]
+
+
+def closed_form_extreme(L, t0):
+    """The time and value where dX4/dt = 0 near t0, from the closed form."""
+    import mpmath as mp
+    with mp.workdps(40):
+        t = mp.findroot(lambda u: mp.diff(lambda v: quick_return_x4(v, L), u), mp.mpf(t0))
+        return float(t), float(quick_return_x4(t, L))
+
+
+def test_exact_extremes_agree_with_the_closed_form(qr):
     tab = qr.sweep(0.0, 1.0, 30, params={"longitud": [1.5, 2.5, 6.0]}, level="acceleration",
                    on_fail="ignore")
     ext = tab.extremes("X4")
     for i, L in enumerate((1.5, 2.5)):
+        for t, v in ((ext.tmin[i], ext.min[i]), (ext.tmax[i], ext.max[i])):
+            t_ref, v_ref = closed_form_extreme(L, t)
+            assert abs(t - t_ref) < 1e-12 and abs(v - v_ref) < 1e-13 * (1 + abs(v_ref)), (L, t, v)
+        # the global ones: no sample of the closed form lies beyond them
+        grid = [float(quick_return_x4(k / 400, L)) for k in range(400)]
+        assert min(grid) >= ext.min[i] - 1e-13 and max(grid) <= ext.max[i] + 1e-13
+        # a single sweep's extrema (refined between its points) find the same
         ev = qr.with_params(longitud=L).sweep(0.0, 1.0, 30, level="velocity").extrema("X4")
-        assert ext.min[i] == pytest.approx(ev.minima.value[0], abs=1e-12)
-        assert ext.tmin[i] == pytest.approx(ev.minima.t[0], abs=1e-9)
-        assert ext.max[i] == pytest.approx(ev.maxima.value[0], abs=1e-12)
-        assert ext.tmax[i] == pytest.approx(ev.maxima.t[0], abs=1e-9)
+        assert ev.minima.value[0] == pytest.approx(ext.min[i], abs=1e-12)
+        assert ev.maxima.value[0] == pytest.approx(ext.max[i], abs=1e-12)
     grid = tab.reduced("X4")
     assert np.all(ext.max[:2] >= grid.max[:2]) and not ext.ok[2]
 
@@ -141,6 +160,11 @@ def test_optimize_a_stroke(qr):
     assert best.rejected > 0 and best.evaluated == best.rejected + sum(seen)
     ev = best.mechanism.sweep(0.0, 1.0, 60, level="velocity").extrema("X4")
     assert ev.maxima.value[0] - ev.minima.value[0] == pytest.approx(8.0, abs=1e-8)
+    # and in the closed form: the crank length found gives the slider a stroke of 8
+    L = best.params["longitud"]
+    lo = closed_form_extreme(L, ev.minima.t[0])[1]
+    hi = closed_form_extreme(L, ev.maxima.t[0])[1]
+    assert hi - lo == pytest.approx(8.0, abs=1e-8)
     assert best.params["longitud"] < 5.0 and best.seconds > 0 and "designs evaluated" in repr(best)
     with pytest.raises(ValueError, match="low < high"):
         qr.optimize(objective, bounds={"longitud": (2.0, 1.0)}, t0=0, t1=1, n=10)
@@ -170,7 +194,7 @@ def test_command_line_design_table(qr, tmp_path, capsys):
 # -- dask: one LocalCluster of two worker processes for the module ------------------------------
 @pytest.fixture(scope="module")
 def client():
-    distributed = pytest.importorskip("distributed")
+    import distributed                   # in the test extra: never skipped
     cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
                                        dashboard_address=None)
     cl = distributed.Client(cluster)
@@ -199,33 +223,25 @@ def test_dask_equals_cpu(qr, serial, client):
     assert py.tier == "python" and _same(tab.Q, serial.Q[0:8:2])     # velocidad 2π: every other row
 
 
-def test_cuda_dispatch_contract(qr, serial, monkeypatch):
-    """backend="cuda" calls mechgen.runtime.cuda.run_table_cuda(mech, ts, P, q0, level, tol,
-    maxit, reduce_slots) and reads its dict (status, then Q/QD/QDD or min/max/tmin/tmax);
-    here a stand-in computes it on the CPU, so the table must equal the CPU's."""
-    import types
-    from mechgen.runtime.backends import run_cpu
-    calls = []
-
-    def run_table_cuda(mech, ts, P, q0, level, tol, maxit, reduce_slots):
-        calls.append(reduce_slots)
-        got = run_cpu(mech.module, ts, q0, P, level, tol, mech.xtol, maxit, 0, 1, reduce_slots)
-        if reduce_slots is None:
-            return {"status": got.status, "Q": got.Q, "QD": got.QD, "QDD": got.QDD}
-        return dict(zip(("min", "max", "tmin", "tmax"), got.red), status=got.status)
-    fake = types.ModuleType("mechgen.runtime.cuda")
-    fake.run_table_cuda = run_table_cuda
-    monkeypatch.setitem(sys.modules, "mechgen.runtime.cuda", fake)
-    args = dict(params={"longitud": LENGTHS, "velocidad": [2 * math.pi, 3.0]}, level="velocity",
-                backend="cuda", on_fail="ignore")
-    tab = qr.sweep(0.0, 1.0, 40, **args)
-    assert _same(tab.status, serial.status) and _same(tab.ok, serial.ok)
-    assert _same(tab["X4d"][serial.ok], serial["X4d"][serial.ok])
-    assert np.all(np.isnan(tab["X4"][~serial.ok]))        # a failed design: no numbers
-    red = qr.sweep(0.0, 1.0, 40, reduce=["X4", "stroke_x"], **args)
-    assert calls[-1].tolist() == [[0, 6, 0], [1, 0, 0]]   # [kind, index, order] per quantity
-    assert _same(red.reduced("X4").max[serial.ok], serial.reduced("X4").max[serial.ok])
-    assert _same(red.status, serial.status)
+def test_cuda_backend_on_the_simulator():
+    """backend="cuda" through the design-table dispatch into the real kernels of
+    mechgen.runtime.cuda, on numba's CUDA simulator (a subprocess: numba reads
+    NUMBA_ENABLE_CUDASIM when first imported; tests/cuda_sim_check.py contract): its full
+    table and its reductions equal the CPU's, the design that fails in mid-sweep included."""
+    import json
+    import subprocess
+    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1", PYTHONPATH=ROOT)
+    out = subprocess.run([sys.executable, os.path.join(ROOT, "tests", "cuda_sim_check.py"),
+                          "contract"], env=env, capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-3000:]
+    r = json.loads(out.stdout.strip().splitlines()[-1])["contract"]
+    assert r["ok"] == [[True, True], [True, True], [True, True], [False, True]]
+    assert r["failed_partial"] and r["failed_nan_after"]       # NaN past the failed time
+    for key in ("status_same", "ok_same", "done_same", "reduce_status_same", "reduce_done_same"):
+        assert r[key], key
+    for key in ("diff_X4", "diff_X4d", "diff_Th3", "diff_stroke_xd", "reduce_diff",
+                "reduce_vs_full"):
+        assert r[key] <= 1e-12, (key, r[key])                 # docs/cuda.md: the CPU's source
 
 
 def test_a_table_in_the_python_tier(qr, monkeypatch):
@@ -241,7 +257,8 @@ def test_a_table_in_the_python_tier(qr, monkeypatch):
     assert asked == [(21, "design")]
     ref = qr.sweep(0.0, 1.0, 7, **args)
     assert _same(tab.status, ref.status) and _same(tab.done, ref.done)
-    assert np.allclose(tab["X4d"], ref["X4d"], rtol=0, atol=1e-9, equal_nan=True)
+    for name in ("Q", "QD", "INFO"):                         # bit for bit, as the tiers promise
+        assert _same(getattr(tab, name), getattr(ref, name)), name
 
 
 def test_guided_chunks_cover_every_design_once_big_ones_first():

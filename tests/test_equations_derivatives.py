@@ -1,14 +1,16 @@
 """Φ_q, ν and γ against their definitions: Φ_q = ∂Φ/∂q, and along any trajectory q(t)
 on which Φ(q(t), t) = 0,  d/dt Φ = Φ_q q̇ − ν = 0  and  d²/dt² Φ = Φ_q q̈ − γ = 0.
 
-Checked twice: symbolically by the chain rule (q_i → q_i(T)), and numerically with finite
-differences of a solved position trajectory (the runtime's crank-driven quick-return, and a
-small model whose drivers couple T with the coordinates, so that Φ_qt and Φ_tt are not 0).
+Checked twice: symbolically by the chain rule (q_i → q_i(T)), and numerically on the
+generated modules (the committed crank-driven quick-return, and a small model whose drivers
+couple T with the coordinates, so that Φ_qt and Φ_tt are not 0): their compiled ν and γ and
+their solves against closed forms of the motion, differentiated by mpmath.
 """
 import numpy as np
 import pytest
 import sympy as sp
 
+from closed_forms import motion, quick_return
 from conftest import example_model
 from mechgen import Line, Model, T, cos, sin
 
@@ -68,91 +70,76 @@ def test_the_coupled_model_has_mixed_time_terms():
     assert any(sp.diff(e, eq.T) != 0 for e in eq.phi_t), "and Φ_tt"
 
 
-# -- finite differences along solved trajectories -------------------------------------
-def numeric(eq, defaults):
-    params = [defaults[str(p)] for p in eq.params]
-    args = (list(eq.q), list(eq.qd), list(eq.qdd), eq.T)
-    f = {k: sp.lambdify(args, eq[k].subs(dict(zip(eq.params, params))), "numpy")
-         for k in ("phi", "phi_q", "nu", "gamma")}
-
-    def call(key, q, t, qd=None, qdd=None):
-        n = len(eq.q)
-        qd = np.zeros(n) if qd is None else qd
-        qdd = np.zeros(n) if qdd is None else qdd
-        return np.array(f[key](list(q), list(qd), list(qdd), t), dtype=float).reshape(
-            eq[key].shape)
-    return call
+# -- the generated module's ν, γ and solves against closed forms (mpmath) --------------------
+def coupled_exact(t, amp=0.5):
+    """coupled_model() in closed form: the crank about the origin at the driven angle, the
+    slider on the x axis where its constraint puts it."""
+    import mpmath as mp
+    th = mp.mpf("0.3") + amp * mp.sin(2 * t)
+    return [0, 0, th, 3 * mp.cos(th) + mp.mpf("0.5") * mp.sin(t) * th, 0, 0]
 
 
-def newton(call, q, t, tol=1e-13):
-    for _ in range(50):
-        r = call("phi", q, t).ravel()
-        dq = np.linalg.solve(call("phi_q", q, t), -r)
-        q = q + dq
-        if np.max(np.abs(dq)) < tol:
-            return q
-    raise AssertionError(f"no convergence at t={t}")
+@pytest.fixture(scope="module")
+def coupled_mech(tmp_path_factory):
+    """coupled_model()'s generated module, run in the plain-Python tier (the module's own
+    text, bit for bit the compiled code's: tests/test_tiers.py) to spare a numba build."""
+    import mechgen
+    return mechgen.compile(coupled_model(), outdir=str(tmp_path_factory.mktemp("coupled")),
+                           tier="python")
 
 
-H = 1e-3
-STENCIL = (-2, -1, 0, 1, 2)
+CASES = {"quick_return": (quick_return, (0.1, 0.15, 0.37, 0.62, 0.9)),
+         "coupled": (coupled_exact, (0.0, 0.4, 1.1, 2.3))}
 
 
-def derivatives(Q):
-    """q̇ and q̈ at the centre of five samples spaced H (fourth-order central differences)."""
-    qd = (Q[0] - 8 * Q[1] + 8 * Q[3] - Q[4]) / (12 * H)
-    qdd = (-Q[0] + 16 * Q[1] - 30 * Q[2] + 16 * Q[3] - Q[4]) / (12 * H ** 2)
-    return qd, qdd
+def same_angles(a, b, angles):
+    d = np.asarray(a, dtype=float) - b
+    d[angles] = np.remainder(d[angles] + np.pi, 2 * np.pi) - np.pi
+    return d
 
 
-def check_fd(call, t, Q):
-    q = Q[2]
-    qd, qdd = derivatives(Q)
-    J = call("phi_q", q, t)
-    nu = call("nu", q, t).ravel()
-    gamma = call("gamma", q, t, qd=qd).ravel()
-    scale = 1 + np.abs(J) @ (np.abs(qdd) + np.abs(qd) ** 2)
-    # truncation error of the stencil ~ H⁴ q⁽⁵⁾, and the solver's tolerance / H²
-    assert np.all(np.abs(J @ qd - nu) < 1e-5 * (1 + np.abs(J) @ np.abs(qd))), (t, J @ qd, nu)
-    assert np.all(np.abs(J @ qdd - gamma) < 1e-4 * scale), (t, J @ qdd, gamma)
-    return qd, qdd
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_module_nu_gamma_and_solves_against_the_closed_form(name, qr, coupled_mech):
+    """The generated module's Φ, ν = −Φ_t and γ at the exact configuration: Φ = 0,
+    Φ_q q̇ = ν, Φ_q q̈ = γ with q̇, q̈ differentiated from the closed form; then its solves
+    (every method) give the closed form's q, q̇, q̈."""
+    mech = qr if name == "quick_return" else coupled_mech
+    fn, times = CASES[name]
+    mod, p, n = mech.module, mech.p, len(mech.coordinates)
+    angles = np.array([c.startswith("Th") for c in mech.coordinates])
+    for t in times:
+        q, qd, qdd = motion(fn, t)
+        phi, J, nu, gamma = np.zeros(n), np.zeros((n, n)), np.zeros(n), np.zeros(n)
+        mod.phi(q, t, p, phi)
+        mod.phi_q(q, t, p, J)
+        mod.nu(q, t, p, nu)
+        mod.gamma(q, qd, t, p, gamma)
+        scale = 1 + np.abs(q).max()
+        assert np.abs(phi).max() < 1e-14 * scale, (t, phi)
+        vscale = 1 + np.abs(J) @ np.abs(qd)
+        ascale = 1 + np.abs(J) @ np.abs(qdd) + np.abs(qd).max() ** 2 * (1 + np.abs(q).max())
+        assert np.all(np.abs(J @ qd - nu) < 1e-13 * vscale), (t, J @ qd, nu)
+        assert np.all(np.abs(J @ qdd - gamma) < 1e-13 * ascale), (t, J @ qdd, gamma)
+        for method in ("auto", "sorted", "full"):
+            s = mech.solve(t, level="acceleration", method=method)
+            assert np.abs(same_angles(s.q, q, angles)).max() < 1e-12 * scale, (t, method)
+            assert np.abs(s.qd - qd).max() < 1e-11 * (1 + np.abs(qd).max()), (t, method)
+            assert np.abs(s.qdd - qdd).max() < 1e-10 * (1 + np.abs(qdd).max()), (t, method)
 
 
-def test_gamma_against_finite_differences_of_the_solved_quick_return(qr):
-    """Positions from the compiled quick-return (the seed's model); ν and γ from sympy."""
-    model = example_model("quick_return")
-    eq = model.equations()
-    call = numeric(eq, model.param_defaults)
-    for t in (0.1, 0.15, 0.37, 0.62, 0.9):
-        Q = [qr.solve(t + k * H).q for k in STENCIL]
-        for k, qk in zip(STENCIL, Q):
-            assert np.max(np.abs(call("phi", qk, t + k * H))) < 1e-10
-        qd, qdd = check_fd(call, t, Q)
-        if t == 0.15:   # and the seed's printed SolveMech[0.15, Solution->Acceleration]
-            names = [str(s) for s in eq.q]
-            assert abs(qd[names.index("Th3")] - 2.27897) < 2e-5
-            assert abs(qd[names.index("X4")] + 18.7395) < 2e-4
-            assert abs(qdd[names.index("Th3")] - 1.64018) < 1e-3
-            assert abs(qdd[names.index("X4")] + 40.9024) < 1e-2
-
-
-def test_gamma_against_finite_differences_with_time_coupled_drivers():
-    model = coupled_model()
-    eq = model.equations()
-    call = numeric(eq, model.param_defaults)
-    q = np.array(model.guess_vector())
+def test_a_gamma_without_its_time_terms_would_not_pass(coupled_mech):
+    """On the coupled model the −2 Φ_qt q̇ − Φ_tt terms of γ are large against the tolerance
+    above: a γ without them fails there."""
+    eq = coupled_model().equations()
+    phi_q_qd = (eq.phi_q * eq.qd).jacobian(eq.q) * eq.qd
+    f = sp.lambdify((list(eq.q), list(eq.qd), eq.T),
+                    (-phi_q_qd).subs(dict(zip(eq.params, [0.5]))), "numpy")
+    n = len(eq.q)
     for t in (0.0, 0.4, 1.1):
-        Q = []
-        for k in STENCIL:
-            q = newton(call, q, t + k * H)
-            Q.append(q)
-        check_fd(call, t, Q)
-        q = Q[2]
-        # a wrong γ (without the −2 Φ_qt q̇ − Φ_tt terms) would not pass
-        qd, qdd = derivatives(Q)
-        J = call("phi_q", q, t)
-        phi_q_qd = (eq.phi_q * eq.qd).jacobian(eq.q) * eq.qd
-        f = sp.lambdify((list(eq.q), list(eq.qd), eq.T),
-                        (-phi_q_qd).subs(dict(zip(eq.params, [0.5]))), "numpy")
+        q, qd, qdd = motion(coupled_exact, t)
+        J, gamma = np.zeros((n, n)), np.zeros(n)
+        coupled_mech.module.phi_q(q, t, coupled_mech.p, J)
+        coupled_mech.module.gamma(q, qd, t, coupled_mech.p, gamma)
         partial = np.array(f(list(q), list(qd), t), dtype=float).ravel()
         assert np.max(np.abs(J @ qdd - partial)) > 1e-2
+        assert np.max(np.abs(gamma - partial)) > 1e-2

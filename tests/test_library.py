@@ -260,7 +260,8 @@ def test_sweep_flags_the_points_past_a_branch_point():
     status = STATUS[:, protocol.STATUS_CODE]
     flagged = np.flatnonzero(status != protocol.OK)
     assert flagged.size and set(status[flagged]) <= {protocol.JUMP, protocol.THROUGH_SINGULAR}
-    assert np.all(np.abs(ts[flagged] - math.pi / 2) < 0.2)
+    step = ts[1] - ts[0]                          # the toggle's point and the next one
+    assert np.all((ts[flagged] > math.pi / 2 - 1e-12) & (ts[flagged] < math.pi / 2 + step + 1e-12))
     assert (REPORT[protocol.REPORT_JUMP] > 0.0) == np.any(status == protocol.JUMP)
     assert REPORT[protocol.REPORT_STATUS] == protocol.OK
 
@@ -456,7 +457,8 @@ def test_library_text_is_the_bodies_in_order():
 
 
 def test_library_lints_clean():
-    pyflakes = pytest.importorskip("pyflakes.api")
+    """pyflakes is in the `test` extra, so this runs (never skips) wherever the suite does."""
+    import pyflakes.api as pyflakes
     from pyflakes.reporter import Reporter
     out = io.StringIO()
     for name in library.FILES + ("toy.py", "__init__.py"):

@@ -21,7 +21,8 @@ import pytest
 import sympy as sp
 
 from conftest import example_model
-from test_equations_derivatives import STENCIL, H, chain_rule, check_fd, newton, numeric
+from fd_helpers import STENCIL, H, check_fd, newton, numeric
+from test_equations_derivatives import chain_rule
 
 from mechgen import I, Line, Model, ModelError, T, exp, pi
 
@@ -77,8 +78,9 @@ def test_derivatives_by_the_chain_rule_and_finite_differences(spec):
 
 
 def test_the_gear_row_is_the_rolling_relation():
-    """The rolling row equals |u| sin(ψ − β), β = atan2 of the centre line: zero exactly
-    where r1 (Th1 − β) + r2 (Th2 − β) = c (mod 2π (r1 + r2))."""
+    """The rolling row equals (r1 + r2) (ψ − β) wrapped to (−π, π], β = atan2 of the centre
+    line: zero exactly where r1 (Th1 − β) + r2 (Th2 − β) = c (mod 2π (r1 + r2)), never
+    half a turn of phase away (tests/test_gear_phase.py)."""
     model = example_model("gear_train")
     con = next(c for c in model.constraints if c.kind == "gears")
     dist, roll = con.exprs
@@ -93,7 +95,7 @@ def test_the_gear_row_is_the_rolling_relation():
         beta = math.atan2(uy, ux)
         psi = (rC * v[th3] + rD * v[th4]) / (rC + rD)
         got = float(roll.subs(subs).subs(v))
-        assert abs(got - math.hypot(ux, uy) * math.sin(psi - beta)) < 1e-12
+        assert abs(got - (rC + rD) * math.remainder(psi - beta, 2 * math.pi)) < 1e-12
         assert abs(float(dist.subs(subs).subs(v)) - (ux ** 2 + uy ** 2 - (rC + rD) ** 2)) < 1e-12
     assert len(eq.phi) == 9
 

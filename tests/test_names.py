@@ -78,11 +78,18 @@ def built(tmp_path_factory):
 
 
 def test_the_issue_names_are_accepted_by_the_model():
+    """Each is kept as given: a real symbol of that name, with its default or guess."""
     m = Model("free")
-    for name in ("i", "j", "k", "n", "t", "p", "q", "N", "E", "I", "S", "tol", "level"):
-        m.param(name, 1.0)
-    for name in ("qq", "info", "out", "math", "abs", "_private"):
-        m.coordinate(name)
+    params = ("i", "j", "k", "n", "t", "p", "q", "N", "E", "I", "S", "tol", "level")
+    for k, name in enumerate(params):
+        sym = m.param(name, 1.0 + k)
+        assert sym.name == name and sym.is_real and m.params[name] == (sym, 1.0 + k)
+    coords = ("qq", "info", "out", "math", "abs", "_private")
+    for k, name in enumerate(coords):
+        sym = m.coordinate(name, guess=0.5 * k)
+        assert sym.name == name and m.guess[sym] == 0.5 * k
+    assert [c.name for c in m.coords] == list(coords)
+    assert list(m.params) == list(params)
 
 
 def test_keywords_t_and_the_api_stay_refused():

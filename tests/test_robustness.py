@@ -122,18 +122,33 @@ def test_no_assembly_anywhere_in_the_first_gap(qr_slider, t):
 
 
 @pytest.mark.parametrize("t", [0.742, 0.75, 0.758])
-def test_second_gap_only_in_the_seed_assembly_mode(qr_slider, t):
-    """X4 < XMIN: the seed's mode (slider right of the lever tip) cannot reach it; only
-    the mode with the slider on the other side of the tip can."""
-    for guess in (None, {"Th2": 2.5, "Th3": 0.64, "X4": -1.25},
-                  {"Th2": 3.8, "Th3": 0.6435, "X4": -1.2575}):
-        try:
-            s = qr_slider.solve(t, guess=guess)
-        except mechgen.ConvergenceError as exc:
-            assert "no configuration" in str(exc)
-            continue
-        tip_x = -9 * math.sin(s["Th3"])
-        assert s.residual <= 1e-10 and s["X4"] < tip_x
+def test_second_gap_only_in_the_other_assembly_mode(qr_slider, t):
+    """X4 < XMIN: the seed's mode (slider right of the lever tip) cannot reach it; the mode
+    with the slider on the other side of the tip can (tests/closed_forms.py: the lever at
+    Th3 ≈ −0.393, the crank pin on either side). From a guess near one of those
+    configurations the solve must return it; from the model's guess it may refuse, and
+    what it returns is one of them."""
+    from closed_forms import slider_driven_configurations
+    configs = slider_driven_configurations(t)
+    assert len(configs) == 2
+    for th2, th3, x4 in configs:
+        assert x4 < -9 * math.sin(th3)                 # the slider left of the tip: the other mode
+
+    def which(s):
+        assert s.residual <= 1e-10
+        for k, (th2, th3, x4) in enumerate(configs):
+            if same_angle(s["Th2"], th2, 1e-9) and same_angle(s["Th3"], th3, 1e-9) and \
+                    abs(s["X4"] - x4) < 1e-9:
+                return k
+        raise AssertionError(f"not a configuration of the closed form: {s.q}")
+
+    for k, (th2, th3, x4) in enumerate(configs):
+        s = qr_slider.solve(t, guess={"Th2": th2 + 0.05, "Th3": th3 - 0.05, "X4": x4 + 0.05})
+        assert which(s) == k
+    try:
+        which(qr_slider.solve(t))
+    except mechgen.ConvergenceError as exc:
+        assert "no configuration" in str(exc)
 
 
 def test_sweep_stops_at_the_lock(qr_slider):
@@ -328,12 +343,19 @@ def test_sweep_keeps_its_assembly_mode_near_a_change_point(fourbar, a, b, c, d, 
 @pytest.mark.parametrize("n", [3, 4, 5, 7])
 @pytest.mark.parametrize("level", ["position", "velocity", "acceleration"])
 def test_coarse_sweeps_keep_the_assembly_mode(qr, n, level):
-    """Three crank turns in a handful of points: substeps, not the other assembly mode."""
-    fine = qr.sweep(0.0, 3.0, (n - 1) * 200 + 1, level="acceleration")
+    """Three crank turns in a handful of points: substeps, not the other assembly mode;
+    every point (and its derivatives) the closed form's (tests/closed_forms.py)."""
+    from closed_forms import motion, quick_return
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         sw = qr.sweep(0.0, 3.0, n, level=level)
-    assert np.abs(sw.Q - fine.Q[::200]).max() < 1e-8
+    for k, t in enumerate(sw.t):
+        q, qd, qdd = motion(quick_return, t)
+        assert np.abs(sw.Q[k] - q).max() < 1e-10, (k, t)       # Th2 = 2πT, unwrapped too
+        if sw.QD is not None:
+            assert np.abs(sw.QD[k] - qd).max() < 1e-9 * (1 + np.abs(qd).max()), (k, t)
+        if sw.QDD is not None:
+            assert np.abs(sw.QDD[k] - qdd).max() < 1e-9 * (1 + np.abs(qdd).max()), (k, t)
     assert sw.info[:, 5].sum() > 0                              # it did take substeps
 
 

@@ -145,6 +145,16 @@ def _quiet_stdout():
         pass        # no real file behind stdout (a test's capture): nothing to quiet
 
 
+def _model_line(exc, args) -> str:
+    """ " at FILE:LINE" of the model file's innermost line in exc's traceback, or ""."""
+    import traceback
+    path = os.path.abspath(getattr(args, "model_file", "") or "")
+    for frame in reversed(traceback.extract_tb(exc.__traceback__)):
+        if os.path.abspath(frame.filename) == path:
+            return f" at {path}:{frame.lineno} (in the model file)"
+    return ""
+
+
 def main(argv=None) -> int:
     """Run one command; returns the exit status (0, 1 on a failure, 2 on a usage error)."""
     args = parser().parse_args(argv)
@@ -153,6 +163,9 @@ def main(argv=None) -> int:
     except BrokenPipeError:
         _quiet_stdout()
         return 0
+    except KeyboardInterrupt as exc:     # Ctrl-C, or a model file that raises it
+        print(f"mechgen: interrupted{_model_line(exc, args)}", file=sys.stderr)
+        return 130
     except MechgenError as exc:
         kind = "error" if type(exc) is MechgenError else type(exc).__name__
         print(f"mechgen: {kind}: {exc}", file=sys.stderr)

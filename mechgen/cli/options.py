@@ -12,6 +12,7 @@ import os
 import numpy as np
 
 from ..errors import MechgenError
+from ..runtime.guards import fits
 
 # What a number on the command line may be built from: no names beyond these, no
 # attributes, no calls but these functions (the text is parsed, never eval'd).
@@ -95,6 +96,15 @@ def _count(text) -> int:
     return int(text)
 
 
+def _not_too_many(name, count):
+    """A parameter's values become designs of a table (each at least a row of numbers):
+    refuse counts that could not fit in memory before making them."""
+    try:
+        fits(count, 128, "values", f"--param {name}")
+    except ValueError as exc:
+        raise MechgenError(str(exc)) from None
+
+
 def parse_param_option(items) -> dict:
     """``--param`` values of the command line: ``NAME=V`` fixes a parameter,
     ``NAME=V1,V2,...`` lists values, ``NAME=START:STOP:COUNT`` is COUNT values from START
@@ -118,11 +128,13 @@ def parse_param_option(items) -> dict:
                         raise ValueError
                     # the 1e-9 keeps a stop that the steps reach up to round-off
                     count = int(math.floor((stop - start) / step + 1e-9)) + 1
+                    _not_too_many(name, count)
                     values = start + step * np.arange(count)
                 else:
                     if eq and key.strip() != "n":
                         raise ValueError
                     count = _count(value if eq else last)
+                    _not_too_many(name, count)
                     if count > 1 and stop == start:
                         raise ValueError
                     values = np.linspace(start, stop, count)

@@ -53,12 +53,12 @@ def cmd_sweep(args):
     if args.csv:
         output_file(args.csv)
     ts = times(args.t0, args.t1, args.n)
+    params = parse_param_option(args.param)     # refused before anything is built
     mech = mechanism(args)
     reduce = parse_columns(args.reduce)
     # the level follows from the reduced quantities (a table of reductions has columns
     # X4_min, ...), else from the columns asked for
     level = needed_level(mech, reduce or parse_columns(args.columns), args.level)
-    params = parse_param_option(args.param)
     if any(not isinstance(v, float) for v in params.values()):   # a design table
         progress = sys.stderr.isatty() if args.progress is None else args.progress
         with backend_client(args) as client:

@@ -8,9 +8,10 @@ import numpy as np
 
 from ..errors import MechgenError
 from ..protocol import LEVELS
+from ..runtime.guards import fits, point_bytes
+from ..runtime.quantity import column_names
 
 FORCE_LEVELS = ("static", "dynamic")    # mechgen.runtime.forces (not imported by the parser)
-from ..runtime.quantity import column_names
 
 
 def times(t0, t1, n) -> np.ndarray:
@@ -19,6 +20,7 @@ def times(t0, t1, n) -> np.ndarray:
     round-off (0.15000000000000002), that shorter decimal (0.15)."""
     if n < 1:
         raise MechgenError(f"n must be a positive integer, got {n}")
+    fits(n, point_bytes(1, 0), "sweep points", "-n")    # before any allocation
     if n == 1:
         return np.array([float(t0)])
     out = np.empty(n)

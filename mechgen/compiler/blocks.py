@@ -141,6 +141,9 @@ def linear_in(expr, var):
     """(coefficient, rest) when expr = coefficient·var + rest with both free of var."""
     if var not in expr.free_symbols:
         return None
+    if any(getattr(f, "wraps", False) and var in f.free_symbols
+           for f in expr.atoms(sp.Function)):
+        return None     # a wrapped angle (a gear's mesh_angle): a constant slope, a sawtooth
     coef = sp.diff(expr, var)
     if var in coef.free_symbols:
         return None

@@ -163,14 +163,17 @@ def _is_flip(a, b, periodic, same):
     return bool(flipped) and np.max(np.abs(rest), initial=0.0) <= same
 
 
-def assembly_modes(system, guess, periodic, starts=STARTS, first=None):
+def assembly_modes(system, guess, periodic, starts=STARTS, first=None, turns=()):
     """Every distinct assembly found at the system's time from the guess and from
     ``starts`` quasi-random starts (angles over [−π, π), positions within the model's size
     of the guess; ``first`` is the solution Newton reaches from the guess, when known), as
-    the runtime's mech.assemblies counts them: angles equal modulo 2π
-    and a body turned half a turn with all else equal (a slider reversed on its guide)
-    count once. Returns (modes, index of the mode the guess reaches or None); the modes
-    come in (−π, π], the guess's first."""
+    the runtime's mech.assemblies counts them: poses equal modulo 2π in the periodic
+    angles and in ``turns`` (every body's rotation: a gear's, which Φ reads through its
+    rolling relation, is a pose modulo 2π too) and a body turned half a turn with all else
+    equal (a slider reversed on its guide) count once. Returns (modes, index of the mode
+    the guess reaches or None); the periodic angles come in (−π, π], the guess's mode
+    first."""
+    turns = sorted(set(periodic) | set(turns))
     guess = np.asarray(guess, dtype=float)
     others = [j for j in range(system.n) if j not in periodic]
     size = max([1.0] + [abs(guess[j]) for j in others])
@@ -180,7 +183,7 @@ def assembly_modes(system, guess, periodic, starts=STARTS, first=None):
     def add(q):
         w = wrap(q, periodic)
         for k, other in enumerate(found):
-            if np.max(np.abs(_differ(other, w, periodic)), initial=0.0) <= same:
+            if np.max(np.abs(_differ(other, w, turns)), initial=0.0) <= same:
                 return k
         found.append(w)
         return len(found) - 1
@@ -219,7 +222,7 @@ def assembly_modes(system, guess, periodic, starts=STARTS, first=None):
     for k, w in enumerate(found):
         w = w if k == reached else turned(w)
         for g, kept in enumerate(modes):
-            if np.max(np.abs(_differ(kept, w, periodic)), initial=0.0) <= same or \
+            if np.max(np.abs(_differ(kept, w, turns)), initial=0.0) <= same or \
                     _is_flip(kept, w, periodic, same):
                 break
         else:
@@ -371,7 +374,7 @@ class _Check:
         t, periodic, lines = self.t, self.periodic, self.lines
         q, residual, its, converged = self.first
         modes, reached = assembly_modes(self.system, self.guess, periodic, self.starts,
-                                        first=q if converged else None)
+                                        first=q if converged else None, turns=self.shown)
         if not modes:
             return self.contradiction()
         target = wrap(self.guess, periodic)

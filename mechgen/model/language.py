@@ -4,7 +4,7 @@ from __future__ import annotations
 import keyword
 import math
 import numbers
-import re
+import sys
 import unicodedata
 
 import sympy as sp
@@ -20,7 +20,6 @@ from .loads import LoadsMixin
 from .quantities import register_coordinates
 from .stages import StageMixin
 
-_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]*$")      # a model's own name (its module's)
 # The names a model may not give a parameter, coordinate, body or output: Python's keywords,
 # the time symbol T, and what ``from mechgen import *`` brings into a model file (sympy's
 # constant E excepted, as sympy's other one-letter names I, S and N are not exported).
@@ -39,6 +38,18 @@ API_NAMES = frozenset({
 REFUSED = API_NAMES | {"T"} | set(keyword.kwlist)
 
 
+# modules the generated code, numba or mechgen import: a model may not take their names
+_IMPORTED = frozenset({"numpy", "numba", "llvmlite", "scipy", "sympy", "jinja2", "mechgen",
+                       "matplotlib", "mpmath", "dask", "distributed", "pandas"})
+_CREATED = None     # while model.loader runs a file: the list of every Model it creates
+
+
+def collect_models(into) -> None:
+    """From now on append every Model created to the list ``into`` (None: stop)."""
+    global _CREATED
+    _CREATED = into
+
+
 def _is_identifier(name) -> bool:
     """A Python identifier that Python reads back unchanged (NFKC-normalised)."""
     return isinstance(name, str) and name.isidentifier() and \
@@ -49,9 +60,13 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
     """A planar mechanism. Every ``Model`` defined at module level of a model file is built."""
 
     def __init__(self, name: str):
-        if not isinstance(name, str) or not _NAME.match(name) or keyword.iskeyword(name):
-            raise ModelError(f"Model name {name!r} must be a Python identifier "
-                             "(it names the generated module)")
+        if not _is_identifier(name) or keyword.iskeyword(name):
+            raise ModelError(f"Model name {name!r} must be a Python identifier that is not a "
+                             "keyword (it names the generated module)")
+        if name in getattr(sys, "stdlib_module_names", ()) or name in _IMPORTED:
+            raise ModelError(f"Model name {name!r} is the name of a Python module (the "
+                             "standard library's, or one mechgen and numba import): the "
+                             "generated module would shadow it; choose another name")
         self.name = name
         self.doc = ""
         self.params: dict[str, tuple[sp.Symbol, float]] = {}
@@ -64,6 +79,8 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
         self._names: dict[str, str] = {}          # every user-visible name -> what it is
         self._equations = None
         self._where = _where()
+        if _CREATED is not None:                    # a model file being loaded: see loader
+            _CREATED.append(self)
 
     def __repr__(self):
         return (f"<Model {self.name!r}: {len(self.bodies)} bodies, {len(self.coords)} coordinates, "

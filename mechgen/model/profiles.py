@@ -23,6 +23,8 @@ import numpy as np
 import sympy as sp
 
 from ..errors import ModelError
+from .dag import differentiator
+from .numpy_eval import evaluate
 
 
 class wrap(sp.Function):
@@ -131,7 +133,7 @@ def derivative(expr, var, order):
 def _diff(expr, var):
     if isinstance(expr, sp.Piecewise):
         return sp.Piecewise(*[(_diff(e, var), c) for e, c in expr.args], evaluate=False)
-    return sp.diff(expr, var)
+    return differentiator(var)(expr)
 
 
 def _folded(expr):
@@ -289,14 +291,11 @@ def sample(model, profile, n=SAMPLES):
     values = [subs[p] for p in profile.params]
     period = float(sp.sympify(profile.period).subs(subs))
     ss = np.linspace(0.0, period, n, endpoint=False)
-    vals = []
-    with np.errstate(all="ignore"):
-        for order in range(3):
-            for f in (profile.fx, profile.fy):
-                g = profile_function(f.base, f.expr, f.var, f.params, order)
-                vals.append(np.broadcast_to(np.asarray(g.numeric()(ss, *values), dtype=float),
-                                            ss.shape))
-    return ss, np.array(vals)
+    exprs = [derivative(f.expr, f.var, order) for order in range(3)
+             for f in (profile.fx, profile.fy)]
+    given = {p: float(v) for p, v in zip(profile.params, values)}
+    given[profile.var] = ss
+    return ss, np.array(evaluate(exprs, given, ss.shape))
 
 
 def orientation(model, profile) -> int:

@@ -19,6 +19,7 @@ from .cams import KINDS as CAM_KINDS
 from .cams import draw as draw_cam
 from .gears import draw_library
 from .glyphs import Builder
+from .ground import lift_cam_pivots
 from .scene import Scene
 from .shapes import AUTO
 from .style import INK, MARGIN
@@ -270,6 +271,7 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
         elif kind in CAM_KINDS:
             draw_cam(bld, kind, used)
     draw_library(bld)        # gears, racks, gen_revolute, ... (plot/gears.py)
+    lift_cam_pivots(bld)     # a pivot under a cam's plate drawn over it (plot/ground.py)
     for b in st.bodies:
         if b.ground and (b.name not in custom or AUTO in _listed(custom[b.name])):
             bld.ground_link(b)

@@ -24,6 +24,23 @@ RACK_KINDS = ("rack_and_pinion", "rack_ratio")
 TEETH = 18            # ticks on the smallest pitch circle of a drawing
 
 
+def pitch_markers(joints) -> set:
+    """The POINTS indices that gear and rack joints name only as pitch markers (where a
+    pitch circle passes, not a point of the body's own): a body's outline leaves them
+    out, so that a crank on a gear is drawn as long as its own points, not its radius."""
+    markers, named = set(), set()
+    for _, kind, used in joints:
+        if kind in GEAR_KINDS and len(used) == 4:
+            markers.update((used[1], used[3]))
+            named.update((used[0], used[2]))
+        elif kind in RACK_KINDS and len(used) == 4:
+            markers.add(used[1])
+            named.update((used[0], used[2], used[3]))
+        else:
+            named.update(used)
+    return markers - named
+
+
 def _radius(bld, body, centre, marker):
     v = bld.local(body, marker) - bld.local(body, centre)
     r = math.hypot(*v)
@@ -147,5 +164,7 @@ def draw_library(bld):
             key = (b1.name, c1, round(r1, 9))
             circles[key] = (b1, c1, r1, _local_angle(bld, b1, c1, touch))
             rack(bld, rb, a1, a2, c1, touch, pitch, -side)
+    bld.gear_discs = []         # the pitch discs, global (plot.ground keeps bars off them)
     for b, c, r, phase in circles.values():
         gear(bld, b, c, r, pitch, 0.0 if phase is None else phase)
+        bld.gear_discs.append((bld.P0[c].copy(), r))

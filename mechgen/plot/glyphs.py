@@ -13,6 +13,8 @@ from matplotlib.patches import Circle, FancyArrow, Patch, Polygon, Rectangle
 from matplotlib.transforms import Affine2D
 
 from ..errors import MechgenError
+from .gears import pitch_markers
+from .ground import crosses, hangs, obstacles
 from .labels import put_labels
 from .shapes import AUTO, Shape, hatch, hull, rot, rounded
 from .style import BAR, GROUND, INK, MARGIN
@@ -53,6 +55,7 @@ class Builder:
         self.d.set_state(P0, q0, t0)
         self.slotted = set()
         self.boxed = {}
+        self.pivots = {}            # ground point -> its pivot's artists (plot.ground)
 
     # frames and local coordinates
     def trans(self, body):
@@ -97,19 +100,24 @@ class Builder:
                                linewidth=1.2, zorder=5), body)
 
     def pivot(self, k):
-        """A ground pivot: triangle standing on a hatched base below the point."""
+        """A ground pivot: a triangle on a hatched base, standing below the point, or
+        hanging above it where its links swing below (plot.ground.hangs)."""
+        if k in self.pivots:
+            return
         x, y = self.P0[k]
         w = self.w
-        h, half, foot = 3.0 * w, 1.9 * w, 3.0 * w
+        up = -1.0 if hangs(self, k) else 1.0
+        h, half, foot = 3.0 * w * up, 1.9 * w, 3.0 * w
         ground = self.st.by_name[self.st.owner[k]]
-        self.add(ground.name, Polygon([(x, y), (x - half, y - h), (x + half, y - h)],
-                                      closed=True, facecolor="#e6e6e6", edgecolor=INK,
-                                      linewidth=1.0, zorder=1.2))
         base = np.array([(x - foot, y - h), (x + foot, y - h)])
-        self.add(ground.name, Line2D(base[:, 0], base[:, 1], color=INK, linewidth=1.4,
-                                     zorder=1.2))
-        self.add(ground.name, LineCollection(hatch(base, 1.1 * w, 1.3 * w), colors=INK,
-                                             linewidths=0.8, zorder=1.2))
+        self.pivots[k] = [
+            self.add(ground.name, Polygon([(x, y), (x - half, y - h), (x + half, y - h)],
+                                          closed=True, facecolor="#e6e6e6", edgecolor=INK,
+                                          linewidth=1.0, zorder=1.2)),
+            self.add(ground.name, Line2D(base[:, 0], base[:, 1], color=INK, linewidth=1.4,
+                                         zorder=1.2)),
+            self.add(ground.name, LineCollection(hatch(base, 1.1 * w, 1.3 * w, up),
+                                                 colors=INK, linewidths=0.8, zorder=1.2))]
 
     def revolute(self, k1, k2):
         b1, b2 = self.body_of(k1), self.body_of(k2)
@@ -164,10 +172,17 @@ class Builder:
                     pivots.append(k)
         if len(pivots) < 2:
             return
+        outlines, discs = obstacles(self)
         joined, rest = [pivots[0]], pivots[1:]
-        while rest:       # Prim: the nearest pivot not yet joined
-            d, i, j = min((math.hypot(*(self.P0[i] - self.P0[j])), i, j)
-                          for i in joined for j in rest)
+        while rest:       # Prim: the nearest pivot not yet joined by a bar that is clear
+            edges = sorted((math.hypot(*(self.P0[i] - self.P0[j])), i, j)
+                           for i in joined for j in rest)
+            edge = next(((i, j) for _, i, j in edges
+                         if not crosses(self, i, j, outlines, discs)), None)
+            if edge is None:    # the rest stand on their own symbols
+                joined.append(rest.pop(0))
+                continue
+            i, j = edge
             self.add(ground.name, Polygon(rounded([self.P0[i], self.P0[j]], 0.6 * self.w),
                                           closed=True, facecolor=GROUND[0], edgecolor=INK,
                                           linewidth=1.0, zorder=1.1))
@@ -287,10 +302,17 @@ class Builder:
             self.pin(b, k, 0.6 * self.w)
 
     # bodies
+    def outline_points(self, b):
+        """The POINTS indices a body's outline is drawn through: its own points and those
+        its joints name, less a gear's pitch markers (plot.gears draws the pitch circle:
+        a crank on a gear is as long as its points) and a cam's profile (plot.cams)."""
+        markers = pitch_markers(self.st.joints)
+        return [k for k in b.every if (k in b.pts or k not in markers and (
+                k != b.origin or any(k in used for _, _, used in self.st.joints)))
+                and k not in getattr(self, "profiled", ())]
+
     def body_shape(self, b):
-        keep = [k for k in b.every if (k != b.origin or k in b.pts or
-                any(k in used for _, _, used in self.st.joints))
-                and k not in getattr(self, "profiled", ())]      # cams: plot.cams draws those
+        keep = self.outline_points(b)
         if not keep and getattr(self, "profiled", ()) and b.every:
             return                                    # a cam body: its profile is its shape
         if not keep:

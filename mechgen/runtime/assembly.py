@@ -65,6 +65,24 @@ def angle_coordinates(mech) -> tuple:
     return result
 
 
+def body_angles(mech) -> tuple:
+    """Indices of the bodies' rotations Th<n> in q: a body's pose is its rotation modulo
+    2π even where Φ is not 2π-periodic in it (a gear's rolling row reads Th1 through
+    (r1 Th1 + r2 Th2 − c)/(r1 + r2): Th1 + 2π with Th2 − 2π r1/r2 is the same pose)."""
+    index = {name: j for j, name in enumerate(mech.coordinates)}
+    return tuple(index[f"Th{number}"] for _, number, ground in mech.module.BODIES
+                 if not ground and f"Th{number}" in index)
+
+
+def same_pose(a, b, turns, same):
+    """Whether a and b are one pose: equal within ``same``, the coordinates in ``turns``
+    modulo 2π."""
+    d = np.asarray(b, dtype=np.float64) - a
+    for j in turns:
+        d[j] = math.remainder(d[j], 2 * math.pi)
+    return bool(np.max(np.abs(d), initial=0.0) <= same)
+
+
 def _wrap(q, angles):
     q = q.copy()
     for j in angles:
@@ -94,8 +112,10 @@ def assemblies(mech, t, q_guess, starts, level, tol, method, flips=False):
     """Every distinct real assembly mode at time t (a list of Solution, each solved at
     ``level``): the compiled solver run from the guess q_guess
     and from ``starts`` quasi-random starts (angles over [−π, π), positions within the
-    mechanism's size of the guess). Angles equal modulo 2π count once and come back in
-    (−π, π]; the mode the plain guess reaches comes first.
+    mechanism's size of the guess). Poses equal modulo 2π in the angles (the coordinates
+    in which Φ is 2π-periodic, and every body's rotation) count once; the periodic angles
+    come back in (−π, π] (a gear's rotation, which Φ reads through its rolling relation,
+    as solved); the mode the plain guess reaches comes first.
 
     A body turned half a turn with every other coordinate unchanged (a slider reversed on
     its guide: u1 × u2 = 0 holds for opposite directions too) is the same mode unless
@@ -106,6 +126,7 @@ def assemblies(mech, t, q_guess, starts, level, tol, method, flips=False):
     """
     mod = mech.module
     angles = angle_coordinates(mech)
+    turns = tuple(sorted(set(angles) | set(body_angles(mech))))   # compared modulo 2π
     others = [j for j in range(mech.n) if j not in angles]
     pts = mech.points_at(q_guess, t)
     finite = pts[np.isfinite(pts)]
@@ -120,13 +141,8 @@ def assemblies(mech, t, q_guess, starts, level, tol, method, flips=False):
         if status != OK or not np.all(np.isfinite(q)) or mech.residual(q, t) > tol:
             return
         w = _wrap(q, angles)
-        for other in found:
-            d = w - other
-            for j in angles:
-                d[j] = math.remainder(d[j], 2 * math.pi)
-            if np.max(np.abs(d)) <= same:
-                return
-        found.append(w)
+        if not any(same_pose(other, w, turns, same) for other in found):
+            found.append(w)
 
     attempt(q_guess.copy())
     guess_mode = found[0] if found else None
@@ -160,7 +176,8 @@ def assemblies(mech, t, q_guess, starts, level, tol, method, flips=False):
         for q in found:
             s = mech.solve(t, guess=q, level=level, tol=tol)
             s.q[:] = _wrap(s.q, angles)  # Newton's last step may leave the range by an ulp
-            sols.append(s)
+            if not any(same_pose(o.q, s.q, turns, same) for o in sols):
+                sols.append(s)           # (solved again, a mode must still be new)
     finally:
         mech.last = last
     return sols

@@ -11,6 +11,8 @@ maximum and their times of the named quantities (mechgen.runtime.reduce).
 """
 from __future__ import annotations
 
+import math
+
 import warnings
 
 import numpy as np
@@ -18,7 +20,7 @@ import numpy as np
 from ..errors import MechgenError
 from ..protocol import LEVEL, LEVELS
 from .backends import progress_reporter, run_backend
-from .guards import finite, sweep_times
+from .guards import finite, fits, point_bytes, sweep_times
 from .quantity import _lookup, column_names
 from .reduce import Reduction, reduce_slots, status_name
 from .results import Sweep, pandas, write_csv
@@ -351,6 +353,11 @@ def design_table(mech, t0, t1, n, params, level="position", guess=None, method=N
     maxit = mech._maxit(maxit)
     q0 = mech._start(guess)
     reduced, slots = ((), None) if reduce is None else reduce_slots(mech, reduce, lev)
+    # refused before the grid is made: designs x points must fit in memory
+    designs = math.prod(len(a) for a in axes) if grid else len(axes[0])
+    each = 8 * len(base) + (ts.shape[0] * point_bytes(mech.n, lev) if reduce is None
+                            else 64 * (mech.n + 1))
+    fits(designs, each, "designs", "params", f" of {ts.shape[0]:,} times each")
     make = design_grid if grid else design_list
     P = make(base, mech._param_index, names, axes)
     if backend == "cpu":    # a big table in the python tier: compiled first (runtime.tiers)

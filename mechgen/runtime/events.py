@@ -7,6 +7,12 @@ derivative of the quantity is solved exactly (velocity or acceleration level) an
 root found by Brent's method to ~1e-12 in t. Both answers are reported, so the error
 of the coarse route is visible.
 
+A sweep's ends count: on a closed time interval the first and last points are extremes
+of the sweep (and a zero there is a root), reported with ``at="start"`` / ``at="end"``.
+A sweep over exactly one period of its motion (``cycle.one_cycle``: its last point is its
+first, the equations repeat) is a closed cycle instead: an extreme or root that wraps
+through its ends is found as an interior one of the cycle, at a time in [t0, t1), once.
+
 numpy, and scipy.optimize when a root is refined. Never sympy: a symbolic quantity is
 evaluated by the symbolic side that mechgen.compile attaches to the mechanism.
 """
@@ -18,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..protocol import LEVEL, LEVELS
+from .cycle import one_cycle
 from .interpolate import interpolate
 from .quantity import Quantity
 
@@ -81,6 +88,69 @@ def _sign_changes(t, v, tol):
     return out
 
 
+def _cyclic_sign_changes(t, v, tol):
+    """The brackets of _sign_changes on a closed cycle whose last node is its first one
+    period later (node n−1 ≡ node 0): the sequence is read from its first nonzero node
+    round to it again, so that a change through the wrap is found once, and each bracket
+    is given back in the sweep's own indices (a node at the wrap as node 0)."""
+    n = len(v)
+    s = np.where(np.abs(v) <= tol, 0, np.sign(v))
+    nonzero = np.flatnonzero(s[:-1])
+    if not nonzero.size:
+        return []
+    r = int(nonzero[0])
+    period = t[-1] - t[0]
+    virt = np.arange(r, n + r)                      # r, ..., n−1 (the wrap), ..., n−1+r
+    orig = np.where(virt <= n - 1, virt, virt - (n - 1))
+    tt = np.where(virt <= n - 1, t[orig], t[orig] + period)
+    vv = v[orig].copy()
+    if r > 0:                                       # the wrap node is node 0 itself
+        vv[n - 1 - r] = v[0]
+    out = []
+    for k, node, sign in _sign_changes(tt, vv, tol):
+        i = int(orig[k])
+        out.append((0 if i == n - 1 else i, None if node is None else int(orig[node]) % (n - 1),
+                    sign))
+    return out
+
+
+def _first_sign(s):
+    """The first nonzero entry of s, or 0."""
+    nz = np.flatnonzero(s)
+    return int(s[nz[0]]) if nz.size else 0
+
+
+def _end_events(qty, t, y, f, tol, roots, method):
+    """The Events at a sweep's two ends: for extremes (roots False) both ends, a maximum
+    where the quantity falls away from the end into the sweep (the sign of its derivative
+    f, skipping a flat stretch); for roots, an end where the quantity itself is zero, rising
+    or falling as it leaves or reaches zero."""
+    s = np.where(np.abs(f) <= tol, 0, np.sign(f)).astype(int)
+    forward = 1 if t[-1] >= t[0] else -1
+    head, tail = _first_sign(s), _first_sign(s[::-1])
+    events = Events()
+    for at, k, sign in (("start", 0, head), ("end", len(t) - 1, tail)):
+        if sign == 0 or not (math.isfinite(float(y[k])) and math.isfinite(float(t[k]))):
+            continue
+        # the rate at which the quantity (or its derivative) moves away from this end,
+        # into the sweep, in the direction of increasing time
+        away = sign * forward if at == "start" else -sign * forward
+        if roots:
+            if s[k] != 0:
+                continue
+            kind = "rising" if away > 0 else "falling"
+        else:
+            kind = "min" if away > 0 else "max"     # it rises into the sweep: a minimum
+        events.append(Event(qty.label, kind, float(t[k]), float(y[k]), float(t[k]),
+                            float(y[k]), method, 0, at))
+    return events
+
+
+def _repeats(v, tol):
+    """The first and last values agree (a quantity that closes over one cycle)."""
+    return abs(float(v[-1]) - float(v[0])) <= max(tol, 1e-7 * float(np.max(np.abs(v))))
+
+
 def _brent(f, a, b, fa, fb, xtol):
     from scipy.optimize import brentq
     if fa == 0.0:
@@ -102,6 +172,13 @@ class Event:
     value_interp: float
     method: str
     solves: int = 0
+    at: str = "interior"     # "start" / "end": at the sweep's first / last time
+
+    @property
+    def at_end(self) -> bool:
+        """Whether the event lies at one end of the sweep (not a stationary point of the
+        quantity, for an extreme, unless its derivative vanishes there too)."""
+        return self.at != "interior"
 
     @property
     def error_t(self) -> float:
@@ -113,12 +190,16 @@ class Event:
         return self.value_interp - self.value
 
     def __repr__(self):
-        return (f"<{self.kind} of {self.name} at t={self.t:.10g}: {self.value:.10g}; "
+        where = "" if self.at == "interior" else f" (the sweep's {self.at})"
+        return (f"<{self.kind}{where} of {self.name} at t={self.t:.10g}: {self.value:.10g}; "
                 f"{self.method} interpolant: t={self.t_interp:.7g}, {self.value_interp:.7g}>")
 
 
 class Events(list):
-    """A list of :class:`Event` in time order, with ``.t`` and ``.value`` arrays."""
+    """A list of :class:`Event` in time order, with ``.t`` and ``.value`` arrays.
+    ``periodic``: the sweep was one closed cycle (no end events: see the module's doc)."""
+
+    periodic = False
 
     @property
     def t(self) -> np.ndarray:
@@ -141,18 +222,31 @@ class Events(list):
     def minima(self) -> "Events":
         return self.of("min")
 
+    @property
+    def interior(self) -> "Events":
+        """The events inside the sweep (those of a closed cycle included)."""
+        return Events(e for e in self if e.at == "interior")
+
+    @property
+    def ends(self) -> "Events":
+        """The events at the sweep's first or last time."""
+        return Events(e for e in self if e.at != "interior")
+
     def __repr__(self):
         if not self:
             return "Events([])"
-        lines = [f"{'kind':>8}  {'t':>16}  {'value':>16}  {'t (interp.)':>12}  "
+        w = max(8, max(len(e.kind) + (0 if e.at == "interior" else len(e.at) + 3)
+                       for e in self))
+        lines = [f"{'kind':>{w}}  {'t':>16}  {'value':>16}  {'t (interp.)':>12}  "
                  f"{'value (interp.)':>15}"]
         for e in self:
-            lines.append(f"{e.kind:>8}  {e.t:16.10f}  {e.value:16.10g}  {e.t_interp:12.7g}  "
+            kind = e.kind if e.at == "interior" else f"{e.kind} ({e.at})"
+            lines.append(f"{kind:>{w}}  {e.t:16.10f}  {e.value:16.10g}  {e.t_interp:12.7g}  "
                          f"{e.value_interp:15.7g}")
         return "\n".join(lines)
 
     def _repr_html_(self):
-        rows = "".join(f"<tr><td>{e.kind}</td><td>{e.t:.10f}</td><td>{e.value:.10g}</td>"
+        rows = "".join(f"<tr><td>{e.kind if e.at == 'interior' else e.kind + ' (' + e.at + ')'}</td><td>{e.t:.10f}</td><td>{e.value:.10g}</td>"
                        f"<td>{e.t_interp:.7g}</td><td>{e.value_interp:.7g}</td></tr>" for e in self)
         return ("<table><thead><tr><th>kind</th><th>t</th><th>value</th><th>t (interpolant)</th>"
                 f"<th>value (interpolant)</th></tr></thead><tbody>{rows}</tbody></table>")
@@ -167,8 +261,10 @@ def _nearest(roots, t, a, b):
 
 
 def extrema(sw, what, method="auto", xtol=1e-12) -> Events:
-    """Interior extremes of a quantity over the sweep: the sweep brackets a sign change of
-    the exact time derivative, Brent's method on exactly solved derivatives refines it.
+    """Extremes of a quantity over the sweep: the sweep brackets a sign change of the exact
+    time derivative, Brent's method on exactly solved derivatives refines it. The sweep's
+    two ends are extremes too (``at="start"``/``"end"``), except on a sweep over exactly
+    one period, a closed cycle, where an extreme through the ends is an interior one.
 
     Each :class:`Event` also holds the coarse answer: the root of the interpolated
     derivative (Mech's FindRoot on TimeInterpolate) and the interpolated value there.
@@ -203,20 +299,32 @@ def extrema(sw, what, method="auto", xtol=1e-12) -> Events:
             coarse_d = interpolate(sw, qty.what, method=method).derivative()
         coarse_v = interpolate(sw, qty.what, method=method)
         calls = lambda: exact_d.calls + exact_v.calls  # noqa: E731 - a counter to read
-        return _refined(qty, t, y, dy, tol, ("max", "min"), exact_d, exact_v, calls,
-                        coarse_d.roots, coarse_v, xtol)
+        periodic = one_cycle(sw) and _repeats(dy, tol)
+        brackets = (_cyclic_sign_changes if periodic else _sign_changes)(t, dy, tol)
+        events = _refined(qty, t, y, dy, tol, ("max", "min"), exact_d, exact_v, calls,
+                          coarse_d.roots, coarse_v, xtol, brackets)
+        return _finish(events, periodic, qty, t, y, dy, tol, False, coarse_v.method)
     finally:
         mech.last = last
 
 
+def _finish(events, periodic, qty, t, y, f, tol, roots, method) -> Events:
+    """Add the end events of a sweep that is not a closed cycle; time order."""
+    if not periodic:
+        events += _end_events(qty, t, y, f, tol, roots, method)
+    events.sort(key=lambda e: e.t)
+    events.periodic = periodic
+    return events
+
+
 def _refined(qty, t, y, f, tol, kinds, exact_f, exact_y, calls, coarse_roots, coarse_y,
-             xtol) -> Events:
+             xtol, brackets) -> Events:
     """The Events of the sign changes of f (sampled at the sweep's times t): each bracket
     refined by Brent's method on exact_f, its value y from exact_y; beside it the root of
     the interpolant (coarse_roots) and coarse_y there. kinds names a change from positive
     to negative and the other way, for time running forwards."""
     events = Events()
-    for k, node, sign in _sign_changes(t, f, tol):
+    for k, node, sign in brackets:
         before = calls()
         kind = kinds[0] if (sign > 0) == (t[-1] >= t[0]) else kinds[1]
         if node is not None:
@@ -238,7 +346,9 @@ def _refined(qty, t, y, f, tol, kinds, exact_f, exact_y, calls, coarse_roots, co
 
 def roots(sw, what, method="auto", xtol=1e-12) -> Events:
     """Times where a quantity crosses zero inside the sweep, refined by Brent's method on
-    exact solves; each Event holds the interpolant's root beside the exact one."""
+    exact solves; each Event holds the interpolant's root beside the exact one. A zero at
+    one of the sweep's ends is a root too (``at="start"``/``"end"``), except on a closed
+    cycle (one period), where a crossing through the ends is an interior root."""
     mech = sw.mechanism
     qty = Quantity(mech, what)
     qty.needs(LEVEL[sw.level])
@@ -251,7 +361,10 @@ def roots(sw, what, method="auto", xtol=1e-12) -> Events:
         y = qty.on_sweep(sw)
         tol = _zero_tol(y)
         coarse = interpolate(sw, qty.what, method=method)
-        return _refined(qty, t, y, y, tol, ("falling", "rising"), exact, exact,
-                        lambda: exact.calls, coarse.roots, coarse, xtol)
+        periodic = one_cycle(sw) and _repeats(y, tol)
+        brackets = (_cyclic_sign_changes if periodic else _sign_changes)(t, y, tol)
+        events = _refined(qty, t, y, y, tol, ("falling", "rising"), exact, exact,
+                          lambda: exact.calls, coarse.roots, coarse, xtol, brackets)
+        return _finish(events, periodic, qty, t, y, y, tol, True, coarse.method)
     finally:
         mech.last = last

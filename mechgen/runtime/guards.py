@@ -3,6 +3,7 @@ not check types or bounds): each names the argument and what it should be."""
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 
@@ -27,10 +28,17 @@ def positive_tol(tol) -> float:
     return tol
 
 
+MAX_COUNT = 10 ** 6     # iterations: more never help Newton's method, and numba's int64
+
+
 def positive_count(value, what) -> int:
-    """A positive integer (an iteration limit): bools and floats are refused."""
+    """A positive integer (an iteration limit) up to MAX_COUNT: bools and floats are
+    refused."""
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < 1:
         raise ValueError(f"{what} must be a positive integer, got {value!r}")
+    if value > MAX_COUNT:
+        raise ValueError(f"{what} must be at most {MAX_COUNT:,} (an iteration limit), "
+                         f"got {value!r}")
     return int(value)
 
 
@@ -53,15 +61,57 @@ def method_index(method) -> int:
     return METHOD[method]
 
 
-def sweep_times(t0, t1, n, times=None) -> np.ndarray:
-    """The times of a sweep: n from t0 to t1 (both ends), or the given ones."""
+def sweep_times(t0, t1, n, times=None, each=8) -> np.ndarray:
+    """The times of a sweep: n from t0 to t1 (both ends), or the given ones. n points of
+    ``each`` bytes (a sweep's point) must fit in memory."""
     if times is None:
         t0, t1 = finite(t0, "t0"), finite(t1, "t1")
         if isinstance(n, bool) or not isinstance(n, (int, np.integer, float)) \
                 or int(n) != n or n < 1:
             raise ValueError(f"n must be a positive integer, got {n!r}")
+        fits(int(n), each, "sweep points", "n")
         return np.linspace(t0, t1, int(n))
     ts = np.asarray(times, dtype=np.float64)
     if ts.ndim != 1 or not np.all(np.isfinite(ts)):
         raise ValueError("times must be a 1-D array of finite numbers")
     return ts
+
+
+# -- sizes: refused before anything is allocated ------------------------------------------
+def memory_bytes() -> int:
+    """This machine's physical memory in bytes (2**40 where the system does not say)."""
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE")) * int(os.sysconf("SC_PHYS_PAGES"))
+    except (ValueError, OSError, AttributeError):
+        return 1 << 40
+
+
+def _size(nbytes) -> str:
+    for unit in ("bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"):
+        if nbytes < 1024 or unit == "EiB":
+            return f"{nbytes:.0f} {unit}" if unit == "bytes" else f"{nbytes:.3g} {unit}"
+        nbytes /= 1024.0
+    return f"{nbytes:.3g} EiB"
+
+
+def point_bytes(n_coords, level) -> int:
+    """The memory one sweep point takes: its time, the coordinates at each level solved,
+    its status row."""
+    return 8 * (1 + int(n_coords) * (int(level) + 1)) + 16
+
+
+def fits(count, each, noun, argument, extra="") -> None:
+    """Refuse (ValueError naming ``argument``) ``count`` ``noun`` of ``each`` bytes that
+    would not fit in this machine's memory, before anything is allocated."""
+    limit = memory_bytes()
+    need = float(count) * float(each)
+    if need > limit:
+        most = max(limit // max(int(each), 1), 1)
+        raise ValueError(f"{argument}: {int(count):,} {noun}{extra} would need {_size(need)}, "
+                         f"more than this machine's memory ({_size(limit)}); the limit here "
+                         f"is {most:,} {noun}")
+
+
+def sweep_count(n, n_coords, level, argument="n") -> None:
+    """A sweep of n points at ``level`` (an index) must fit in memory."""
+    fits(n, point_bytes(n_coords, level), "sweep points", argument)

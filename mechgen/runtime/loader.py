@@ -50,6 +50,10 @@ def import_path(path: str):
         if not same_file and not hasattr(existing, "MODEL_HASH"):
             # a module of the user's holds that name: keep it, import ours aside
             name = f"{name}_mechgen_{hashlib.sha1(path.encode()).hexdigest()[:8]}"
+    # numba's cache of the file, read back before numba loads it: a damaged one is deleted
+    # (and compiled again), never loaded
+    from .caches import check
+    check(path, digest)
     spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)
     previous = sys.modules.get(name)

@@ -157,7 +157,9 @@ class Singularity(float):
     ``t``, ``q``, ``kind`` ("lock": the driven motion cannot pass, no assembly beyond;
     "crossing": the branch passes through a dead centre or branch point),
     ``constraints`` (the equations that become dependent), ``coordinates`` (those the
-    constraints stop determining), ``lock`` (the equations that lose their grip on them),
+    constraints stop determining), ``lock`` (the equations that lose their grip on them;
+    empty where no single equation acts on them), ``grouped`` (the constraints involved,
+    in declaration order),
     ``ratio`` (how singular Φ_q is there) and ``solution`` (a Solution, flagged singular)."""
 
     def __new__(cls, mech, t, q, kind, null: NullSpace, side=None):
@@ -169,6 +171,7 @@ class Singularity(float):
         obj.constraints = null.constraints
         obj.coordinates = null.coordinates
         obj.lock = null.lock
+        obj.grouped = null.grouped
         obj.ratio = null.ratio
         obj.null = null
         return obj

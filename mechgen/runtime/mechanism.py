@@ -21,8 +21,9 @@ from .assembly import assemblies as find_assemblies
 from .entry import solve_acceleration, solve_point_derivatives, solve_velocity
 from .design import design_table
 from .forces import force_solve, force_sweep, is_force_level
+from .follow import follow
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
-                     sweep_times)
+                     point_bytes, sweep_count, sweep_times)
 from .tiers import Tiers
 from .locks import convergence_error, singular_error
 from .locks import singularities as find_singularities
@@ -71,6 +72,8 @@ class Mechanism:
         if params:
             self.p = self._params_array(params)
         self.guess = np.array(module.GUESS, dtype=np.float64)
+        self.guess_t = 0.0      # the time the guess is a configuration for (see set_guess)
+        self._path = None       # solve(t)'s way from the guess (mechgen.runtime.follow)
         self.tol, self.xtol, self.maxit = float(tol), float(xtol), int(maxit)
         method_index(method)
         self.method = method
@@ -131,7 +134,7 @@ class Mechanism:
                           method=self.method)
         other.p = self._params_array(values)
         other.model, other.symbolic = self.model, self.symbolic
-        other.guess = self.guess.copy()
+        other.guess, other.guess_t = self.guess.copy(), self.guess_t
         return other
 
     # -- guesses ----------------------------------------------------------------------
@@ -148,7 +151,11 @@ class Mechanism:
                                      f"(coordinates: {', '.join(self.coordinates)})")
                 base[self._index[name]] = finite(value, f"guess for {name}")
             return base
-        arr = np.asarray(guess, dtype=np.float64)
+        try:
+            arr = np.asarray(guess, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"guess must be a dict of coordinates, a Solution or an array of "
+                             f"{self.n} numbers, got {_short(guess)}") from None
         if arr.shape != (self.n,):
             raise ValueError(f"guess must be a dict of coordinates or an array of shape ({self.n},), "
                              f"got shape {arr.shape}")
@@ -156,13 +163,19 @@ class Mechanism:
             raise ValueError("guess holds NaN or infinite values")
         return arr.copy()
 
-    def set_guess(self, guess=None):
+    def set_guess(self, guess=None, t=None):
         """Mech's SetGuess[]: the start of later solves becomes ``guess`` (a dict of
-        coordinates, an array or a Solution), or the model's own guess when None."""
+        coordinates, an array or a Solution), or the model's own guess when None. The
+        guess is a configuration at time ``t``: a Solution's own time, else 0 (the
+        model's guess is one at t = 0); solve(t) follows the motion from there."""
         if guess is not None:
             self.guess = self._start(guess)
         else:
             self.guess = np.array(self.module.GUESS, dtype=np.float64)
+        if t is not None:
+            self.guess_t = finite(t, "t")
+        else:
+            self.guess_t = float(guess.t) if isinstance(guess, Solution) else 0.0
 
     # -- checked arguments ------------------------------------------------------------
     def _level(self, level) -> int:
@@ -179,12 +192,16 @@ class Mechanism:
 
     # -- solving ----------------------------------------------------------------------
     def solve(self, t, guess=None, level="position", method=None, tol=None, maxit=None) -> Solution:
-        """Solve at time t (Mech's SolveMech[t]) starting from the guess (the model's, or
-        set_guess(), with ``guess`` overriding some or all coordinates; a Solution such as
-        ``mech.last`` works too). The result becomes ``last``. Raises ConvergenceError or
-        SingularError rather than returning a configuration that does not satisfy the
-        constraints. level="static" or "dynamic" adds the multipliers, the driver
-        efforts and the reactions (mechgen.runtime.forces)."""
+        """Solve at time t (Mech's SolveMech[t]). Without ``guess``: the configuration the
+        mechanism reaches by moving from its guess (the model's, a configuration at t = 0,
+        or set_guess()'s at its time) to t, on the assembly mode connected to it
+        (mechgen.runtime.follow); a way blocked by a lock raises, naming where. With
+        ``guess`` (some or all coordinates, or a Solution such as ``mech.last``): Newton
+        from it at t. Angles are taken modulo 2π as the drivers ask. The result becomes
+        ``last``. Raises ConvergenceError or SingularError rather than returning a
+        configuration that does not satisfy the constraints. level="static" or "dynamic"
+        adds the multipliers, the driver efforts and the reactions
+        (mechgen.runtime.forces)."""
         if is_force_level(level):
             return force_solve(self, t, level, guess=guess, method=method, tol=tol,
                                maxit=maxit)
@@ -193,7 +210,7 @@ class Mechanism:
         meth = self._method(method)
         tol = self._tol(tol)
         maxit = self._maxit(maxit)
-        q = self._start(guess)
+        q = follow(self, t, tol, maxit, meth) if guess is None else self._start(guess)
         qd, qdd, residual, singular = self._solve_point(t, q, lev, meth, tol, maxit)
         self._report_redundancy(q, t)
         info = self._info
@@ -356,9 +373,11 @@ class Mechanism:
         shared = times is None and t0.__class__ is float and t1.__class__ is float and \
             n.__class__ is int and n >= 1 and t0 - t0 == 0.0 and t1 - t1 == 0.0
         if shared:
+            if n > 1 << 20:
+                sweep_count(n, self.n, lev)         # refused before anything is allocated
             ts = sweep_times_of(t0, t1, n)          # plain numbers: no further checks
         else:
-            ts = sweep_times(t0, t1, n, times)
+            ts = sweep_times(t0, t1, n, times, each=point_bytes(self.n, lev))
         tol = self.tol if tol is None else positive_tol(tol)
         maxit = self.maxit if maxit is None else positive_count(maxit, "maxit")
         q0 = self.guess.copy() if guess is None else self._start(guess)
@@ -438,3 +457,8 @@ class Mechanism:
         fn = (self.module.outputs, self.module.outputs_d, self.module.outputs_dd)[order]
         fn(q, z if qd is None else qd, z if qdd is None else qdd, float(t), self.p, out)
         return out
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."

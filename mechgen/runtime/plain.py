@@ -10,16 +10,19 @@ Nothing here imports numba or sympy.
 """
 from __future__ import annotations
 
+import hashlib
 import marshal
 import math as _math
 import os
 import sys
 import types
+import warnings
 from time import perf_counter
 
 import numpy as np
 
 from ..errors import MechgenError
+from .caches import state_dir  # noqa: F401 - where the tiers keep their files
 from .loader import checked_text
 from .plain_linalg import REPLACEMENTS
 
@@ -126,39 +129,68 @@ class NoPlainTier(MechgenError):
     """A module generated before the plain-Python tier existed."""
 
 
-def state_dir(path: str) -> str:
-    """Where mechgen keeps what it knows of the module at ``path`` (its bytecode, the marks
-    and lock of mechgen.runtime.tiers): beside numba's cache of it."""
-    cache = os.environ.get("NUMBA_CACHE_DIR")
-    if cache:
-        return os.path.join(cache, "mechgen-tiers")
-    here = os.path.join(os.path.dirname(path), "__pycache__")
+_MAGIC = b"mechgen-plain-bytecode 1\n"
+
+
+def _pack(code, digest: str) -> bytes:
+    """The bytes kept for a module's bytecode: a header naming the module's content
+    digest and the sha256 of the marshalled code, then the code."""
+    body = marshal.dumps(code)
+    return (_MAGIC + digest.encode("ascii") + b"\n" +
+            hashlib.sha256(body).hexdigest().encode("ascii") + b"\n" + body)
+
+
+def _unpack(data: bytes, digest: str):
+    """The code kept in ``data`` when it is whole and was compiled from the module whose
+    content digest is ``digest``; None for anything else (another module, an older
+    layout, edited or truncated bytes)."""
+    if not data.startswith(_MAGIC):
+        return None
+    head = data[len(_MAGIC):]
+    parts = head.split(b"\n", 2)
+    if len(parts) != 3:
+        return None
+    kept_digest, kept_hash, body = parts
+    if kept_digest != digest.encode("ascii") or \
+            kept_hash != hashlib.sha256(body).hexdigest().encode("ascii"):
+        return None
     try:
-        os.makedirs(here, exist_ok=True)
-        if os.access(here, os.W_OK):
-            return here
-    except OSError:
-        pass
-    return os.path.join(os.path.expanduser("~"), ".cache", "mechgen", "tiers")
+        return marshal.loads(body)
+    except (ValueError, EOFError, TypeError):
+        return None
 
 
 def _code(text: str, path: str, digest: str):
     """The module's compiled bytecode, kept in state_dir by its digest (compiling 2000
-    lines of Python costs 0.1 s, loading them 1 ms)."""
+    lines of Python costs 0.1 s, loading them 1 ms). The kept file is used only when its
+    header names this module's content digest and the sha256 of its bytes matches: a
+    damaged or foreign one is deleted and the text compiled again (a warning says so)."""
     tag = sys.implementation.cache_tag or "py"
     name = os.path.splitext(os.path.basename(path))[0]
     kept = os.path.join(state_dir(path), f"{name}.{digest[:20]}.{tag}.plain")
+    data = None
     try:
         with open(kept, "rb") as fh:
-            return marshal.loads(fh.read())
-    except (OSError, ValueError, EOFError, TypeError):
+            data = fh.read()
+    except OSError:
         pass
+    if data is not None:
+        code = _unpack(data, digest)
+        if code is not None:
+            return code
+        warnings.warn(f"the plain-Python bytecode cache {kept} does not match {path} (damaged "
+                      "or from another module): deleted, the module compiled again",
+                      RuntimeWarning, stacklevel=3)
+        try:
+            os.remove(kept)
+        except OSError:
+            pass
     code = compile(text, path, "exec")
     try:
         os.makedirs(os.path.dirname(kept), exist_ok=True)
         tmp = f"{kept}.{os.getpid()}.tmp"
         with open(tmp, "wb") as fh:
-            fh.write(marshal.dumps(code))
+            fh.write(_pack(code, digest))
         os.replace(tmp, kept)
     except OSError:
         pass

@@ -265,12 +265,16 @@ class Sweep:
         return _interpolate(self, name, method=method, degree=degree, extrapolate=extrapolate)
 
     def extrema(self, name, method="auto", xtol=1e-12):
-        """Interior maxima and minima of a quantity, bracketed by the sweep and refined on
-        exact solves of its time derivative; each also says what the interpolant gives."""
+        """Maxima and minima of a quantity, bracketed by the sweep and refined on exact
+        solves of its time derivative; each also says what the interpolant gives. The
+        sweep's ends are extremes too (``e.at`` "start"/"end"); a sweep over exactly one
+        period is a closed cycle (``.periodic``), whose extremes through its ends are
+        found once, as interior ones."""
         return _extrema(self, name, method=method, xtol=xtol)
 
     def roots(self, name, method="auto", xtol=1e-12):
-        """Times where a quantity crosses zero, refined on exact solves."""
+        """Times where a quantity crosses zero, refined on exact solves; a zero at an end
+        of the sweep counts (``e.at``), except through the ends of a closed cycle."""
         return _roots(self, name, method=method, xtol=xtol)
 
     def singularities(self):

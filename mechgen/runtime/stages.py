@@ -220,7 +220,7 @@ class StagedSweep(Sweep):
         events = Events()
         for sw in self.parts:
             if len(sw) >= 2:
-                events += sw.extrema(name, method=method, xtol=xtol)
+                events += self._own_ends(sw, sw.extrema(name, method=method, xtol=xtol))
         dq = Quantity(self.mechanism, name).derivative()
         view = self if dq is None or dq.level <= _level(self) else self.at_level(dq.level)
         if dq is not None:
@@ -238,13 +238,20 @@ class StagedSweep(Sweep):
         events.sort(key=lambda e: e.t)
         return events
 
+    def _own_ends(self, part, events):
+        """A stage's events less its ends at a switch (a stage's end there is no end of
+        the sweep; an extreme at a switch is the switch's own event)."""
+        first, last = part is self.parts[0], part is self.parts[-1]
+        return [e for e in events if e.at == "interior" or
+                (e.at == "start" and first) or (e.at == "end" and last)]
+
     def roots(self, name, method="auto", xtol=1e-12):
         """Zero crossings within each stage (Sweep.roots); a quantity that jumps through
         zero at a switch has no root there (the jump is in sw.jump)."""
         events = Events()
         for sw in self.parts:
             if len(sw) >= 2:
-                for e in sw.roots(name, method=method, xtol=xtol):
+                for e in self._own_ends(sw, sw.roots(name, method=method, xtol=xtol)):
                     if not any(abs(e.t - f.t) <= 1e-12 for f in events):
                         events.append(e)
         events.sort(key=lambda e: e.t)

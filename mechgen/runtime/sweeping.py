@@ -196,6 +196,9 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report):
     mod = mech.module
     N = ts.shape[0]
     start = 0
+    unwrap = getattr(mod, "unwrap_turns", None)
+    if unwrap is not None and N:
+        unwrap(q0, ts[0], mech.p)       # the guess's angles as its drivers ask (q0 is ours)
     if meth != METHOD_FULL and mod.SORTED and mod.LEVEL >= 2:
         start = mod.sweep_fast(ts, q0, mech.p, tol, mech.xtol, maxit, Q, QD, QDD, S)
         if start == N:

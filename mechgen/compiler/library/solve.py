@@ -149,6 +149,73 @@ def jacobian_det_full(q, t, p):
 
 
 @njit(cache=True)
+def unwrap_turns(q, t, p):
+    """Turn the guess's angles by whole turns, in place, so that the rows linear in them
+    (drivers, relative rotations) hold as nearly as they can: a guess is the same
+    configuration whatever multiple of 2π its angles carry, and Newton must start from
+    the one the drivers ask for (else its first step turns the driven angle by 2π and
+    drags the other coordinates into another assembly mode). An angle here is a
+    coordinate that Φ sees only through periodic rows (unchanged when it turns by 2π,
+    as sweep() tests) and rows linear in it (changed by 2π times their derivative).
+    Returns the count of coordinates turned."""
+    r0 = np.empty(N_EQS)
+    r1 = np.empty(N_EQS)
+    d = np.empty(N_EQS)
+    J = np.empty((N_EQS, N_COORDS))
+    phi(q, t, p, r0)
+    if not _max_abs(r0) < np.inf:
+        return 0
+    phi_q(q, t, p, J)
+    turned = 0
+    for j in range(N_COORDS):
+        qj = q[j]
+        q[j] = qj + 2.0 * math.pi
+        phi(q, t, p, r1)
+        q[j] = qj
+        seen = False            # a periodic row depends on it: it is an angle
+        linear = False          # a row it enters linearly: a whole turn changes it
+        for i in range(N_EQS):
+            d[i] = r1[i] - r0[i]
+            if abs(d[i]) <= 1e-9 * (1.0 + abs(r0[i])):
+                d[i] = 0.0
+                if J[i, j] != 0.0:
+                    seen = True
+            elif abs(d[i] - 2.0 * math.pi * J[i, j]) <= 1e-9 * (1.0 + abs(d[i]) + abs(r0[i])):
+                linear = True
+            else:
+                seen = False    # a row neither periodic nor linear in it: not an angle
+                linear = False
+                break
+        if not (seen and linear):
+            continue
+        best = 0.0              # the whole turns that bring the linear rows nearest to 0
+        worst0 = 0.0
+        for i in range(N_EQS):
+            if d[i] != 0.0:
+                worst0 = max(worst0, abs(r0[i]))
+        least = worst0
+        for i in range(N_EQS):
+            if d[i] == 0.0:
+                continue
+            k = float(round(-r0[i] / d[i]))
+            if k == 0.0 or k == best:
+                continue
+            worst = 0.0
+            for l in range(N_EQS):
+                if d[l] != 0.0:
+                    worst = max(worst, abs(r0[l] + k * d[l]))
+            if worst < least:
+                least = worst
+                best = k
+        if best != 0.0 and least < worst0:
+            q[j] = qj + 2.0 * math.pi * best
+            for i in range(N_EQS):
+                r0[i] += best * d[i]
+            turned += 1
+    return turned
+
+
+@njit(cache=True)
 def solve_position(q, t, p, tol, xtol, maxit, method, info):
     """Position solve in place. method METHOD_AUTO: sorted blocks, full Newton if they fail;
     METHOD_SORTED: sorted only; METHOD_FULL: full Newton only (a module without block
@@ -193,6 +260,7 @@ def solve_point(q, t, p, tol, xtol, maxit, method, info):
     """One position solve as Mechanism.solve() makes it, in one call: the position in
     place (solve_position; info[0:4] as there), then info[POINT_RESIDUAL] = max|Φ| and
     info[POINT_PIVOT] = pivot_ratio. Returns the position status (OK: 0)."""
+    unwrap_turns(q, t, p)
     status = solve_position(q, t, p, tol, xtol, maxit, method, info)
     if status != OK:
         return status
@@ -212,6 +280,7 @@ def solve_point_sorted(q, t, p, tol, xtol, maxit, info):
     info[INFO_RESIDUAL] = 0.0
     info[INFO_RANK] = N_COORDS
     info[INFO_METHOD] = 0.0
+    unwrap_turns(q, t, p)
     status = position_sorted(q, t, p, tol, xtol, maxit, info)
     if status == OK and not _max_abs(q) < np.inf:
         status = NOT_FINITE  # an explicit block gave NaN (no real configuration)
@@ -233,6 +302,7 @@ def solve_point_full(q, t, p, tol, xtol, maxit, info):
     info[INFO_RESIDUAL] = 0.0
     info[INFO_RANK] = N_COORDS
     info[INFO_METHOD] = 1.0
+    unwrap_turns(q, t, p)
     status = newton_full(q, t, p, tol, xtol, maxit, info)
     if status != OK:
         return status

@@ -1,0 +1,224 @@
+"""``mech.solve(t)`` without a guess: the configuration the mechanism reaches by moving
+from its guess to t, never the one a Newton from the guess happens to fall into.
+
+The guess is a configuration at a time: the model's own guess at t = 0 (where ``mechgen
+check`` and sweeps start), or what ``set_guess`` made it (a Solution at its time, or
+``set_guess(q, t=...)``). Solved there, it fixes the assembly mode; the module's careful
+continuation (``sweep``, with its branch tests and step control) carries it to t. The
+configurations on the way are kept, one every CELL of time from the guess's time (a path
+per guess, parameters, tolerances and method), so that a later solve continues from the
+nearest kept one between the guess's time and its own: a solve costs one short
+continuation once the way is known. Where the way is blocked (a lock, no assembly, a jump
+the step control could not avoid) the solve raises the error of the sweep that stopped
+there, naming the time; a singular configuration passed on the way (a dead centre, where
+the mechanism may go on in either mode) is a BranchJumpWarning.
+"""
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+
+from ..errors import BranchJumpWarning, SolveError
+from ..protocol import (JUMP, LEVEL, METHOD, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE, STATUS_CODE,
+                        STATUS_COLUMNS, THROUGH_SINGULAR)
+from .entry import solve_point
+from .locks import convergence_error
+from .sweeping import failure, no_rows
+
+CELL = 1.0 / 16.0       # time between the configurations kept on the way (a 16th of a
+                        # turn of a driver at one turn per unit of time)
+MAX_CELLS = 1 << 20     # the farthest a solve follows: 65,536 units of time from the guess
+CHUNK = 4096            # cells solved by one call of the careful sweep
+_POSITION = LEVEL["position"]
+_NAMES = {index: name for name, index in METHOD.items()}
+
+
+class Path:
+    """The configurations reached from one guess: at t0 (``q0``) and every CELL of time
+    on either side of it, as far as solves have gone (row k - 1 of ``side[+1]`` at
+    t0 + k CELL, of ``side[-1]`` at t0 - k CELL; ``count[sign]`` rows hold), and the
+    times of singular configurations passed."""
+    __slots__ = ("key", "t0", "q0", "side", "count", "crossings", "step", "last")
+
+    def __init__(self, key, t0, q0):
+        self.key, self.t0, self.q0 = key, t0, q0
+        n = q0.shape[0]
+        self.side = {1: np.empty((16, n)), -1: np.empty((16, n))}
+        self.count = {1: 0, -1: 0}
+        self.crossings = []
+        self.step = None        # the arrays of the last step's sweep (_last_step)
+        self.last = (None, None)    # the last time solved and its configuration
+
+    def cell_time(self, k) -> float:
+        """The time of cell k (0: t0; k > 0 ahead, k < 0 behind)."""
+        return self.t0 + k * CELL
+
+    def cell(self, k):
+        if k == 0:
+            return self.q0
+        return self.side[1 if k > 0 else -1][abs(k) - 1]
+
+    def keep(self, sign, rows):
+        """Append configurations (rows of an array) to a side, growing it as needed."""
+        have, arr = self.count[sign], self.side[sign]
+        need = have + rows.shape[0]
+        if need > arr.shape[0]:
+            grown = np.empty((max(need, 2 * arr.shape[0]), arr.shape[1]))
+            grown[:have] = arr[:have]
+            arr = self.side[sign] = grown
+        arr[have:need] = rows
+        self.count[sign] = need
+
+
+def _key(mech, tol, maxit, meth):
+    return (mech.p.tobytes(), mech.guess.tobytes(), float(mech.guess_t), tol, mech.xtol,
+            maxit, meth)
+
+
+def _context(exc, t, t0):
+    """The error of a solve whose way from the guess was blocked, saying so first."""
+    exc.args = (f"solve(t={t:.10g}) follows the motion from the guess, a configuration at "
+                f"t={t0:.10g}, and could not reach t: {exc.args[0] if exc.args else exc}",)
+    return exc
+
+
+def _start(mech, tol, maxit, meth) -> Path:
+    """The path of the current guess: the guess solved at its time, kept while the guess,
+    parameters, tolerances and method stay the same."""
+    key = _key(mech, tol, maxit, meth)
+    path = getattr(mech, "_path", None)
+    if path is not None and path.key == key:
+        return path
+    t0 = float(mech.guess_t)
+    q = mech.guess.copy()
+    info = np.zeros(POINT_INFO_SIZE)
+    status = solve_point(mech.module, q, t0, mech.p, tol, mech.xtol, maxit, meth, info)
+    if status != 0:
+        exc = convergence_error(mech, status, t0, q, info)
+        exc.args = (f"the guess does not assemble at its time t={t0:.10g}, from which "
+                    f"solve(t) follows the motion (pass guess= to solve from a guess at t, "
+                    f"or set_guess() a configuration): {exc.args[0]}",)
+        raise exc
+    path = mech._path = Path(key, t0, q)
+    return path
+
+
+def _segment(mech, ts, q0, tol, maxit, meth):
+    """The careful sweep over ts from q0 (a configuration at ts[0]): (Q, count solved,
+    status rows, report). A module with stages goes two times at a time (the ends)."""
+    N, n = ts.shape[0], mech.n
+    Q = np.empty((N, n))
+    S = np.zeros((N, STATUS_COLUMNS), dtype=np.int16)
+    report = np.zeros(REPORT_SIZE)
+    if getattr(mech.module, "SWITCH_TIMES", ()):
+        # stages: Mechanism.sweep runs each stage's piece on its own (runtime.stages)
+        last = mech._last
+        try:
+            sw = mech.sweep(float(ts[0]), float(ts[-1]), N, times=ts, guess=q0,
+                            level="position", method=_NAMES[meth], tol=tol,
+                            maxit=maxit)
+        finally:
+            mech._last = last
+        return sw.Q[[0, -1]], N, S[[0, -1]], report      # (two times: the ends)
+    done = mech.module.sweep(ts, q0.copy(), mech.p, _POSITION, tol, mech.xtol, maxit, meth,
+                             Q, no_rows(n), no_rows(n), S, report)
+    return Q, done, S, report
+
+
+def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth):
+    """Solve along ts from q0 (the last known cell, at ts[0]); the rows after the first
+    are the next cells when ``sign`` is nonzero. Returns the configuration at ts[-1]."""
+    Q, done, S, report = _segment(mech, ts, q0, tol, maxit, meth)
+    code = S[:done, STATUS_CODE]
+    if done == ts.shape[0] and not code.any():        # the usual case, in short
+        if sign:
+            path.keep(sign, Q[1:])
+        return Q[-1]
+    jumped = np.flatnonzero(code == JUMP)
+    ok = done if not jumped.size else int(jumped[0])
+    if sign and ok > 1:
+        path.keep(sign, Q[1:ok])
+    for k in np.flatnonzero(code[:ok] == THROUGH_SINGULAR):
+        if float(ts[k]) not in path.crossings:
+            path.crossings.append(float(ts[k]))
+    if jumped.size:
+        k = int(jumped[0])
+        exc = SolveError(
+            f"the continuation could not keep the assembly mode on the way to t={ts[k]:.10g} "
+            f"(a jump of {report[REPORT_JUMP]:.3g} the smallest step could not avoid): the "
+            "configuration there may lie on another assembly mode (mech.singularities "
+            "locates singular configurations on the way; guess= solves from a guess at t)")
+        exc.t = float(ts[k])
+        raise _context(exc, t, path.t0)
+    if done < ts.shape[0]:
+        exc = failure(mech, ts, done, Q, report, q0)
+        raise _context(exc, t, path.t0)
+    return Q[-1]
+
+
+def _last_step(mech, path, tc, qc, t, tol, maxit, meth) -> np.ndarray:
+    """The careful sweep from the cell (tc, qc) to t, in the path's own two-point arrays
+    when nothing is in the way (the cost of a solve once the way is known)."""
+    mod = mech.module
+    if not getattr(mod, "SWITCH_TIMES", ()):
+        if path.step is None:
+            n = mech.n
+            path.step = (np.empty(2), np.empty((2, n)), np.empty((2, STATUS_COLUMNS),
+                         dtype=np.int16), np.empty(REPORT_SIZE), no_rows(n))
+        ts, Q, S, report, none = path.step
+        ts[0], ts[1] = tc, t
+        done = mod.sweep(ts, qc.copy(), mech.p, _POSITION, tol, mech.xtol, maxit, meth,
+                         Q, none, none, S, report)
+        if done == 2 and S[0, STATUS_CODE] == 0 and S[1, STATUS_CODE] == 0:
+            return Q[1].copy()
+    return _extend(mech, path, np.array([tc, t]), qc, 0, t, tol, maxit, meth).copy()
+
+
+def follow(mech, t, tol, maxit, meth) -> np.ndarray:
+    """The configuration at t on the assembly mode of the guess, reached by continuation
+    from the guess's time (see the module docstring): a position that solves Φ to the
+    sweep's tolerance, to be polished by the caller's solve at t. Raises the blocked
+    way's error (ConvergenceError, SingularError, SolveError) naming where it stopped."""
+    path = _start(mech, tol, maxit, meth)
+    t0 = path.t0
+    if t == t0:
+        return path.q0.copy()
+    if t == path.last[0]:
+        return path.last[1].copy()
+    sign = 1 if t > t0 else -1
+    m = int(math.floor(abs(t - t0) / CELL))     # the last cell between t0 and t
+    if m > MAX_CELLS:
+        raise ValueError(
+            f"solve(t={t:.10g}): t is {abs(t - t0):.6g} from the guess's time t={t0:.10g}, "
+            f"farther than solve(t) follows the motion ({MAX_CELLS * CELL:.0f}); give a "
+            "guess near t (guess=, or set_guess() a configuration at a time near it)")
+    while m and abs(path.cell_time(sign * m) - t0) > abs(t - t0):
+        m -= 1                                  # (rounding of t0 + m CELL)
+    have = path.count[sign]
+    if m > have:                                # the cells still missing, CHUNK at a time
+        mech._tiers.expect(mech, m - have)
+        chunk = 1 if getattr(mech.module, "SWITCH_TIMES", ()) else CHUNK
+        while have < m:
+            ks = np.arange(have, min(m, have + chunk) + 1)
+            ts = path.t0 + (sign * ks) * CELL
+            _extend(mech, path, ts, path.cell(sign * have), sign, t, tol, maxit, meth)
+            have = path.count[sign]
+    tc = path.cell_time(sign * m)
+    qc = path.cell(sign * m)
+    if tc == t:
+        q = qc.copy()
+    else:
+        q = _last_step(mech, path, tc, qc, t, tol, maxit, meth)
+    passed = [c for c in path.crossings if min(t0, t) < c <= max(t0, t)]
+    if passed:
+        warnings.warn(
+            f"solve(t={t:.10g}) of '{mech.name}': the way from the guess at t={t0:.10g} "
+            f"passes a singular configuration (dead centre, lock or branch point) near "
+            f"t={passed[0]:.10g}: there the mechanism may continue in another assembly "
+            "mode (mech.singularities locates it)", BranchJumpWarning, stacklevel=3)
+    else:
+        path.last = (t, q.copy())
+    return q
+

@@ -1,0 +1,340 @@
+"""The judge of tests/test_random_mechanisms.py and benchmarks/random_mechanisms.py: runs a
+random mechanism of tests/random_families.py through mechgen (a sweep at a level and
+method, single solves with and without a guess, a design table on a backend) and sorts
+every answer against the closed form as right, refused or wrong.
+
+The contract judged (issue 20): the mode is fixed by the start; a point with status OK
+equals the closed form of that mode at its time (angles modulo 2 pi; positions to 1e-8,
+velocities 1e-7, accelerations 1e-6, each relative to the size of the quantity over the
+run); a flagged point (JUMP, THROUGH_SINGULAR) or a failed solve is a refusal, and the
+point after a flag may start a new branch; a lock window (a time where the mode cannot
+assemble) ends the branch, so an OK point past one is wrong. A sweep that raises is
+refused (the points it returned before raising are still judged)."""
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass, field
+
+import numpy as np
+
+import mechgen
+from mechgen.protocol import OK
+
+TOL = (1e-8, 1e-7, 1e-6)          # positions, velocities, accelerations (relative)
+LEVELS = ("position", "velocity", "acceleration")
+METHODS = ("auto", "sorted", "full")
+REFUSALS = (mechgen.ConvergenceError, mechgen.SingularError)
+
+
+@dataclass
+class Verdict:
+    """One run (a sweep, a design, a single solve): its outcome and the first wrong point."""
+    outcome: str = "right"            # right, refused, wrong
+    points: Counter = field(default_factory=Counter)
+    detail: str = ""
+
+    def wrong(self, msg):
+        if self.outcome != "wrong":
+            self.detail = msg
+        self.outcome = "wrong"
+        self.points["wrong"] += 1
+
+
+def wrap(dq, mask):
+    dq = np.array(dq, dtype=float)
+    dq[..., mask] = np.remainder(dq[..., mask] + np.pi, 2 * np.pi) - np.pi
+    return dq
+
+
+def _scales(refs, upto):
+    """Per level: 1 + the largest |value| of any mode over the run (NaN-free)."""
+    out = []
+    for lev in range(upto + 1):
+        vals = [np.nanmax(np.abs(r[lev])) if np.isfinite(r[lev]).any() else 0.0
+                for r in refs.values()]
+        out.append(1.0 + max(vals))
+    return out
+
+
+def _errors(fam, refs, arrs, upto, scales):
+    """mode -> per point, the largest error relative to its tolerance (> 1: off)."""
+    errs = {}
+    for s, ref in refs.items():
+        e = np.zeros(len(arrs[0]))
+        for lev in range(upto + 1):
+            d = arrs[lev] - ref[lev]
+            if lev == 0:
+                d = wrap(d, fam.angle_mask)
+            with np.errstate(invalid="ignore"):
+                r = np.max(np.abs(d), axis=-1) / (TOL[lev] * scales[lev])
+            e = np.maximum(e, np.where(np.isnan(r), np.inf, r))
+        errs[s] = e
+    return errs
+
+
+def locks_between(fam, p, ts, sigma, sub=24, fine=20000):
+    """For each step k -> k + 1 of times ts (and the point itself): whether the mechanism
+    cannot assemble somewhere in [t_k, t_k+1] (a fine grid of the closed form's
+    discriminant of mode sigma). Returns (at, between)."""
+    at = fam.disc(p, ts, sigma) < 0
+    if len(ts) < 2:
+        return at, np.zeros(0, dtype=bool)
+    m = max(sub, fine // len(ts))
+    u = np.linspace(0.0, 1.0, m)
+    grid = ts[:-1, None] + (ts[1:] - ts[:-1])[:, None] * u[None, :]
+    between = (fam.disc(p, grid.ravel(), sigma).reshape(grid.shape) < 0).any(axis=1)
+    return at, between
+
+
+def judge(fam, p, ts, Q, QD=None, QDD=None, status=None, sigma=None, raised=False,
+          what=""):
+    """Sort the points of a (possibly partial) sweep; ``sigma``: the mode the start
+    fixes (None: the mode its first point is on)."""
+    v = Verdict()
+    ts = np.asarray(ts, dtype=float)
+    N = len(ts)
+    if raised:
+        v.outcome = "refused"
+        v.points["raised"] += 1
+    if N == 0:
+        return v
+    arrs = [np.asarray(Q)]
+    for a in (QD, QDD):
+        if a is None:
+            break
+        arrs.append(np.asarray(a))
+    upto = len(arrs) - 1
+    refs = {s: fam.exact(p, s, ts, upto) for s in fam.modes()}
+    scales = _scales(refs, upto)
+    errs = _errors(fam, refs, arrs, upto, scales)
+    match = {s: errs[s] <= 1.0 for s in refs}
+    locks = {}
+    status = np.zeros(N, dtype=int) if status is None else np.asarray(status, dtype=int)
+    anchor, blocked = sigma, False
+
+    def which(k):
+        hits = [s for s in refs if match[s][k]]
+        return hits[0] if hits else None
+
+    def near(k):
+        best = min(refs, key=lambda s: errs[s][k])
+        return best, errs[best][k]
+
+    for k in range(N):
+        if k > 0 and anchor is not None:
+            if anchor not in locks:
+                locks[anchor] = locks_between(fam, p, ts, anchor)[1]
+            blocked = blocked or bool(locks[anchor][k - 1])
+        if status[k] != OK:
+            v.points["flagged"] += 1
+            if v.outcome == "right":
+                v.outcome = "refused"
+            anchor, blocked = which(k), False
+            continue
+        if anchor is None:
+            anchor = which(k)
+            if anchor is None:
+                s, e = near(k)
+                v.wrong(f"{what} t={ts[k]:.9g} (point {k}): status OK but on no mode "
+                        f"(nearest {s}, error {e:.3g} x tol)")
+            else:
+                v.points["right"] += 1
+            continue
+        if blocked:
+            v.wrong(f"{what} t={ts[k]:.9g} (point {k}): status OK past a lock window "
+                    f"(mode {anchor} cannot pass; lands on {which(k)}); got "
+                    f"{_show(fam, arrs[0][k])}")
+            continue
+        if match[anchor][k]:
+            v.points["right"] += 1
+            continue
+        other = which(k)
+        v.wrong(f"{what} t={ts[k]:.9g} (point {k}): status OK, "
+                + (f"on the other mode {other}" if other is not None else
+                   f"off mode {anchor} by {errs[anchor][k]:.3g} x tol")
+                + f"; got {_show(fam, arrs[0][k])} want {_show(fam, refs[anchor][0][k])}")
+    return v
+
+
+def _show(fam, q):
+    return "{" + ", ".join(f"{c}={x:.6g}" for c, x in zip(fam.coords, q) if c[:2] in ("Th",)
+                           or c == "s") + "}"
+
+
+# -- runs ---------------------------------------------------------------------------------
+@dataclass
+class Spec:
+    """One random sweep of one random mechanism."""
+    family: str
+    variant: str
+    params: dict
+    sigma: tuple
+    t0: float
+    t1: float
+    n: int
+    level: str
+    method: str
+
+    def __str__(self):
+        ps = ", ".join(f"{k}={v!r}" for k, v in self.params.items())
+        return (f"{self.family}/{self.variant} sigma={self.sigma} sweep({self.t0}, {self.t1!r}, "
+                f"{self.n}, level={self.level!r}, method={self.method!r}) params=dict({ps})")
+
+
+def draw_spec(fam, rng, variant=None, level=None, method=None):
+    """A random mechanism of family fam that assembles at t = 0, a mode, a span and a
+    point count (coarse: 7 to 40 points a period, up to fine: 721)."""
+    variant = variant or fam.variants[int(rng.integers(len(fam.variants)))]
+    modes = fam.modes()
+    for _ in range(500):
+        p = fam.draw(rng, variant)
+        sigma = modes[int(rng.integers(len(modes)))]
+        if fam.disc(p, np.array([0.0]), sigma)[0] > 1e-6:
+            break
+    else:
+        raise RuntimeError(f"{fam.name}/{variant}: no assemblable draw")
+    per = fam.period(p)
+    n_turn = int(rng.choice([rng.integers(7, 41), rng.integers(41, 200), 361, 721],
+                            p=[0.5, 0.3, 0.1, 0.1]))
+    span = per * float(rng.uniform(0.3, 1.6))
+    n = max(3, int(round(n_turn * span / per)))
+    return Spec(fam.name, variant, p, sigma, 0.0, span, n,
+                level or LEVELS[int(rng.integers(3))], method or METHODS[int(rng.integers(3))])
+
+
+def run_sweep(fam, spec, mech=None):
+    """The spec's sweep from the exact start of its mode, judged."""
+    mech = (mech or fam.mech()).with_params(**spec.params)
+    q0 = fam.exact(spec.params, spec.sigma, np.array([spec.t0]), 0)[0][0]
+    raised = False
+    try:
+        sw = mech.sweep(spec.t0, spec.t1, spec.n, level=spec.level, method=spec.method, guess=q0)
+    except REFUSALS as err:
+        sw, raised = getattr(err, "sweep", None), True
+        if sw is None:
+            return judge(fam, spec.params, [], [], raised=True)
+    return judge(fam, spec.params, sw.t, sw.Q, sw.QD, sw.QDD, sw.status, sigma=spec.sigma,
+                 raised=raised, what=str(spec))
+
+
+def reachable(fam, p, t0, ts, sigma):
+    """Whether each t of ts is reached from t0 on mode sigma without crossing a lock
+    window."""
+    out = []
+    for t in ts:
+        grid = np.linspace(t0, t, max(64, int(4000 * abs(t - t0) / fam.period(p)) + 2))
+        out.append(bool((fam.disc(p, grid, sigma) >= 0).all()))
+    return np.array(out)
+
+
+SOLVES = ("guess", "wrapped", "none")
+
+
+def single_solves(fam, spec, rng, count=4, mech=None, kinds=SOLVES):
+    """Single solves at random times t of the spec's mechanism, as (kind, Verdict):
+    "guess": the guess is its mode's exact configuration at t moved 2 % of the way to
+    the nearest other mode, and the answer must be that mode; "wrapped": the same with
+    its angles taken to (-pi, pi] (the same configuration: angles count modulo 2 pi);
+    "none": set_guess(the exact start) and solve(t0) (so that both the guess and
+    mech.last are the start), then solve(t) without a guess, which must give the mode
+    connected to the start (only times that no lock window separates from it)."""
+    p = spec.params
+    m = (mech or fam.mech()).with_params(**p)
+    per = fam.period(p)
+    lev = LEVELS.index(spec.level)
+    q0 = fam.exact(p, spec.sigma, np.array([spec.t0]), 0)[0][0]
+    ts = spec.t0 + per * rng.uniform(-1.0, 2.0, count)
+    ok = reachable(fam, p, spec.t0, ts, spec.sigma)
+    out = []
+    for t, connected in zip(ts, ok):
+        here = fam.exact(p, spec.sigma, np.array([t]), 0)[0][0]
+        if not np.isfinite(here).all():
+            continue
+        others = [fam.exact(p, s, np.array([t]), 0)[0][0] for s in fam.modes()
+                  if s != spec.sigma]
+        gap = min([np.max(np.abs(wrap(o - here, fam.angle_mask))) for o in others
+                   if np.isfinite(o).all()] + [1.0])
+        nudge = 0.02 * min(gap, 0.5) * rng.uniform(-1, 1, here.shape)
+        for kind in kinds:
+            if kind == "none" and not connected:
+                continue
+            what = f"{spec} solve({float(t)!r}, guess={kind})"
+            try:
+                if kind == "none":
+                    m.set_guess(q0)
+                    m.solve(spec.t0, level=spec.level, method=spec.method)   # mech.last
+                    s = m.solve(float(t), level=spec.level, method=spec.method)
+                else:
+                    g = here + nudge
+                    if kind == "wrapped":
+                        g = wrap(g, fam.angle_mask)
+                    s = m.solve(float(t), guess=g, level=spec.level, method=spec.method)
+            except REFUSALS:
+                out.append((kind, Verdict("refused", Counter(raised=1))))
+                continue
+            arrs = [s.q[None], None if s.qd is None else s.qd[None],
+                    None if s.qdd is None else s.qdd[None]]
+            out.append((kind, judge(fam, p, [t], *arrs[:lev + 1],
+                                    status=[1 if s.singular else OK], sigma=spec.sigma,
+                                    what=what)))
+    return out
+
+
+def run_table(fam, spec, rng, designs=4, backend="cpu", client=None, mech=None):
+    """A design table around the spec's mechanism: its speed and one dimension varied
+    (grid=False), every design from the spec's exact start; each design judged from the
+    mode its first point is on. Returns verdicts."""
+    p = spec.params
+    m = (mech or fam.mech()).with_params(**p)
+    speed = "f" if "f" in p else "w"
+    dims = [k for k in fam.params if k not in (speed, "th0", "ph", "cph", "g", "be", "ax",
+                                                 "ay", "gx", "gy", "ox", "oy", "xc")]
+    dim = dims[int(rng.integers(len(dims)))]
+    vals = {speed: [p[speed] * float(x) for x in rng.uniform(0.5, 1.5, designs)],
+            dim: [p[dim] * (1 + float(x)) for x in rng.uniform(-0.01, 0.01, designs)]}
+    vals[speed][0], vals[dim][0] = p[speed], p[dim]
+    q0 = fam.exact(p, spec.sigma, np.array([spec.t0]), 0)[0][0]
+    extra = {} if backend == "cpu" else {"backend": backend}
+    if client is not None:
+        extra["client"] = client
+    try:
+        tab = m.sweep(spec.t0, spec.t1, spec.n, params=vals, grid=False, guess=q0,
+                      level=spec.level, method=spec.method, on_fail="ignore", **extra)
+    except REFUSALS:
+        return [Verdict("refused", Counter(raised=1))]
+    out = []
+    for d in range(designs):
+        pd = dict(p, **{k: vals[k][d] for k in vals})
+        sw = tab.sweep(d)
+        what = f"{spec} design {d} ({speed}={pd[speed]!r}, {dim}={pd[dim]!r}, backend={backend})"
+        out.append(judge(fam, pd, sw.t, sw.Q, sw.QD, sw.QDD, sw.status,
+                         raised=int(tab.done[d]) < len(tab.t), what=what))
+    return out
+
+
+CRASHES = []
+
+
+def tally(counts, kind, verdicts, wrongs, keep=20):
+    """Count verdicts under kind; keep the first wrong ones' details (crashes in
+    CRASHES)."""
+    for v in verdicts:
+        counts[(kind, v.outcome)] += 1
+        if v.outcome == "wrong" and len(wrongs) < keep:
+            wrongs.append(v.detail)
+        if v.outcome == "crashed":
+            CRASHES.append(v.detail)
+
+
+def summary(counts, wrongs=()):
+    """Lines of per-family counts: right / refused / wrong (and crashed: mechgen raised
+    something other than ConvergenceError or SingularError)."""
+    rows = {}
+    for (kind, outcome), n in counts.items():
+        rows.setdefault(kind, Counter())[outcome] += n
+    lines = [f"{'family/run':38s} {'right':>7s} {'refused':>8s} {'wrong':>6s} {'crashed':>8s}"]
+    for kind in sorted(rows):
+        c = rows[kind]
+        lines.append(f"{kind:38s} {c['right']:7d} {c['refused']:8d} {c['wrong']:6d} "
+                     f"{c['crashed']:8d}")
+    return lines
