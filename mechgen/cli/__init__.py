@@ -1,4 +1,4 @@
-"""The command line: mechgen build | equations | check | solve | sweep | singularities |
+"""The command line: mechgen build | equations | check | solve | sweep | singularities | forces |
 draw | animate | plot.
 
 One meaning per option on every command: ``-o FILE`` is the file the command writes (a
@@ -13,7 +13,8 @@ import sys
 
 from ..errors import MechgenError
 from ..protocol import LEVELS
-from . import plot_commands, solve_commands
+from .tables import FORCE_LEVELS
+from . import forces_command, plot_commands, solve_commands
 from .loading import models
 from .options import module_folder, number_type
 
@@ -66,9 +67,10 @@ def _add_common(p, outdir=True):
 
 
 def _add_solve_opts(p):
-    p.add_argument("--level", choices=LEVELS, default=None,
+    p.add_argument("--level", choices=LEVELS + FORCE_LEVELS, default=None,
                    help="solve positions, velocities too, or accelerations too (default: "
-                        "position, or what --columns needs)")
+                        "position, or what --columns needs); static or dynamic: then the "
+                        "driver efforts and joint reactions too")
     p.add_argument("--guess", action="append", metavar="NAME=VALUE",
                    help="start value of a coordinate, e.g. X4=1 or Th3=pi/2 (repeatable; "
                         "picks an assembly mode)")
@@ -129,6 +131,7 @@ def parser() -> argparse.ArgumentParser:
 
     solve_commands.add_commands(sub, _add_common, _add_solve_opts)
     plot_commands.add_commands(sub, _add_common)
+    forces_command.add_command(sub, _add_common)
     return ap
 
 

@@ -11,6 +11,8 @@ from ..protocol import LEVELS
 from ..runtime.guards import fits, point_bytes
 from ..runtime.quantity import column_names
 
+FORCE_LEVELS = ("static", "dynamic")    # mechgen.runtime.forces (not imported by the parser)
+
 
 def times(t0, t1, n) -> np.ndarray:
     """The n times of a sweep from t0 to t1 (both ends), as the user means them:
@@ -35,6 +37,9 @@ def needed_level(mech, names, asked=None) -> str:
     """The level to solve at: the one asked for (--level), or the lowest that yields
     every named column. Unknown names, or names the level asked for cannot give, raise
     MechgenError listing what there is."""
+    if asked in FORCE_LEVELS:       # the forces' levels hold every kinematic column
+        needed_level(mech, names, "position" if asked == "static" else "acceleration")
+        return asked
     low = LEVELS.index(asked) if asked else 0
     need = low
     for name in names or ():

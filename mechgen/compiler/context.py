@@ -17,6 +17,7 @@ from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
 from .equations_code import (gamma_body, nu_body, outputs_bodies, phi_body, phi_q_body,
                              point_list, points_body)
+from .forces_code import force_blocks, forces_bodies
 from .ir import Options, code_words, render, symbols
 from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
 from .names import Names, emitter_symbols, identifiers, module_words
@@ -45,6 +46,9 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     made_outputs, orders = outputs_bodies(plan, eq, model)
     for k, made in enumerate(made_outputs):
         put(("outputs", k), made)
+    force_parts, driver_rows = forces_bodies(plan, eq, model)  # only with mass or loads
+    for key, made in force_parts.items():
+        put(key, made)
     put("phi", phi_body(plan, eq))
     put("phi_q", phi_q_body(plan, eq))
     put("nu", nu_body(plan, eq))
@@ -111,6 +115,10 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         helpers=[dict(name=h.name, args=h.args, doc=h.doc, lines=render(h.body, plain))
                  for h in helpers],
         inline=inline,
+        forces=dict(force_terms=text("force_terms"), energies=text("energies"),
+                    driver_factors=text("driver_factors"), driver_rows=driver_rows,
+                    blocks=force_blocks(plan, eq))
+        if force_parts else None,
         pivot_rtol=repr(PIVOT_RTOL),
         sing_rtol=repr(SING_RTOL),
         level=plan.level,
@@ -144,6 +152,8 @@ def model_hash(ctx) -> str:
                 "level", "solved", "helpers", "derivatives_sorted", "inline", "jacobian_det",
                 "sweep_fast", "blocks"):
         h.update(repr(ctx[key]).encode())
+    if ctx.get("forces"):       # only a model with mass or loads: the others' hash stays
+        h.update(repr(ctx["forces"]).encode())
     return h.hexdigest()[:16]
 
 

@@ -68,7 +68,28 @@ def fingerprint(model, **options) -> str:
             [_point(pt) for pt in getattr(c, "points", ())])
     for name, expr in model.outputs.items():
         put("output", name, sp.srepr(expr))
+    # mass properties and loads (mechgen.model.loads): the force functions read them
+    for b in model.moving_bodies:
+        put("mass", b.name, *(_part(getattr(b, k, 0)) for k in ("mass", "inertia", "centroid")))
+    if model.gravity_vector is not None:
+        put("gravity", _part(model.gravity_vector))
+    for load in model.loads:
+        put("load", load.kind, load.name, sorted((k, _part(v)) for k, v in vars(load).items()
+                                                 if k not in ("kind", "name", "text")))
     return h.hexdigest()
+
+
+def _part(value):
+    """A load's part as text: a point, a body, a sympy value, or a sequence of them."""
+    if hasattr(value, "local") and hasattr(value, "body"):
+        return _point(value)
+    if hasattr(value, "is_ground"):
+        return value.name
+    if isinstance(value, (tuple, list)):
+        return [_part(v) for v in value]
+    if isinstance(value, sp.MatrixBase):
+        return [_part(v) for v in value]
+    return sp.srepr(sp.sympify(value))
 
 
 def record_path(path: str) -> str:

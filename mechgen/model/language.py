@@ -16,6 +16,7 @@ from ..errors import ModelError, _user_frame
 from .cams import CamsMixin
 from .geometry import Body, T
 from .library2d import Mech2D
+from .loads import LoadsMixin
 from .quantities import register_coordinates
 from .stages import StageMixin
 
@@ -55,7 +56,7 @@ def _is_identifier(name) -> bool:
         unicodedata.normalize("NFKC", name) == name
 
 
-class Model(CamsMixin, Mech2D, StageMixin):
+class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
     """A planar mechanism. Every ``Model`` defined at module level of a model file is built."""
 
     def __init__(self, name: str):
@@ -136,8 +137,11 @@ class Model(CamsMixin, Mech2D, StageMixin):
         self.bodies[name] = body
         return body
 
-    def body(self, name: str, points=(), guess=(0.0, 0.0, 0.0)) -> Body:
-        """A moving body, numbered 2, 3, ... in declaration order, coordinates X<n>, Y<n>, Th<n>."""
+    def body(self, name: str, points=(), guess=(0.0, 0.0, 0.0), mass=0, inertia=0,
+             centroid=None) -> Body:
+        """A moving body, numbered 2, 3, ... in declaration order, coordinates X<n>, Y<n>, Th<n>.
+        ``mass``, ``inertia`` (polar, about the centroid) and ``centroid`` (local; default
+        the origin) are its mass properties (mechgen.model.loads)."""
         # validate everything first: a rejected body leaves the model as it was
         self._check_name(name, "body")
         number = 2 + sum(1 for b in self.bodies.values() if not b.is_ground)
@@ -153,6 +157,8 @@ class Model(CamsMixin, Mech2D, StageMixin):
             raise ModelError(f"body '{name}': guess must be (x, y, th), got {guess!r}") from None
         values = [self._guess_value(value, f"body '{name}': guess of {sym}")
                   for sym, value in zip(body.coordinates, (gx, gy, gth))]
+        body.mass, body.inertia, body.centroid = self._mass_properties(name, mass, inertia,
+                                                                       centroid)
         self._claim(name, "body")
         for sym, value in zip(body.coordinates, values):
             self._claim(sym.name, f"coordinate of body '{name}'")

@@ -21,6 +21,7 @@ from .assembly import angle_coordinates
 from .assembly import assemblies as find_assemblies
 from .entry import solve_acceleration, solve_point_derivatives, solve_velocity
 from .design import design_table
+from .forces import force_solve, force_sweep, is_force_level
 from .follow import follow
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
                      point_bytes, sweep_count, sweep_times)
@@ -199,7 +200,12 @@ class Mechanism:
         ``guess`` (some or all coordinates, or a Solution such as ``mech.last``): Newton
         from it at t. Angles are taken modulo 2π as the drivers ask. The result becomes
         ``last``. Raises ConvergenceError or SingularError rather than returning a
-        configuration that does not satisfy the constraints."""
+        configuration that does not satisfy the constraints. level="static" or "dynamic"
+        adds the multipliers, the driver efforts and the reactions
+        (mechgen.runtime.forces)."""
+        if is_force_level(level):
+            return force_solve(self, t, level, guess=guess, method=method, tol=tol,
+                               maxit=maxit)
         t = finite(t, "t")
         lev = self._level(level)
         meth = self._method(method)
@@ -352,7 +358,14 @@ class Mechanism:
         all C-contiguous), a tuple ``(Q,)``, ``(Q, QD)`` or
         ``(Q, QD, QDD)``, or a Sweep of as many points and at least this level from an
         earlier call, whose arrays are then overwritten. The result's arrays are views of
-        them."""
+        them. level="static" or "dynamic" sweeps the kinematics, then solves the
+        multipliers at every point (mechgen.runtime.forces)."""
+        if is_force_level(level):
+            if params is not None or out is not None or backend != "cpu" or reduce is not None:
+                raise ValueError(f"level={level!r}: a single sweep only for now (not params=, "
+                                 "out=, backend= or reduce=)")
+            return force_sweep(self, t0, t1, n, level, guess=guess, method=method, tol=tol,
+                               maxit=maxit, times=times)
         if params is not None:
             if out is not None:
                 raise ValueError("out= is for a single sweep, not a design table (params=)")

@@ -1,0 +1,109 @@
+"""Forces through the command line and the documents (issue 21): `mechgen forces`,
+`mechgen sweep --level dynamic`, `mechgen equations`, the constraint reference's worked
+example and the README's snippet, each against the closed form of tests/test_forces.py."""
+import numpy as np
+
+from test_forces import (C2, G, J2, M2, closed_form, newton_euler, power_torque,
+                         slider_crank)
+
+
+def test_equations_print_the_mass_matrix_and_loads():
+    from mechgen.model.printing import equations_text
+    text = equations_text(slider_crank())
+    forces = text[text.index("Forces:"):]
+    # the crank turns about its origin: M[Th2, Th2] = m |c|² + J
+    assert f"[Th2, Th2]  {M2 * (C2[0] ** 2 + C2[1] ** 2) + J2:g}" in forces
+    assert "[X4]   -500" in forces and "press: force(slider[1], (-500" in forces
+    assert f"[Y4]   {-G:g}*mass4" in forces      # Q_c: the slider's weight, a parameter
+
+
+MODEL_FILE = '''
+from mechgen import Model, T
+m = Model("cli_forces")
+base = m.ground("base", points=[(0, 0), (1, 0)])
+crank = m.body("crank", points=[(0, 0), (0.2, 0)], guess=(0, 0, 0.3), mass=1.5,
+               inertia=0.02, centroid=(0.08, 0.02))
+rod = m.body("rod", points=[(0, 0), (0.6, 0)], guess=(0.19, 0.06, -0.1), mass=2.0,
+             inertia=0.07, centroid=(0.25, -0.03))
+slider = m.body("slider", points=[(0, 0), (1, 0)], guess=(0.79, 0, 0), mass=3.0,
+                inertia=0.01, centroid=(0.05, 0.04))
+m.revolute(base[1], crank[1], name="A")
+m.revolute(crank[2], rod[1], name="B")
+m.revolute(rod[2], slider[1], name="C")
+m.translate(base.line(1, 2), slider.line(1, 2), name="guide")
+m.rotation_lock(crank, 3.0 * T + 0.3, name="crank driver")
+m.gravity(9.807)
+m.force(slider[1], (-500.0, 120.0), name="press")
+'''
+
+
+def test_cli_forces_prints_driver_and_reactions(tmp_path, capsys, monkeypatch):
+    from mechgen.cli import main
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+    path = tmp_path / "cli_forces.py"
+    path.write_text(MODEL_FILE)
+    assert main(["forces", str(path), "-t", "0.25", "--outdir", str(tmp_path / "gen")]) == 0
+    out = capsys.readouterr().out
+    line = next(x for x in out.splitlines() if x.strip().startswith("crank driver:"))
+    np.testing.assert_allclose(float(line.split()[-1]), power_torque(closed_form(0.25)),
+                               rtol=1e-9)
+    ne = newton_euler(closed_form(0.25))
+    line = next(x for x in out.splitlines() if x.strip().startswith("C: revolute") and
+                x.split(" on ")[1].split()[0] == "slider")
+    np.testing.assert_allclose([float(v) for v in line.split()[-3:]], [*ne["FC"], 0.0],
+                               rtol=1e-9, atol=1e-7)
+    assert " on base " in out
+
+
+def test_constraint_reference_forces_example_is_what_the_printer_gives():
+    """docs/constraints.md's worked example of masses and loads cannot rot."""
+    import os
+    import re
+    from mechgen.model.printing import equations_text
+    doc = open(os.path.join(os.path.dirname(os.path.dirname(__file__)), "docs",
+                            "constraints.md"), encoding="utf-8").read()
+    code = re.search(r"<!-- forces example -->\n```python\n(.*?)```", doc, re.S).group(1)
+    quoted = re.search(r"<!-- forces printed -->\n```text\n(.*?)```", doc, re.S).group(1)
+    space = {}
+    exec(code, space)
+    text = equations_text(space["m"])
+    assert text[text.index("Forces:"):] == quoted
+    # the crank about its pin: M[Th2, Th2] = m |c|² + J
+    assert f"[Th2, Th2]  {1.2 * (0.15 ** 2 + 0.02 ** 2) + 0.01:g}" in quoted
+
+
+def test_readme_forces_snippet_prints_its_numbers(tmp_path, monkeypatch, capsys):
+    import os
+    import re
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    text = open(os.path.join(root, "README.md"), encoding="utf-8").read()
+    section = text.split("\n## Forces\n", 1)[1].split("\n## ", 1)[0]
+    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    monkeypatch.chdir(root)
+    monkeypatch.setenv("MECHGEN_CACHE", str(tmp_path))
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+    exec(code, {})
+    out = capsys.readouterr().out.split()
+    peak, mean, residual, inertia = map(float, out)
+    np.testing.assert_allclose([peak, mean, inertia], [47054.88, 859.44, 9688.34], atol=0.01)
+    assert residual < 1e-9 * peak
+
+
+def test_cli_sweep_dynamic_writes_force_columns(tmp_path, monkeypatch):
+    import csv
+    from mechgen.cli import main
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+    path = tmp_path / "cli_forces.py"
+    path.write_text(MODEL_FILE)
+    out = tmp_path / "forces.csv"
+    assert main(["sweep", str(path), "--level", "dynamic", "-n", "7", "--t1", "2",
+                 "--outdir", str(tmp_path / "gen"), "-o", str(out)]) == 0
+    rows = list(csv.DictReader(open(out)))
+    assert len(rows) == 7
+    for row in rows:
+        t = float(row["T"])
+        np.testing.assert_allclose(float(row["crank driver"]), power_torque(closed_form(t)),
+                                   rtol=1e-9)
+        ne = newton_euler(closed_form(t))
+        got = [float(row[f"C on slider {k}"]) for k in ("fx", "fy", "m")]
+        np.testing.assert_allclose(got, [*ne["FC"], 0.0], rtol=1e-9, atol=1e-7)
