@@ -35,9 +35,13 @@ TABLE_PARAM = {"quick_return": ("longitud", 2.0, 3.5, "X4"), "strandbeest_leg": 
 
 
 def _files(name, baseline, folder):
-    texts = {"now": open(os.path.join(ROOT, "generated", f"{name}.py")).read(),
-             "before": subprocess.run(["git", "-C", ROOT, "show", f"{baseline}:generated/{name}.py"],
-                                      capture_output=True, text=True, check=True).stdout}
+    if os.path.isdir(baseline):         # a folder holding that commit's modules
+        with open(os.path.join(baseline, f"{name}.py")) as fh:
+            before = fh.read()
+    else:
+        before = subprocess.run(["git", "-C", ROOT, "show", f"{baseline}:generated/{name}.py"],
+                                capture_output=True, text=True, check=True).stdout
+    texts = {"now": open(os.path.join(ROOT, "generated", f"{name}.py")).read(), "before": before}
     out = {}
     for label, text in texts.items():
         path = os.path.join(folder, f"{label}_{name}.py")
@@ -98,7 +102,8 @@ def cases(mech, name, quick):
 
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--baseline", required=True, help="a commit whose generated modules to run beside")
+    ap.add_argument("--baseline", required=True,
+                    help="a commit whose generated modules to run beside (or a folder of them)")
     ap.add_argument("--modules", default=",".join(MODULES))
     ap.add_argument("--rounds", type=int, default=5)
     ap.add_argument("--quick", action="store_true")
