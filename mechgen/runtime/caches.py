@@ -7,11 +7,13 @@ data files ``....<k>.nbc`` (pickles) beside the module in ``__pycache__`` (or un
 ``$NUMBA_CACHE_DIR``). It checks an index against the module file's time stamp and size,
 not against the bytes it holds: a truncated file makes the first call raise EOFError or
 UnpicklingError, an edited one may load. Here every index and the data files it names
-are read back (the index unpickled, the data parsed as pickles without running them), and each file's sha256 is compared with the
-one recorded when it was last seen whole (``<state>/<name>.<digest>.numba-sums``, keyed by
-the module's content digest): a file that fails either is deleted with its function's
-other files, with a warning. Files numba writes while this process runs are recorded at
-exit, so numba's own rewrites are never taken for damage.
+are read back (the index unpickled, the data parsed as pickles without running them), and
+each file's sha256 is compared with the one recorded when it was last seen whole
+(``<state>/<name>.<digest>.numba-sums``, keyed by the module's content digest) where its
+time stamp and size are those recorded (other bytes under them are damage; a file with
+a new time stamp was written again, by numba in this or another process): a file that
+fails either is deleted with its function's other files, with a warning. Files numba
+writes while this process runs are recorded at exit.
 
 numpy-free; numba is imported only to locate its cache folder.
 """
@@ -76,8 +78,23 @@ def _group(name: str) -> str:
 
 
 def _sha(path: str) -> str:
+    """The file's sha256 with its time stamp and size: ``sha:mtime_ns:size``."""
+    st = os.stat(path)
     with open(path, "rb") as fh:
-        return hashlib.sha256(fh.read()).hexdigest()
+        return f"{hashlib.sha256(fh.read()).hexdigest()}:{st.st_mtime_ns}:{st.st_size}"
+
+
+def _damaged(recorded: str, now: str) -> bool:
+    """Whether a file changed without being written: other bytes under the same time stamp
+    and size (a disk's damage). A file written again since (another process compiling
+    more functions, a background worker) has a new time stamp: it is read back whole or
+    not by _whole, and recorded anew."""
+    if recorded == now:
+        return False
+    old, new = recorded.split(":"), now.split(":")
+    if len(old) != 3:
+        return old[0] != new[0]
+    return old[1:] == new[1:]
 
 
 def _sums_path(path: str, digest: str) -> str:
@@ -149,7 +166,7 @@ def check(path: str, digest: str) -> list:
             current[name] = _sha(os.path.join(folder, name))
         except OSError:
             continue
-        if name in sums and sums[name] != current[name]:
+        if name in sums and _damaged(sums[name], current[name]):
             bad.add(_group(name))
     for name in names:
         if name.endswith(".nbi") and _group(name) not in bad and not _whole(folder, name):

@@ -231,6 +231,8 @@ class Mechanism:
         """Turn each angle of q (a coordinate Φ is 2π-periodic in) that ended more than a
         turn from its start by whole turns back to the start's, in place: whether any was."""
         turned = False
+        if not np.any(np.abs(q - start) > np.pi):      # the common case: nothing to look at
+            return False
         for j in angle_coordinates(self):
             k = round((q[j] - start[j]) / (2 * np.pi))
             if k:
