@@ -28,6 +28,11 @@ _COMPARE = {sp.StrictLessThan: np.less, sp.LessThan: np.less_equal,
             sp.Eq: np.equal, sp.Ne: np.not_equal}
 
 
+# n-ary nodes folded pairwise
+_FOLDED = {sp.Min: np.minimum, sp.Max: np.maximum, boolalg.And: np.logical_and,
+           boolalg.Or: np.logical_or}
+
+
 class _Graph:
     def __init__(self, values):
         self.memo = dict(values)
@@ -70,20 +75,14 @@ class _Graph:
             return _UNARY[cls](self(e.args[0]))
         if cls in _BINARY:
             return _BINARY[cls](self(e.args[0]), self(e.args[1]))
-        if cls in (sp.Min, sp.Max):
-            f = np.minimum if cls is sp.Min else np.maximum
+        if cls in _FOLDED:
+            f = _FOLDED[cls]
             out = self(e.args[0])
             for a in e.args[1:]:
                 out = f(out, self(a))
             return out
         if cls in _COMPARE:
             return _COMPARE[cls](self(e.lhs), self(e.rhs))
-        if cls in (boolalg.And, boolalg.Or):
-            f = np.logical_and if cls is boolalg.And else np.logical_or
-            out = self(e.args[0])
-            for a in e.args[1:]:
-                out = f(out, self(a))
-            return out
         if cls is boolalg.Not:
             return np.logical_not(self(e.args[0]))
         if cls is sp.Piecewise:
