@@ -100,6 +100,55 @@ def test_issue_near_miss_fourbars_at_37_points(seed):
         raised=int(tab.done[0]) < 37, what=f"{spec} one-design table")])
 
 
+# -- the long profile's last wrong answers (seed 100), exactly ----------------------------------
+GEARED_100 = dict(r1=1.19713179963806, r2=3.59139539891418, be=-2.2946012684431145,
+                  cph=0.685391593104179, a1=0.7225782573574897, a2=1.4123402751294927,
+                  l1=7.421827383358391, l2=4.654509399208768, th0=2.5445378269426087,
+                  w=-10.79824107478333)
+
+
+def test_long_profile_geared_wrapped_guesses():
+    """A guess near the mode at t, angles wrapped to (-pi, pi]: the gear's rolling row
+    changed by exactly one driver's turn when gear 1 turned by 2 pi (r1/(r1 + r2) = 1/4,
+    a quarter turn of the mesh angle, looks linear) and was taken for a driver: gear 1 was
+    turned a whole turn off its driver, and Newton meshed gear 2 a third of a turn off
+    (Th3 5.048 for -3.329). 0 of 60 may land elsewhere."""
+    fam = FAMILIES["geared_fivebar"]
+    p = GEARED_100
+    mech = fam.mech().with_params(**p)
+    rng = np.random.default_rng(5)
+    verdicts = []
+    for t in (0.10762548569768501, *rng.uniform(-1, 2, 5)):
+        here = fam.exact(p, (-1.0,), np.array([t]), 0)[0][0]
+        for _ in range(10):
+            g = rc.wrap(here + 0.01 * rng.uniform(-1, 1, here.shape), fam.angle_mask)
+            s = mech.solve(float(t), guess=g)
+            verdicts.append(rc.judge(fam, p, [t], s.q[None], sigma=(-1.0,), status=[0],
+                                     what=f"geared wrapped guess t={t}"))
+    _no_wrong("long/geared wrapped", verdicts)
+
+
+def test_long_profile_inverted_table_design_past_a_lock():
+    """An inverted slider-crank whose crank cannot pass [2.397, 2.772], swept at 7 points:
+    point 4 lies 0.002 short of the fold, where the guide turns fast, and the quick path's
+    Taylor step leapt over the window onto the configuration past it with the same signs
+    (Th3 -12.28 at t = 2.98, status OK). Now det Φ_q's change is limited there too: the
+    sweep stops at the lock, naming it."""
+    fam = FAMILIES["inverted"]
+    p = dict(ox=0.18195950426606416, oy=1.9329721321145426, a=0.5611501410790659,
+             e=-1.393161756501745, th0=-2.332018370487136, w=-0.9575468096599912)
+    mech = fam.mech().with_params(**p)
+    q0 = fam.exact(p, (-1.0,), np.array([0.0]), 0)[0][0]
+    for level in ("position", "velocity", "acceleration"):
+        with pytest.raises(rc.REFUSALS, match="lock") as err:
+            mech.sweep(0, 3.5719723773449354, 7, level=level, method="sorted", guess=q0)
+        sw = err.value.sweep
+        assert sw.t[-1] < 2.3968
+        _no_wrong("long/inverted 7 points", [rc.judge(
+            fam, p, sw.t, sw.Q, status=sw.status, sigma=(-1.0,), raised=True,
+            what=f"inverted 7 points {level}")])
+
+
 # -- every family, level and method: sweeps, single solves, design tables -------------------------
 CASES = [(f, meth) for f in FAMILIES for meth in rc.METHODS]
 

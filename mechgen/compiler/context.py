@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import hashlib
 
+import sympy as sp
+
 from ..model.geometry import T
 from ..model.stages import constraint_table, stages_context
 from ..model.symbolic import check_square
@@ -89,7 +91,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         doc=(model.doc or "").strip(),
         mechgen_version=__version__,
         format_version=FORMAT_VERSION,
-        n=len(eq.q), m=eq.phi.rows,
+        n=len(eq.q), m=eq.phi.rows, row_wraps=row_wraps(eq),
         coordinates=[s.name for s in eq.q],
         guess=[repr(float(x)) for x in model.guess_vector()],
         parameters=[(name, repr(float(v))) for name, v in model.param_defaults.items()],
@@ -128,6 +130,14 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     ctx.update(drawing_context(model, points))
     ctx["hash"] = model_hash(ctx)
     return ctx
+
+
+def row_wraps(eq) -> list:
+    """Whether each row of Φ counts whole turns of a wrapped angle (a function that
+    ``wraps``: a gear's mesh_angle): the library's unwrap_turns never takes such a row
+    for a driver."""
+    return [any(getattr(f, "wraps", False) for f in eq.phi[i].atoms(sp.Function))
+            for i in range(eq.phi.rows)]
 
 
 def name_map(model, eq, bodies, extra_code=()) -> Names:

@@ -6,7 +6,9 @@ written, nor the STATUS columns it does not have (protocol.STATUS_*).
 Per point of a sweep with derivatives: a Taylor predictor from the last point's velocity
 and acceleration, the sorted position solve and the combined velocity/acceleration pass,
 then sweep()'s branch test and the signs of Φ_q's blocks (det Φ_q, the product of the
-velocity pass's block determinants, and the pattern of their signs) at every point.
+velocity pass's block determinants, and the pattern of their signs) at every point, and
+sweep()'s limit on det Φ_q where it could reach zero (a change by half of itself at most:
+a step from the near side of a lock never lands past it, on the same signs).
 A position sweep takes the derivatives at its first two points only (for the Taylor
 predictor), then predicts by the quadratic through its last three points, as sweep()
 does at level 0, and evaluates det Φ_q (jacobian_det) where its sign could have changed:
@@ -109,6 +111,13 @@ def _predictors():
     return quadratic
 
 
+# sweep()'s rule on det Φ_q where it could reach zero (within eight steps at the rate it
+# changed last, or at the first step): it may change by half of itself at most, so that a
+# step never leaps from the near side of a lock (a fold) to a configuration past it
+_NEAR = ("abs(_sw_det) <= 8.0 * _sw_rate * abs(t - _sw_tk) and "
+         "abs({d} - _sw_det) > 0.5 * min(abs({d}), abs(_sw_det))")
+
+
 def _position_det():
     """A position sweep's watch on det Φ_q: evaluated where its sign could have changed
     since the point evaluated last (_sw_good - 1, at time _sw_tk); a change sends the
@@ -120,6 +129,8 @@ def _position_det():
         If(Code("k > 0"), (
             If(Code("not _sw_d * _sw_det > 0.0 or piv[1] != _sw_sig"), (Code("return _sw_good"),),
                tail="      # a block's sign changed: sweep() goes on from the last evaluated"),
+            If(Code(_NEAR.format(d="_sw_d")), (Code("return _sw_good"),),
+               tail="      # det Φ_q could reach zero and changed by more than half"),
             If(Code("t != _sw_tk"), (
                 Code("_sw_rate = abs(_sw_d - _sw_det) / abs(t - _sw_tk)"),)))),
         Code("_sw_det = _sw_d"),
@@ -163,8 +174,14 @@ def sweep_fast_body(step=None, pairs=()):
             If(Code("k > 0 and (not piv[0] * _sw_det > 0.0 or piv[1] != _sw_sig)"),
                (Code("return _sw_good"),),
                tail="        # a block's sign changed: another branch, or a singular point"),
+            If(Code("k > 0"), (
+                If(Code(_NEAR.format(d="piv[0]")), (Code("return _sw_good"),),
+                   tail="      # det Φ_q could reach zero and changed by more than half"),
+                If(Code("t != _sw_tk"), (
+                    Code("_sw_rate = abs(piv[0] - _sw_det) / abs(t - _sw_tk)"),)))),
             Code("_sw_det = piv[0]"),
             Code("_sw_sig = piv[1]"),
+            Code("_sw_tk = t"),
             Code("_sw_good = k + 1")),
            orelse=(_position_det(),)),
         Loop(Code("for j in range(N_COORDS)"), (Code("Q[k, j] = q[j]"),)),
@@ -199,9 +216,9 @@ def sweep_fast_body(step=None, pairs=()):
         Code("_sw_sig = 0.0"),
         Code("_sw_good = 0            # points vouched for: accepted, det Φ_q's sign seen up "
              "to there"),
-        Code("_sw_tk = 0.0            # a position sweep: the time det Φ_q was evaluated last, "
-             "its rate"),
-        Code("_sw_rate = 0.0"),
+        Code("_sw_tk = 0.0            # the time det Φ_q was evaluated last, and how fast it "
+             "changed"),
+        Code("_sw_rate = np.inf         # (unknown at the start: the first step is tested)"),
         Code("_sw_move = 0.0"),
         Code("_sw_size = 0.0"),
         Code("_sw_keep_d = QD.shape[0] > 0       # velocities stored (no rows: a position "

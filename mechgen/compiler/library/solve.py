@@ -16,6 +16,7 @@ import numpy as np
 from .linalg import _det, _fp_eliminate, _fp_solve, _consistent, _max_abs
 from .toy import (ACCELERATION, ALL_SOLVED, INFO_ITERATIONS, INFO_METHOD, INFO_RANK,
                   INFO_RESIDUAL, METHOD_FULL, METHOD_SORTED, LEVEL, N_COORDS, N_EQS,
+                  ROW_WRAPS,
                   NO_CONVERGENCE, NOT_FINITE, OK, PIVOT_RTOL, POINT_PIVOT, POINT_RESIDUAL,
                   SING_RTOL, SINGULAR, SORTED, VELOCITY, acceleration_sorted, gamma,
                   jacobian_det, nu, phi, phi_q, position_sorted, velocity_sorted, njit)
@@ -158,15 +159,19 @@ def unwrap_turns(q, t, p):
     the one the drivers ask for (else its first step turns the driven angle by 2π and
     drags the other coordinates into another assembly mode). An angle here is a
     coordinate that Φ sees only through periodic rows (unchanged when it turns by 2π,
-    as sweep() tests) and rows linear in it (changed by 2π times their derivative). A
-    body's angle that rows of neither kind also read (a gear's rolling row, which counts
-    turns) is turned by the whole turns, up to three either way, that bring the residual
-    nearest to 0. Returns the count of coordinates turned."""
+    as sweep() tests) and rows linear in it (changed by 2π times their derivative).
+
+    A gear's rolling row (ROW_WRAPS) counts turns of a wrapped angle: it never decides
+    a driven angle, and a gear's angle that no driver reads is turned afterwards, from
+    the driven end of the train: by the whole turns (up to three either way) that bring
+    its rolling rows nearest to 0, once every other angle those rows read is settled.
+    Returns the count of coordinates turned."""
     r0 = np.empty(N_EQS)
     r1 = np.empty(N_EQS)
     r2 = np.empty(N_EQS)
     d = np.empty(N_EQS)
     J = np.empty((N_EQS, N_COORDS))
+    geared = np.zeros(N_COORDS, dtype=np.bool_)     # an angle only turn counts decide
     phi(q, t, p, r0)
     if not _max_abs(r0) < np.inf:
         return 0
@@ -184,7 +189,10 @@ def unwrap_turns(q, t, p):
         other = False           # a row neither (a gear's rolling row counts its turns)
         for i in range(N_EQS):
             d[i] = r1[i] - r0[i]
-            if abs(d[i]) <= 1e-9 * (1.0 + abs(r0[i])):
+            if ROW_WRAPS[i] and (J[i, j] != 0.0 or d[i] != 0.0):
+                other = True    # a sawtooth may look linear over one turn: never asked
+                d[i] = 0.0
+            elif abs(d[i]) <= 1e-9 * (1.0 + abs(r0[i])):
                 d[i] = 0.0
                 if J[i, j] != 0.0:
                     seen = True
@@ -195,25 +203,7 @@ def unwrap_turns(q, t, p):
                 other = True    # left out of the linear rows' reckoning below
                 d[i] = 0.0
         if seen and other and not linear:
-            # a body's angle that such a row reads and no driver: the whole turns (a few
-            # either way) that bring the residual nearest to 0 (a driven angle before it
-            # in q is already where its driver asks)
-            worst0 = _max_abs(r0)
-            least = worst0
-            best = 0.0
-            for k in range(-3, 4):
-                if k == 0:
-                    continue
-                q[j] = qj + 2.0 * math.pi * k
-                phi(q, t, p, r1)
-                worst = _max_abs(r1)
-                if worst < least:
-                    least = worst
-                    best = float(k)
-            q[j] = qj + 2.0 * math.pi * best
-            if best != 0.0:
-                phi(q, t, p, r0)
-                turned += 1
+            geared[j] = True    # after the driven angles: below
             continue
         if not (seen and linear):
             continue
@@ -240,6 +230,71 @@ def unwrap_turns(q, t, p):
             q[j] = qj + 2.0 * math.pi * best
             phi(q, t, p, r0)        # afresh: a row that is not linear changed too
             turned += 1
+    return turned + _unwrap_geared(q, t, p, J, geared, r0, r1)
+
+
+@njit(cache=True)
+def _unwrap_geared(q, t, p, J, geared, r0, r1):
+    """unwrap_turns' second pass: each gear angle (geared) by the whole turns, three at
+    most either way, that bring the rows it is read by nearest to 0 — first the rolling
+    rows whose other angles are settled (a driven gear's mate, then its mate...), the
+    rows of a loop of gears last, all rows at once. Returns the count turned."""
+    turned = 0
+    left = 0
+    for j in range(N_COORDS):
+        if geared[j]:
+            left += 1
+    rows = np.zeros(N_EQS, dtype=np.bool_)
+    loose = False           # no gear's rows are all settled: take what is left at once
+    while left > 0:
+        moved = False
+        for j in range(N_COORDS):
+            if not geared[j]:
+                continue
+            ready = False
+            for i in range(N_EQS):
+                rows[i] = False
+                if not ROW_WRAPS[i] or J[i, j] == 0.0:
+                    continue
+                settled = True
+                for l in range(N_COORDS):
+                    if l != j and geared[l] and J[i, l] != 0.0:
+                        settled = False
+                rows[i] = settled or loose
+                ready = ready or rows[i]
+            if loose:
+                rows[:] = True
+                ready = True
+            if not ready:
+                continue
+            phi(q, t, p, r0)
+            qj = q[j]
+            least = 0.0
+            for i in range(N_EQS):
+                if rows[i]:
+                    least = max(least, abs(r0[i]))
+            best = 0.0
+            for step in range(1, 7):        # 1, −1, 2, −2, 3, −3: the fewest turns of
+                k = (step + 1) // 2         # equals (a gear turned whole turns by its
+                if step % 2 == 0:           # mate's: the same pose) is taken
+                    k = -k
+                q[j] = qj + 2.0 * math.pi * k
+                phi(q, t, p, r1)
+                worst = 0.0
+                for i in range(N_EQS):
+                    if rows[i]:
+                        worst = max(worst, abs(r1[i]))
+                if worst < least - 1e-9 * (1.0 + least):
+                    least = worst
+                    best = float(k)
+            q[j] = qj + 2.0 * math.pi * best
+            if best != 0.0:
+                turned += 1
+            geared[j] = False
+            left -= 1
+            moved = True
+        if not moved:
+            loose = True
     return turned
 
 

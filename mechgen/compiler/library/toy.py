@@ -44,7 +44,7 @@ __all__ = [
     "SING_RTOL", "SINGULAR", "STATUS_CODE", "STATUS_COLUMNS", "STATUS_ITERATIONS",
     "STATUS_MAX", "STATUS_SUBSTEPS", "THROUGH_SINGULAR", "TINY", "VELOCITY",
     # the model constants
-    "N_COORDS", "N_EQS", "SORTED", "LEVEL", "ALL_SOLVED", "INLINE",
+    "N_COORDS", "N_EQS", "ROW_WRAPS", "SORTED", "LEVEL", "ALL_SOLVED", "INLINE",
     # the model functions
     "njit", "phi", "phi_q", "nu", "gamma", "points", "outputs", "outputs_d", "outputs_dd",
     "position_sorted", "velocity_sorted", "acceleration_sorted", "derivatives_sorted",
@@ -61,6 +61,7 @@ def njit(*args, **options):
 # -- module body: below this line, the text as a generated module holds it --
 N_COORDS = 3
 N_EQS = 3
+ROW_WRAPS = (False, False, False)
 COORDINATES = ("th", "ph", "x")
 PARAMETERS = ("a", "b", "w")
 PARAMETER_DEFAULTS = (1.0, 2.0, 1.0)
