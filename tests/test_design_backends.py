@@ -223,6 +223,20 @@ def test_dask_equals_cpu(qr, serial, client):
     assert py.tier == "python" and _same(tab.Q, serial.Q[0:8:2])     # velocidad 2π: every other row
 
 
+def test_dask_force_table_equals_cpu(client):
+    """level="dynamic" with reduce= on the driver (API.md §5) over the cluster: the workers
+    solve the multipliers of their chunks; the same numbers as this process's."""
+    qf = mechgen.load(os.path.join(ROOT, "generated", "quick_return_forces.py"))
+    kw = dict(params={"longitud": [2.5, 3.0, 3.5], "corte": [0.0, 500.0]}, level="dynamic")
+    red = qf.sweep(0.0, 1.0, 30, backend="dask", client=client,
+                   reduce=["crank driver", "X4"], **kw)
+    full = qf.sweep(0.0, 1.0, 30, **kw)
+    tau = full.driver("crank driver")
+    r = red.reduced("crank driver")
+    assert np.array_equal(r.max, tau.max(axis=-1)) and np.array_equal(r.min, tau.min(axis=-1))
+    assert np.array_equal(red.reduced("X4").max, full["X4"].max(axis=-1))
+
+
 def test_cuda_backend_on_the_simulator():
     """backend="cuda" through the design-table dispatch into the real kernels of
     mechgen.runtime.cuda, on numba's CUDA simulator (a subprocess: numba reads

@@ -22,7 +22,10 @@ from ..protocol import LEVEL, LEVELS
 from .backends import progress_reporter, run_backend
 from .guards import finite, fits, point_bytes, sweep_times
 from .quantity import _lookup, column_names
-from .reduce import Reduction, reduce_slots, status_name
+from .forces import attach, is_force_level, solve_points
+from .forces.lookup import tables
+from .forces.points import driver_rows, efforts, has_forces
+from .reduce import DRIVER, Reduction, reduce_chunk, reduce_slots, status_name
 from .results import Sweep, pandas, write_csv
 
 ON_FAIL = ("warn", "raise", "ignore")
@@ -53,8 +56,10 @@ class DesignTable:
     only ``tab.reduced(name)`` (minimum, maximum and their times per design).
     """
 
-    def __init__(self, mech, names, axes, t, P, data, level, grid=True, reduced=()):
+    def __init__(self, mech, names, axes, t, P, data, level, grid=True, reduced=(),
+                 force_level=None):
         self.mechanism = mech
+        self.force_level = force_level      # "static" or "dynamic": λ on demand
         self.names = tuple(names)
         self.axes = tuple(axes)
         self.grid = bool(grid)
@@ -106,8 +111,7 @@ class DesignTable:
         if not self.kept_points:
             raise KeyError(f"{name!r} was not reduced (this table reduced "
                            f"{', '.join(self._reduced)}); pass reduce=[..., {name!r}]")
-        from .reduce import reduce_chunk
-        names, slots = reduce_slots(self.mechanism, [name], self._have)
+        names, slots = reduce_slots(self.mechanism, [name], self._have, self.force_level)
         red = reduce_chunk(self.mechanism.module, slots, self.t, self.P, self.Q, self.QD,
                            self.QDD, self.done)
         return Reduction(name, *(arr[:, 0].reshape(self.shape) for arr in red), self.ok,
@@ -128,7 +132,8 @@ class DesignTable:
         P = self.P[idx]
         axes = [P[:, self._column[n]] for n in self.names]
         return DesignTable(self.mechanism, self.names, axes, self.t, P, data, self.level,
-                           grid=False, reduced=tuple(self._reduced))
+                           grid=False, reduced=tuple(self._reduced),
+                           force_level=self.force_level)
 
     def extremes(self, name) -> Reduction:
         """The exact minimum and maximum of ``name`` for every design and their times, as
@@ -196,8 +201,41 @@ class DesignTable:
         k = int(self.done[d])
         QD = self.QD[d, :k].copy() if self._have >= LEVEL["velocity"] else None
         QDD = self.QDD[d, :k].copy() if self._have >= LEVEL["acceleration"] else None
-        return Sweep(mech, self.t[:k].copy(), self.Q[d, :k].copy(), QD, QDD,
-                     self.INFO[d, :k].copy())
+        sw = Sweep(mech, self.t[:k].copy(), self.Q[d, :k].copy(), QD, QDD,
+                   self.INFO[d, :k].copy())
+        return sw if self.force_level is None else attach(sw, self.force_level)
+
+    def driver(self, name) -> np.ndarray:
+        """A driver's effort (torque or force, as Solution.driver signs it) at every point of
+        a table at level "static" or "dynamic": shape ``tab.shape + (len(tab.t),)``, NaN
+        where a design did not solve (and where no force balance exists)."""
+        self._need_points(f"tab.driver({name!r})")
+        mech = self.mechanism
+        if self.force_level is None:
+            raise ValueError(f"tab.driver({name!r}): a driver's effort needs a table at level "
+                             "'static' or 'dynamic'")
+        label, _, is_driver = tables(mech).constraint(name, mech)
+        if not is_driver:
+            raise ValueError(f"constraint {label!r} of model '{mech.name}' is not a driver "
+                             "(its equations do not hold T)")
+        rows, cols = driver_rows(mech.module)[label]
+        N = len(self.t)
+        out = np.full((len(self), N), np.nan)
+        for d in range(len(self)):
+            k = int(self.done[d])
+            if not k:
+                continue
+            if not has_forces(mech.module):
+                out[d, :k] = 0.0
+                continue
+            if cols is None:
+                raise ValueError(f"driver {label!r}: its effort is not defined (no driver row)")
+            pts = solve_points(mech.module, self.t[:k], self.Q[d, :k],
+                               None if self.QD is None else self.QD[d, :k],
+                               None if self.QDD is None else self.QDD[d, :k], self.P[d],
+                               self.force_level)
+            out[d, :k] = efforts(pts.LAM, pts.FACTORS, rows, cols)
+        return out.reshape(self.shape + (N,))
 
     @property
     def sweeps(self) -> list:
@@ -210,6 +248,10 @@ class DesignTable:
                             "use tab.sweep(i) for one design")
         self._need_points(f"tab[{name!r}]")
         mech = self.mechanism
+        if self.force_level is not None and name not in mech.coordinates:
+            entry = tables(mech).constraints.get(name)
+            if entry is not None and entry[2]:
+                return self.driver(name)
         kind, k, order = _lookup(mech, name)
         N = len(self.t)
         D = len(self)
@@ -285,7 +327,7 @@ class DesignTable:
             axes += "; reduced: " + ", ".join(self._reduced)
         bad = len(self) - int(np.sum(self.done == len(self.t)))
         return (f"<DesignTable of '{self.mechanism.name}': {len(self)} designs ({axes}) × "
-                f"{len(self.t)} times, level {self.level}"
+                f"{len(self.t)} times, level {self.force_level or self.level}"
                 f"{f', {bad} failed' if bad else ''}>")
 
 
@@ -346,13 +388,17 @@ def design_table(mech, t0, t1, n, params, level="position", guess=None, method=N
         return mech.with_params(**fixed).sweep(t0, t1, n, level=level, guess=guess,
                                                method=method, tol=tol, maxit=maxit,
                                                times=times)
+    force_level = level if is_force_level(level) else None
+    if force_level is not None:     # the kinematics the multipliers need, then λ
+        level = "acceleration" if force_level == "dynamic" else "position"
     lev = mech._level(level)
     meth = mech._method(method)
     ts = sweep_times(t0, t1, n, times)
     tol = mech._tol(tol)
     maxit = mech._maxit(maxit)
     q0 = mech._start(guess)
-    reduced, slots = ((), None) if reduce is None else reduce_slots(mech, reduce, lev)
+    reduced, slots = ((), None) if reduce is None else \
+        reduce_slots(mech, reduce, lev, force_level)
     # refused before the grid is made: designs x points must fit in memory
     designs = math.prod(len(a) for a in axes) if grid else len(axes[0])
     each = 8 * len(base) + (ts.shape[0] * point_bytes(mech.n, lev) if reduce is None
@@ -362,11 +408,16 @@ def design_table(mech, t0, t1, n, params, level="position", guess=None, method=N
     P = make(base, mech._param_index, names, axes)
     if backend == "cpu":    # a big table in the python tier: compiled first (runtime.tiers)
         mech._tiers.expect(mech, P.shape[0] * ts.shape[0], "design")
+    on_host = backend == "cuda" and slots is not None and np.any(slots[:, 0] == DRIVER)
     data = run_backend(backend, mech, ts, q0, P, lev, tol, mech.xtol, maxit, meth,
-                       workers=workers, client=client, slots=slots,
+                       workers=workers, client=client, slots=None if on_host else slots,
                        progress=progress_reporter(progress, P.shape[0]))
+    if on_host:         # the kernel keeps the points; the multipliers are solved here
+        data.red = reduce_chunk(mech.module, slots, ts, P, data.Q, data.QD, data.QDD,
+                                data.done)
+        data.Q = data.QD = data.QDD = data.INFO = None
     table = DesignTable(mech, names, axes, ts, P, data, LEVELS[lev], grid=grid,
-                        reduced=reduced)
+                        reduced=reduced, force_level=force_level)
     report_failures(table, on_fail, stacklevel=stacklevel)
     return table
 

@@ -362,10 +362,10 @@ class Mechanism:
         earlier call, whose arrays are then overwritten. The result's arrays are views of
         them. level="static" or "dynamic" sweeps the kinematics, then solves the
         multipliers at every point (mechgen.runtime.forces)."""
-        if is_force_level(level):
-            if params is not None or out is not None or backend != "cpu" or reduce is not None:
-                raise ValueError(f"level={level!r}: a single sweep only for now (not params=, "
-                                 "out=, backend= or reduce=)")
+        if is_force_level(level) and params is None:
+            if out is not None or backend != "cpu" or reduce is not None:
+                raise ValueError(f"level={level!r}: out=, backend= and reduce= are for a "
+                                 "single kinematic sweep or a design table (params=)")
             return force_sweep(self, t0, t1, n, level, guess=guess, method=method, tol=tol,
                                maxit=maxit, times=times)
         if params is not None:

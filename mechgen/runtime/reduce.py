@@ -1,6 +1,7 @@
 """Reductions of a design table: per design, the minimum and maximum of chosen quantities
 over the solved times and the times they occur at, and the design's status, without
-keeping every point (``mech.sweep(..., params=..., reduce=["X4", "X4d"])``).
+keeping every point (``mech.sweep(..., params=..., reduce=["X4", "X4d"])``), and at the
+force levels the efforts of drivers (``reduce=["crank driver"]``: peak torque per design).
 
 Every backend computes the same numbers from the same points: the CPU and Dask backends
 reduce each chunk of designs as soon as it is solved (reduce_chunk, then its arrays are
@@ -11,16 +12,38 @@ from __future__ import annotations
 import numpy as np
 
 from ..protocol import JUMP, OK, STATUS_CODE, STATUS_NAMES, THROUGH_SINGULAR
+from .forces.lookup import FORCE_LEVELS, tables
+from .forces.points import driver_rows, efforts, has_forces, solve_points
 from .quantity import _lookup
 
 # A reduction slot: [kind, index, order]; kind COORDINATE (index into the coordinates,
-# order 0/1/2: Q, QD, QDD) or OUTPUT (index into the outputs, order: which derivative).
-COORDINATE, OUTPUT = 0, 1
+# order 0/1/2: Q, QD, QDD), OUTPUT (index into the outputs, order: which derivative) or
+# DRIVER (index into the module's CONSTRAINTS, order: FORCE_LEVELS' index, its effort).
+COORDINATE, OUTPUT, DRIVER = 0, 1, 2
 
 
-def reduce_slots(mech, names, have):
+def driver_slot(mech, name, force_level):
+    """The slot of a driver's effort, or None when ``name`` names no driver."""
+    tab = tables(mech)
+    entry = tab.constraints.get(name) if isinstance(name, (str, int)) else None
+    if entry is None or not entry[2]:
+        return None
+    if force_level not in FORCE_LEVELS:
+        raise ValueError(f"reduce: {name!r} is a driver: its effort needs a table at level "
+                         "'static' or 'dynamic' (pass level=...)")
+    label = entry[0]
+    if has_forces(mech.module) and driver_rows(mech.module)[label][1] is None:
+        raise ValueError(f"reduce: driver {label!r}: its effort is not defined (no driver "
+                         "row)")
+    k = next(i for i, c in enumerate(mech.module.CONSTRAINTS) if c[2] == label)
+    return (DRIVER, k, FORCE_LEVELS.index(force_level))
+
+
+def reduce_slots(mech, names, have, force_level=None):
     """(names, slots): the quantity names to reduce, checked against the mechanism and the
-    table's level ``have``, and their slots (an int64 array of rows [kind, index, order])."""
+    table's level ``have`` (and ``force_level``, "static" or "dynamic", where drivers'
+    efforts may be reduced: a driver's name), and their slots (an int64 array of rows
+    [kind, index, order])."""
     if isinstance(names, str):
         names = [names]
     names = list(dict.fromkeys(names))
@@ -28,6 +51,10 @@ def reduce_slots(mech, names, have):
         raise ValueError("reduce: give at least one quantity name (reduce=['X4'])")
     slots = np.zeros((len(names), 3), dtype=np.int64)
     for j, name in enumerate(names):
+        slot = driver_slot(mech, name, force_level)
+        if slot is not None:
+            slots[j] = slot
+            continue
         try:
             kind, k, order = _lookup(mech, name)
         except (KeyError, TypeError) as exc:
@@ -69,17 +96,22 @@ def reduce_chunk(module, slots, ts, P, Q, QD, QDD, done):
     if D == 0 or N == 0:
         return mn, mx, tmn, tmx
     solved = np.arange(N)[None, :] < done[:, None]
-    anyp = done > 0
-    outs = {}
+    outs, forces = {}, {}
     for j, (kind, index, order) in enumerate(slots):
         if kind == COORDINATE:
             vals = (Q, QD, QDD)[order][:, :, index]
+        elif kind == DRIVER:
+            if order not in forces:
+                forces[order] = _forces(module, ts, P, Q, QD, QDD, done, FORCE_LEVELS[order])
+            vals = _efforts(module, forces[order], index, D, N)
         else:
             if order not in outs:
                 outs[order] = _outputs(module, ts, P, Q, QD, QDD, done, order)
             vals = outs[order][:, :, index]
-        lo = np.where(solved, vals, np.inf)
-        hi = np.where(solved, vals, -np.inf)
+        counted = solved & np.isfinite(vals)    # (an effort is NaN where no force balance)
+        anyp = counted.any(axis=1)
+        lo = np.where(counted, vals, np.inf)
+        hi = np.where(counted, vals, -np.inf)
         a, b = np.argmin(lo, axis=1), np.argmax(hi, axis=1)
         rows = np.arange(D)
         mn[anyp, j] = vals[rows, a][anyp]
@@ -87,6 +119,30 @@ def reduce_chunk(module, slots, ts, P, Q, QD, QDD, done):
         tmn[anyp, j] = ts[a][anyp]
         tmx[anyp, j] = ts[b][anyp]
     return mn, mx, tmn, tmx
+
+
+def _forces(module, ts, P, Q, QD, QDD, done, level):
+    """forces.points.solve_points for every design over the times it solved (None for a
+    design that solved none)."""
+    return [solve_points(module, ts[:k], Q[d, :k], None if QD is None else QD[d, :k],
+                         None if QDD is None else QDD[d, :k], P[d], level) if k else None
+            for d, k in enumerate(int(x) for x in done)]
+
+
+def _efforts(module, forces, index, D, N):
+    """(D, N): the effort of the driver CONSTRAINTS[index] at every solved point (NaN
+    elsewhere, and where the force balance has no solution)."""
+    rows, cols = driver_rows(module)[module.CONSTRAINTS[index][2]]
+    vals = np.full((D, N), np.nan)
+    for d, pts in enumerate(forces):
+        if pts is None:
+            continue
+        k = pts.LAM.shape[0]
+        if not has_forces(module):
+            vals[d, :k] = 0.0           # no mass, no loads: every λ is zero
+        elif cols is not None:
+            vals[d, :k] = efforts(pts.LAM, pts.FACTORS, rows, cols)
+    return vals
 
 
 def _outputs(module, ts, P, Q, QD, QDD, done, order):

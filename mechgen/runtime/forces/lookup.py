@@ -1,0 +1,91 @@
+"""How force results name things: the constraints (by name, label or number) with their
+rows and whether they drive, the bodies with their coordinates, and the force levels."""
+from __future__ import annotations
+
+FORCE_LEVELS = ("static", "dynamic")
+
+
+def is_force_level(level) -> bool:
+    return level.__class__ is str and level in FORCE_LEVELS
+
+
+# -- the model's tables -------------------------------------------------------------------
+class _Tables:
+    """What the force results look up, read once per module: constraint rows and names,
+    the bodies' coordinates, the driver rows."""
+
+    def __init__(self, mech):
+        mod = mech.module
+        self.forces = bool(getattr(mod, "FORCES", False))
+        self.driver_rows = tuple(getattr(mod, "DRIVER_ROWS", ()))
+        self.constraints = {}        # name, label or number -> (label, rows, is driver)
+        row = 0
+        for number, kind, label, count, driver in mod.CONSTRAINTS:
+            entry = (label, tuple(range(row, row + count)), bool(driver))
+            row += count
+            for key in (number, str(number), label, _name_of(label, kind),
+                        *_stage_names(label, kind)):
+                if key is not None:
+                    self.constraints.setdefault(key, entry)
+        index = {c: k for k, c in enumerate(mech.coordinates)}
+        self.bodies = {}             # name -> (X, Y, Th) indices, or None for the ground
+        self.ground = None
+        for name, number, is_ground in mod.BODIES:
+            if is_ground:
+                self.ground = name
+                self.bodies[name] = None
+            else:
+                self.bodies[name] = (index[f"X{number}"], index[f"Y{number}"],
+                                     index[f"Th{number}"])
+
+    def constraint(self, name, mech):
+        entry = self.constraints.get(name)
+        if entry is None:
+            names = sorted({str(v[0]) for v in self.constraints.values()})
+            raise ValueError(f"model '{mech.name}' has no constraint {name!r} (constraints: "
+                             f"{'; '.join(names)})")
+        return entry
+
+    def body(self, name, mech):
+        name = getattr(name, "name", name)
+        if name not in self.bodies:
+            raise ValueError(f"model '{mech.name}' has no body {name!r} (bodies: "
+                             f"{', '.join(self.bodies)})")
+        return self.bodies[name]
+
+
+def _name_of(label, kind):
+    """The ``name=`` of a constraint from its label ``name: kind(args)``, or None."""
+    marker = f": {kind}("
+    return label.split(marker, 1)[0] if marker in label else None
+
+
+def _stage_names(label, kind):
+    """The names of a stage group's constraints, ``[stage] name: kind(args) | ...``."""
+    if kind != "stages":
+        return ()
+    out = []
+    for part in label.split(" | "):
+        part = part.split("] ", 1)[-1]
+        if ": " in part:
+            out.append(part.split(": ", 1)[0])
+    return tuple(out)
+
+
+def tables(mech) -> _Tables:
+    mod = mech.module
+    cached = getattr(mech, "_force_tables", None)
+    if cached is None or cached[0] is not mod:
+        cached = (mod, _Tables(mech))
+        mech._force_tables = cached
+    return cached[1]
+
+
+def _constraints_of(mech, row_labels):
+    """The constraints (their labels) of some row labels, in order, each once."""
+    tab = tables(mech)
+    out = []
+    for label, rows, _ in {v[0]: v for v in tab.constraints.values()}.values():
+        if any(mech.constraint_labels[r] in row_labels for r in rows):
+            out.append(label)
+    return tuple(out)

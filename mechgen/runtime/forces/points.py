@@ -1,0 +1,133 @@
+"""The multipliers at many solved points, from the generated module alone (no Mechanism):
+what a sweep, a design table's chunk on a thread or a dask worker, and the CUDA backend's
+points all share.
+
+``solve_points`` runs the module's compiled ``force_rows`` over the points (Φ_q, the force
+terms Q_a, Q_c, I, ν, the energies, the driver factors and, for a sorted build, λ block by
+block in the reverse solving order), solves λ with one batched numpy solve where the module
+has no blocks, and sends every point whose smallest pivot is below SING_RTOL (or a model
+with more equations than coordinates) to the SVD (``svd_solve``): there λ is the
+minimum-norm solution and the rows whose λ is not unique are named; where Φ_qᵀλ = Q has no
+solution (a lock or toggle position with a load that would move it) the point's λ is NaN
+and it is marked singular.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ...protocol import SING_RTOL
+
+CONSISTENT_RTOL = 1e-8     # a residual of Φ_qᵀλ = Q above this share of its size: no solution
+
+
+class PointForces:
+    """What solve_points gives, per point k: LAM[k] (λ, NaN where singular[k]), TERMS[k]
+    (Q_a, Q_c, I over the coordinates), NU[k] (Φ_q q̇), ENERGY[k] (kinetic, potential,
+    the potential's explicit rate), FACTORS[k] (per DRIVER_ROWS); ``dependent``: the row
+    indices whose λ is not unique at some point (redundant constraints)."""
+
+    def __init__(self, N, m, n, drivers):
+        self.LAM = np.zeros((N, m))
+        self.TERMS = np.zeros((N, 3, n))
+        self.NU = np.zeros((N, m))
+        self.ENERGY = np.zeros((N, 3))
+        self.FACTORS = np.zeros((N, drivers))
+        self.singular = np.zeros(N, dtype=bool)
+        self.dependent = set()
+
+
+def has_forces(module) -> bool:
+    """Whether the module was built with mass or loads (else every λ is zero)."""
+    return bool(getattr(module, "FORCES", False))
+
+
+def svd_solve(J, rhs):
+    """(λ, rank, dependent rows, consistent) for Φ_qᵀ λ = rhs by the SVD of J = Φ_q: its
+    rank on the row-equilibrated J at SING_RTOL (as the kinematic solves read it), the
+    minimum-norm λ, the rows whose λ is not unique (rank below the row count) and whether
+    the residual is within CONSISTENT_RTOL of the equation's size."""
+    scale = np.max(np.abs(J), axis=1, initial=0.0)
+    scale[scale == 0] = 1.0
+    s_scaled = np.linalg.svd(J / scale[:, None], compute_uv=False)
+    top = s_scaled[0] if s_scaled.size and s_scaled[0] > 0 else 1.0
+    rank = int(np.sum(s_scaled > SING_RTOL * top))
+    u, s, vt = np.linalg.svd(J)
+    k = min(rank, s.size)
+    lam = u[:, :k] @ ((vt[:k] @ rhs) / s[:k])
+    residual = rhs - J.T @ lam
+    size = np.linalg.norm(rhs) + np.linalg.norm(np.abs(J).T @ np.abs(lam))
+    dependent = ()
+    if k < J.shape[0]:
+        w = np.linalg.norm(u[:, k:], axis=1)
+        dependent = tuple(i for i in range(J.shape[0]) if w[i] > 1e-6 * w.max())
+    consistent = bool(np.all(np.isfinite(lam)) and
+                      np.linalg.norm(residual) <= CONSISTENT_RTOL * size)
+    return lam, rank, dependent, consistent
+
+
+def solve_points(module, ts, Q, QD, QDD, p, level) -> PointForces:
+    """λ and the force terms at every point (ts[k], Q[k], QD[k], QDD[k]) of one parameter
+    vector p; level "static" takes q̇ = q̈ = 0 (QD, QDD may then be None)."""
+    N, n = Q.shape
+    m = int(module.N_EQS)
+    out = PointForces(N, m, n, len(getattr(module, "DRIVER_ROWS", ())))
+    if not has_forces(module) or N == 0:
+        return out
+    Q = np.ascontiguousarray(Q, dtype=np.float64)
+    if level == "static" or QD is None:
+        QD = np.zeros_like(Q)
+    if level == "static" or QDD is None:
+        QDD = np.zeros_like(Q)
+    blocks = hasattr(module, "multipliers_sorted")
+    JAC = np.empty((1 if blocks else N, m, n))      # one reused where λ comes back solved
+    PIV = np.empty(N)
+    ts = np.ascontiguousarray(ts, dtype=np.float64)
+    module.force_rows(ts, Q, np.ascontiguousarray(QD), np.ascontiguousarray(QDD), p, JAC,
+                      out.TERMS, out.NU, out.ENERGY, out.FACTORS, PIV, out.LAM)
+    rhs = out.TERMS[:, 0] + out.TERMS[:, 1] - out.TERMS[:, 2]
+    direct = (PIV >= SING_RTOL) if m == n else np.zeros(N, dtype=bool)
+    if blocks:                                      # solved block by block already
+        direct &= np.all(np.isfinite(out.LAM), axis=1)
+    elif direct.any():
+        try:
+            lam = np.linalg.solve(JAC[direct].transpose(0, 2, 1), rhs[direct][..., None])[..., 0]
+        except np.linalg.LinAlgError:
+            direct[:] = False
+        else:
+            good = np.all(np.isfinite(lam), axis=1)
+            out.LAM[np.flatnonzero(direct)[good]] = lam[good]
+            direct[np.flatnonzero(direct)[~good]] = False
+    J = np.empty((m, n))
+    for k in np.flatnonzero(~direct):
+        if blocks:
+            module.phi_q(Q[k], float(ts[k]), p, J)
+        else:
+            J = JAC[k]
+        lam, _, dependent, consistent = svd_solve(J, rhs[k])
+        if consistent:
+            out.LAM[k] = lam
+            out.dependent.update(dependent)
+        else:
+            out.LAM[k] = np.nan
+            out.singular[k] = True
+    return out
+
+
+def driver_rows(module) -> dict:
+    """{constraint label: (its rows, their columns in DRIVER_ROWS or None where a row has
+    none)} for every driver of the module."""
+    rows_of, row = {}, 0
+    drivers = tuple(getattr(module, "DRIVER_ROWS", ()))
+    for _, _, label, count, driver in module.CONSTRAINTS:
+        rows = tuple(range(row, row + count))
+        row += count
+        if driver:
+            cols = tuple(drivers.index(r) for r in rows) if all(r in drivers for r in rows) \
+                else None
+            rows_of[label] = (rows, cols)
+    return rows_of
+
+
+def efforts(LAM, FACTORS, rows, cols) -> np.ndarray:
+    """A driver's effort at every point from its rows' λ and factors: Σ λ_r ∂Φ_r/∂f."""
+    return np.sum(LAM[..., list(rows)] * FACTORS[..., list(cols)], axis=-1)

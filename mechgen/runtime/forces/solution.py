@@ -1,0 +1,212 @@
+"""One solved configuration's forces: ``mech.solve(t, level="static"|"dynamic")``, its
+multipliers, driver efforts and reactions (mechgen.runtime.forces)."""
+from __future__ import annotations
+
+import numpy as np
+
+from ...errors import SingularError
+from ...protocol import SING_RTOL
+from ..results import Solution
+from .lookup import _constraints_of, tables
+from .points import svd_solve
+
+# -- one point ----------------------------------------------------------------------------
+def force_terms(mech, q, qd, qdd, t) -> np.ndarray:
+    """(3, n): Q_a, Q_c, I at one point (zeros for a model without mass or loads)."""
+    out = np.zeros((3, mech.n))
+    if tables(mech).forces:
+        mech.module.force_terms(q, qd, qdd, float(t), mech.p, out)
+    return out
+
+
+def multipliers(mech, q, t, rhs, level="dynamic"):
+    """(λ, labels of the rows whose λ is not unique) solving Φ_qᵀ λ = rhs at (q, t), the
+    minimum-norm λ where Φ_q has dependent rows; SingularError where there is none. A
+    square Φ_q whose pivot ratio (the kinematic solves' measure) is at least SING_RTOL
+    is solved directly; any other by the SVD."""
+    J = mech.jacobian(q, t)
+    if mech.m == mech.n and mech.pivot_ratio(q, t) >= SING_RTOL:
+        lam = np.linalg.solve(J.T, rhs)
+        if np.all(np.isfinite(lam)):
+            return lam, ()
+    return svd_multipliers(mech, J, q, t, rhs, level)
+
+
+def svd_multipliers(mech, J, q, t, rhs, level):
+    """multipliers() by the SVD of Φ_q = J (points.svd_solve): the minimum-norm λ and the
+    labels of the rows whose λ is not unique; SingularError where Φ_qᵀλ = rhs has no
+    solution."""
+    lam, rank, dependent, consistent = svd_solve(J, rhs)
+    labels = mech.constraint_labels
+    dependent = tuple(labels[i] for i in dependent)
+    if not consistent:
+        where = "; ".join(dependent) or "(could not tell which)"
+        raise SingularError(
+            f"model '{mech.name}': no {level} force balance Φ_qᵀλ = Q at t={t:.6g}: Φ_q has "
+            f"rank {rank} for {mech.n} coordinates (a lock or toggle position: the loads "
+            f"would move it); the constraints involved: {where}", t=t, constraints=dependent,
+            level=level, q=np.array(q))
+    return lam, dependent
+
+
+def _effort(tab, mech, name, lam_rows, factors):
+    """The driver's effort from its rows' λ and factors (a row of DRIVER_ROWS each)."""
+    label, rows, driver = tab.constraint(name, mech)
+    if not driver:
+        raise ValueError(f"constraint {label!r} of model '{mech.name}' is not a driver "
+                         "(its equations do not hold T)")
+    if not tab.forces:           # no mass, no loads: every λ is zero
+        return np.zeros(lam_rows.shape[:-1])
+    if any(r not in tab.driver_rows for r in rows):
+        raise ValueError(f"driver {label!r}: its effort is not defined (no driver row)")
+    cols = [tab.driver_rows.index(r) for r in rows]
+    f = factors[..., cols]
+    if np.any(np.isnan(f)):
+        raise ValueError(f"driver {label!r}: its effort is not defined for this form of "
+                         "equation (only g(q) − f(T) and relative_distance drivers)")
+    return np.sum(lam_rows[..., list(rows)] * f, axis=-1)
+
+
+def _reaction(tab, mech, name, on, about, J, lam, q, point_xy):
+    """(fx, fy, moment) that constraint ``name`` applies to body ``on`` at one point;
+    the moment about the body's origin, or about ``about``."""
+    label, rows, _ = tab.constraint(name, mech)
+    rows = list(rows)
+    gen = -J[rows].T @ lam[rows]         # the constraint's generalized force on the system
+    body = tab.body(on, mech)
+    if body is None:                     # the ground: Newton's third law, about the origin
+        f = np.zeros(2)
+        moment = 0.0
+        for idx in tab.bodies.values():
+            if idx is None:
+                continue
+            fb = gen[list(idx[:2])]
+            f -= fb
+            moment -= gen[idx[2]] + q[idx[0]] * fb[1] - q[idx[1]] * fb[0]
+        origin = np.zeros(2)
+    else:
+        f = gen[list(body[:2])].copy()
+        moment = gen[body[2]]
+        origin = q[list(body[:2])]
+    if about is not None:
+        d = origin - point_xy(about)
+        moment += d[0] * f[1] - d[1] * f[0]
+    return np.array([f[0], f[1], moment])
+
+
+def _point_xy(mech, q, t):
+    """A function giving the global (x, y) of ``about``: a point of the model (the object
+    or its label) or a pair of global coordinates."""
+    def at(about):
+        label = getattr(about, "label", about)
+        if isinstance(label, str):
+            if label not in mech.point_names:
+                raise ValueError(f"about={label!r} is not a point of model '{mech.name}' "
+                                 f"(points: {', '.join(mech.point_names)})")
+            return mech.points_at(q, t)[mech.point_names.index(label)]
+        xy = np.asarray(about, dtype=float)
+        if xy.shape != (2,):
+            raise ValueError(f"about= must be a point or (x, y), got {about!r}")
+        return xy
+    return at
+
+
+class ForceSolution(Solution):
+    """A Solution with its multipliers: ``s.multipliers`` ({row label: λ}),
+    ``s.driver(name)``, ``s.reaction(name, on=body, about=point)``, ``s.indeterminate``
+    (the constraints whose reactions are not unique: redundant ones) and ``s.terms``
+    (Q_a, Q_c, I over the coordinates)."""
+
+    force_level = "dynamic"
+    lam = None
+    terms = None
+    indeterminate = ()
+
+    @property
+    def multipliers(self) -> dict:
+        return {label: float(x) for label, x in zip(self.mechanism.constraint_labels, self.lam)}
+
+    def _factors(self):
+        out = np.empty(len(tables(self.mechanism).driver_rows))
+        if out.size:
+            self.mechanism.module.driver_factors(self.q, self.t, self.mechanism.p, out)
+        return out
+
+    def driver(self, name) -> float:
+        """The driver's torque (angle driver) or force (distance driver), signed so that
+        its power input is this value times the rate of the driven quantity."""
+        mech = self.mechanism
+        return float(_effort(tables(mech), mech, name, self.lam, self._factors()))
+
+    def reaction(self, name, on, about=None) -> np.ndarray:
+        """(fx, fy, moment): what constraint ``name`` applies to body ``on`` (the ground
+        too), global axes, the moment about the body's origin or about ``about`` (a point
+        of the model or global (x, y))."""
+        mech = self.mechanism
+        return _reaction(tables(mech), mech, name, on, about, mech.jacobian(self.q, self.t),
+                         self.lam, self.q, _point_xy(mech, self.q, self.t))
+
+
+    def reactions(self) -> dict:
+        """{(constraint label, body name): (fx, fy, moment about the body's origin)} for
+        every body each constraint acts on: those whose points it names or whose
+        coordinates its rows hold, and the ground where it takes a share."""
+        mech = self.mechanism
+        tab = tables(mech)
+        J = mech.jacobian(self.q, self.t)
+        at = _point_xy(mech, self.q, self.t)
+        mod = mech.module
+        named = {number: {mod.POINTS[k][1] for k in pts} for number, _, pts in
+                 getattr(mod, "JOINTS", ())}
+        out = {}
+        for number, _, label, count, _ in mod.CONSTRAINTS:
+            rows = tab.constraint(label, mech)[1]
+            bodies = set(named.get(number, ()))
+            for name, idx in tab.bodies.items():
+                if idx is not None and np.any(J[np.ix_(rows, idx)] != 0):
+                    bodies.add(name)
+            ground = _reaction(tab, mech, label, tab.ground, None, J, self.lam, self.q, at) \
+                if tab.ground is not None else np.zeros(3)
+            size = max((np.abs(_reaction(tab, mech, label, b, None, J, self.lam, self.q,
+                                         at)).max() for b in bodies), default=0.0)
+            if tab.ground is not None and np.abs(ground).max() > 1e-9 * max(size, 1e-300):
+                bodies.add(tab.ground)
+            for name in tab.bodies:                 # in the model's order
+                if name in bodies:
+                    out[(label, name)] = _reaction(tab, mech, label, name, None, J,
+                                                   self.lam, self.q, at)
+        return out
+
+
+def _rhs(terms):
+    return terms[0] + terms[1] - terms[2]
+
+
+def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -> ForceSolution:
+    """``mech.solve(t, level="static"|"dynamic")``: the kinematic solve, then λ."""
+    kin = "acceleration" if level == "dynamic" else "position"
+    s = mech.solve(t, guess=guess, level=kin, method=method, tol=tol, maxit=maxit)
+    if level == "static":
+        qd = qdd = np.zeros(mech.n)
+    else:
+        qd, qdd = s.qd, s.qdd
+    mod = mech.module
+    if hasattr(mod, "multipliers_sorted"):    # one compiled call: terms and λ by blocks
+        terms, lam, piv = np.zeros((1, 3, mech.n)), np.zeros((1, mech.m)), np.zeros(1)
+        mod.force_rows(np.array([s.t]), s.q[None], qd[None], qdd[None], mech.p,
+                       np.empty((1, mech.m, mech.n)), terms, np.zeros((1, mech.m)),
+                       np.zeros((1, 3)), np.zeros((1, len(tables(mech).driver_rows))), piv, lam)
+        terms, lam, dependent = terms[0], lam[0], ()
+        if not (piv[0] >= SING_RTOL and np.all(np.isfinite(lam))):
+            lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
+    else:
+        terms = force_terms(mech, s.q, qd, qdd, s.t)
+        lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
+    out = ForceSolution(mech, s.t, s.q, s.qd, s.qdd, iterations=s.iterations,
+                        residual=s.residual, singular=s.singular, method=s.method)
+    out.force_level, out.lam, out.terms = level, lam, terms
+    out.indeterminate = _constraints_of(mech, dependent) if dependent else ()
+    mech.last = out
+    return out
+
+

@@ -1,0 +1,173 @@
+"""A sweep's forces: ``mech.sweep(t0, t1, n, level="static"|"dynamic")``, λ at every point
+(points.solve_points), the drivers' efforts, reactions, the power balance, energies, the
+shaking of the frame and the flywheel."""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ..results import Sweep
+from .lookup import _constraints_of, _name_of, tables
+from .points import solve_points
+from .solution import ForceSolution, _effort, _point_xy, _reaction
+
+# -- a sweep -------------------------------------------------------------------------------
+class ForceSweep(Sweep):
+    """A Sweep with λ at every point (``sw.LAM``, NaN where the force balance has no
+    solution: ``sw.force_singular``): ``driver``, ``reaction``, ``power``, ``energy``,
+    ``shaking``."""
+
+    force_level = "dynamic"
+
+    def _velocities(self):
+        return np.zeros_like(self.Q) if self.force_level == "static" else self.QD
+
+    def driver(self, name) -> np.ndarray:
+        """The driver's effort at every point, (n,)."""
+        mech = self.mechanism
+        return _effort(tables(mech), mech, name, self.LAM, self.FACTORS)
+
+    def reaction(self, name, on, about=None) -> np.ndarray:
+        """(n, 3): (fx, fy, moment) that constraint ``name`` applies to body ``on``."""
+        mech = self.mechanism
+        tab = tables(mech)
+        out = np.empty((len(self), 3))
+        for k in range(len(self)):
+            q, t = self.Q[k], float(self.t[k])
+            out[k] = _reaction(tab, mech, name, on, about, mech.jacobian(q, t), self.LAM[k],
+                               q, _point_xy(mech, q, t))
+        return out
+
+    def power(self) -> dict:
+        """Power balance at every point: "drivers" (their power input, λ·Φ_t), "loads"
+        (the applied loads', Q_a·q̇), "kinetic" and "potential" (the energies' rates) and
+        "residual" = drivers + loads − kinetic − potential."""
+        qd = self._velocities()
+        drivers = -np.sum(self.LAM * self.NU, axis=1)
+        loads = np.sum(self.TERMS[:, 0] * qd, axis=1)
+        kinetic = np.sum(self.TERMS[:, 2] * qd, axis=1)
+        potential = -np.sum(self.TERMS[:, 1] * qd, axis=1) + self.ENERGY[:, 2]
+        return {"drivers": drivers, "loads": loads, "kinetic": kinetic,
+                "potential": potential, "residual": drivers + loads - kinetic - potential}
+
+    def energy(self) -> dict:
+        """"kinetic", "potential" and "total" energy at every point."""
+        return {"kinetic": self.ENERGY[:, 0].copy(), "potential": self.ENERGY[:, 1].copy(),
+                "total": self.ENERGY[:, 0] + self.ENERGY[:, 1]}
+
+    def force_columns(self) -> tuple[list, list]:
+        """(names, arrays) of the force columns of the table: each driver's effort (its
+        name), then the reaction of every constraint on every body it acts on at the first
+        point, "<constraint> on <body> fx", "... fy", "... m" (the moment about the body's
+        origin)."""
+        mech = self.mechanism
+        names, arrays = [], []
+        short = {}
+        for number, kind, label, _, driver in mech.module.CONSTRAINTS:
+            short[label] = _name_of(label, kind) or str(number)
+            if driver:
+                try:
+                    arrays.append(self.driver(label))
+                except ValueError:      # an effort this slice does not define: no column
+                    continue
+                names.append(short[label])
+        if not len(self):
+            return names, arrays
+        first = ForceSolution(mech, self.t[0], self.Q[0])
+        first.lam = np.nan_to_num(self.LAM[0])
+        for label, body in first.reactions():
+            r = self.reaction(label, on=body)
+            for k, part in enumerate(("fx", "fy", "m")):
+                names.append(f"{short[label]} on {body} {part}")
+                arrays.append(r[:, k])
+        return names, arrays
+
+    def table(self) -> tuple[list, np.ndarray]:
+        """The kinematic table's columns, then the force columns (force_columns)."""
+        header, data = super().table()
+        names, arrays = self.force_columns()
+        if names:
+            data = np.column_stack([data] + [np.asarray(a, dtype=float) for a in arrays])
+        return header + names, data
+
+    def flywheel(self, cs, driver=None) -> dict:
+        """The flywheel for a coefficient of speed fluctuation ``cs`` with the driver at
+        constant speed, the sweep spanning one period: "energy" ΔE, the largest swing of
+        ∫(P − P̄) dt (P the driver's power input, trapezoids on the sweep's points),
+        "inertia" ΔE / (cs ω̄²), ω̄ the mean rate of the driven quantity, and "mean_power"."""
+        if self.force_level != "dynamic":
+            raise ValueError("flywheel: needs a dynamic sweep (level=\"dynamic\")")
+        cs = float(cs)
+        if not cs > 0 or not np.isfinite(cs):
+            raise ValueError(f"flywheel: the coefficient of speed fluctuation must be a "
+                             f"positive number, got {cs!r}")
+        mech, tab = self.mechanism, tables(self.mechanism)
+        names = sorted({v[0] for v in tab.constraints.values() if v[2]})
+        if driver is None:
+            if len(names) != 1:
+                raise ValueError(f"flywheel: name the driver (driver=...): model "
+                                 f"'{mech.name}' has {len(names)}: {'; '.join(names)}")
+            driver = names[0]
+        label, rows, _ = tab.constraint(driver, mech)
+        if len(rows) != 1 or len(self) < 3:
+            raise ValueError(f"flywheel: needs a one-row driver and a sweep of 3 points or "
+                             f"more ({label!r}, {len(self)} points)")
+        r = rows[0]
+        power = -self.LAM[:, r] * self.NU[:, r]
+        factor = self.FACTORS[:, tab.driver_rows.index(r)] if tab.forces else -np.ones(len(self))
+        rate = -self.NU[:, r] / factor
+        t = self.t
+        steps = np.diff(t) * (power[1:] + power[:-1]) / 2
+        work = np.concatenate([[0.0], np.cumsum(steps)])
+        mean = work[-1] / (t[-1] - t[0])
+        swing = work - mean * (t - t[0])
+        energy = float(swing.max() - swing.min())
+        omega = float(np.sum(np.diff(t) * (rate[1:] + rate[:-1]) / 2) / (t[-1] - t[0]))
+        return {"energy": energy, "inertia": energy / (cs * omega ** 2), "mean_power": mean}
+
+    def shaking(self) -> np.ndarray:
+        """(n, 3): the force and the moment about the ground origin that the moving parts
+        apply to the frame through the constraints (drivers included): Σ over the bodies
+        of Φ_qᵀλ (= Q_a + Q_c − I) on X, Y and Th, moved to the origin."""
+        tab = tables(self.mechanism)
+        gen = self.TERMS[:, 0] + self.TERMS[:, 1] - self.TERMS[:, 2]
+        gen[np.isnan(self.LAM).any(axis=1)] = np.nan
+        out = np.zeros((len(self), 3))
+        for idx in tab.bodies.values():
+            if idx is None:
+                continue
+            fx, fy = gen[:, idx[0]], gen[:, idx[1]]
+            out[:, 0] += fx
+            out[:, 1] += fy
+            out[:, 2] += gen[:, idx[2]] + self.Q[:, idx[0]] * fy - self.Q[:, idx[1]] * fx
+        return out
+
+
+def attach(sw, level, indeterminate_from=None) -> "ForceSweep":
+    """The kinematic sweep ``sw`` (at acceleration for "dynamic", position for "static")
+    with λ at every point, as a ForceSweep; warns where the force balance has no
+    solution."""
+    mech = sw.mechanism
+    out = ForceSweep.__new__(ForceSweep)
+    out.__dict__.update(sw.__dict__)
+    out.force_level = level
+    pts = solve_points(mech.module, sw.t, sw.Q, sw.QD, sw.QDD, mech.p, level)
+    out.TERMS, out.ENERGY, out.LAM, out.NU, out.FACTORS = (
+        pts.TERMS, pts.ENERGY, pts.LAM, pts.NU, pts.FACTORS)
+    out.force_singular = pts.singular
+    labels = mech.constraint_labels
+    out.indeterminate = _constraints_of(mech, {labels[i] for i in pts.dependent})
+    if out.force_singular.any():
+        times = out.t[out.force_singular]
+        warnings.warn(f"model '{mech.name}': no force balance at {times.size} point(s) "
+                      f"(first t={times[0]:.6g}): a lock or toggle position; their "
+                      "multipliers are NaN (sw.force_singular)", stacklevel=4)
+    return out
+
+
+def force_sweep(mech, t0, t1, n, level, **options) -> ForceSweep:
+    """``mech.sweep(t0, t1, n, level="static"|"dynamic")``: the kinematic sweep (at
+    acceleration, or position), then λ at every point (points.solve_points)."""
+    kin = "acceleration" if level == "dynamic" else "position"
+    return attach(mech.sweep(t0, t1, n, level=kin, **options), level)
