@@ -617,3 +617,31 @@ def test_static_sweep_power_is_zero(sc):
     assert np.all(np.isfinite(sw.driver("crank driver")))
     with pytest.raises(ValueError, match="dynamic"):
         sw.flywheel(0.05)
+
+
+def test_written_out_multipliers_equal_a_dense_solve():
+    """multipliers_point (the blocks written out: one division, or Cramer's rule on two
+    rows) against numpy's dense solve of Φ_qᵀ λ = Q_a + Q_c − I over a turn of the
+    quick-return with masses and a cutting force, and against multipliers_sorted (the
+    elimination it replaces in the sweep)."""
+    import os
+    from conftest import ROOT
+    mech = mechgen.load(os.path.join(ROOT, "generated", "quick_return_forces.py"))
+    mod = mech.module
+    assert hasattr(mod, "multipliers_point")
+    sw = mech.sweep(0.0, 1.0, 97, level="acceleration")
+    n, m = mech.n, mech.m
+    worst = 0.0
+    for k in range(len(sw)):
+        q, qd, qdd, t = sw.Q[k], sw.QD[k], sw.QDD[k], float(sw.t[k])
+        J, terms, lam = np.empty((m, n)), np.empty((3, n)), np.empty(m)
+        mod.phi_q(q, t, mech.p, J)
+        mod.force_terms(q, qd, qdd, t, mech.p, terms)
+        rhs = terms[0] + terms[1] - terms[2]
+        assert mod.multipliers_point(q, qd, qdd, t, mech.p, lam) >= 1e-3
+        want = np.linalg.solve(J.T, rhs)
+        worst = max(worst, np.abs(lam - want).max() / np.abs(want).max())
+        other = np.empty(m)
+        mod.multipliers_sorted(J, rhs, other, np.empty((n, n)), np.empty(n), np.empty(n))
+        np.testing.assert_allclose(lam, other, rtol=1e-11, atol=1e-11 * np.abs(other).max())
+    assert worst < 1e-12

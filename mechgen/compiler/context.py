@@ -19,7 +19,7 @@ from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
 from .equations_code import (gamma_body, nu_body, outputs_bodies, phi_body, phi_q_body,
                              point_list, points_body)
-from .forces_code import force_blocks, forces_bodies
+from .forces_code import force_blocks, forces_bodies, multipliers_point_body
 from .ir import Options, code_words, render, symbols
 from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
 from .names import Names, emitter_symbols, identifiers, module_words
@@ -51,6 +51,10 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     force_parts, driver_rows = forces_bodies(plan, eq, model)  # only with mass or loads
     for key, made in force_parts.items():
         put(key, made)
+    if force_parts:
+        made = multipliers_point_body(plan, eq, model)
+        if made is not None:
+            put("multipliers_point", made)
     put("phi", phi_body(plan, eq))
     put("phi_q", phi_q_body(plan, eq))
     put("nu", nu_body(plan, eq))
@@ -119,6 +123,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         inline=inline,
         forces=dict(force_terms=text("force_terms"), energies=text("energies"),
                     driver_factors=text("driver_factors"), driver_rows=driver_rows,
+                    point=text("multipliers_point"),
                     blocks=force_blocks(plan, eq))
         if force_parts else None,
         pivot_rtol=repr(PIVOT_RTOL),

@@ -11,9 +11,14 @@ A model without mass or loads gets none of them (its module is what it was).
 """
 from __future__ import annotations
 
+import sympy as sp
+
 from ..model.dynamics import dynamics
 from .equations_code import TITLES, straight_line
-from .ir import Code, Store
+from .inputs import prologue
+from .ir import Assign, Code, If, Store
+from .printer import Local
+from .schedule import emit
 
 TITLES.update(force_terms="Q_a, Q_c and I, their nonzero entries",
               energies="Kinetic energy, potential energy, ∂V/∂t",
@@ -64,3 +69,71 @@ def force_blocks(plan, eq):
     if sorted(rows) != list(range(eq.phi.rows)) or sorted(cols) != list(range(len(eq.q))):
         return None
     return dict(starts=starts, rows=rows, cols=cols)
+
+
+# blocks up to this size get the multipliers written out (Cramer's rule on 2 × 2); a model
+# with a larger block keeps multipliers_sorted's elimination on the whole Φ_q
+POINT_BLOCK_MAX = 2
+
+
+def multipliers_point_body(plan, eq, model):
+    """(body, helpers) of ``multipliers_point(q, qd, qdd, t, p, lam)``: Φ_qᵀ λ = Q_a + Q_c
+    − I at one point, written out block by block in the reverse solving order, with one
+    CSE pass over the right side and the nonzero entries of Φ_q that the blocks read (the
+    sines and cosines computed once). A block of one row: λ_i = (r_c − Σ Φ_q[i', c] λ_i')
+    / Φ_q[i, c]; of two: Cramer's rule. Each pivot is measured as multipliers_sorted
+    measures it (on rows scaled by their largest entry, partial pivoting): below
+    SING_RTOL the function returns it at once and the runtime solves λ by the SVD.
+    Returns the smallest pivot. None where a block is larger than POINT_BLOCK_MAX, or the
+    model's multipliers do not go block by block."""
+    blocks = force_blocks(plan, eq)
+    if blocks is None or not model.has_dynamics:
+        return None
+    starts = blocks["starts"]
+    spans = [(blocks["rows"][a:b], blocks["cols"][a:b]) for a, b in zip(starts, starts[1:])]
+    if any(len(r) > POINT_BLOCK_MAX for r, _ in spans):
+        return None
+    dyn = dynamics(model, eq)
+    J = eq.nonzeros
+    rhs = [dyn.applied[j] + dyn.conservative[j] - dyn.inertial[j] for j in range(len(eq.q))]
+    lam = [Local(f"_l{i}", real=True) for i in range(eq.phi.rows)]
+
+    def scale(i):           # the row's largest entry (multipliers_sorted's row scaling)
+        entries = [sp.Abs(x) for (r, _), x in J.items() if r == i]
+        return sp.Max(*entries) if len(entries) > 1 else entries[0]
+
+    def right(c, rows):     # r_c less what the blocks solved already carry
+        return rhs[c] - sp.Add(*[J[(i, c)] * lam[i] for (i, cc) in J if cc == c and i not in rows])
+
+    st = [Code("_w = 1.0")]
+
+    def pivot(value, tag):
+        p = Local(f"_p{tag}", real=True)
+        st.extend([Assign(p, value), Code("_w = min(_w, {0})", (p,)),
+                   If(Code("not {0} >= SING_RTOL", (p,)), (Code("return {0}", (p,)),))])
+        return p
+
+    for rows, cols in reversed(spans):
+        s = [Local(f"_s{i}", real=True) for i in rows]
+        for si, i in zip(s, rows):
+            st += [Assign(si, scale(i), eq.labels[i]),
+                   If(Code("not {0} > 0.0", (si,)), (Code("return 0.0"),))]
+        if len(rows) == 1:
+            (i,), (c,) = rows, cols
+            pivot(sp.Abs(J[(i, c)]) / s[0], i)
+            st.append(Assign(lam[i], right(c, rows) / J[(i, c)]))
+            continue
+        (i0, i1), (c0, c1) = rows, cols
+        m = {(a, e): J.get((i, c), sp.Integer(0)) for a, c in enumerate(cols)
+             for e, i in enumerate(rows)}
+        first = pivot(sp.Max(sp.Abs(m[0, 0]) / s[0], sp.Abs(m[1, 0]) / s[0]), f"{i0}a")
+        det = Local(f"_d{i0}", real=True)
+        st.append(Assign(det, m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]))
+        pivot(sp.Abs(det) / (s[0] * s[1] * first), f"{i0}b")
+        y0, y1 = right(c0, rows), right(c1, rows)
+        st.append(Assign(lam[i0], (y0 * m[1, 1] - m[0, 1] * y1) / det))
+        st.append(Assign(lam[i1], (m[0, 0] * y1 - m[1, 0] * y0) / det))
+    st += [Store(f"lam[{i}]", lam[i]) for i in range(eq.phi.rows)]
+    exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
+    body = prologue(eq, exprs, with_qd=True, with_qdd=True) + emit(st, cse=plan.cse)
+    return body + [Code("return _w")], []

@@ -231,8 +231,9 @@ class Mechanism:
         """Turn each angle of q (a coordinate Φ is 2π-periodic in) that ended more than a
         turn from its start by whole turns back to the start's, in place: whether any was."""
         turned = False
-        if not np.any(np.abs(q - start) > np.pi):      # the common case: nothing to look at
-            return False
+        d = q - start
+        if float(d @ d) <= np.pi * np.pi or not np.any(np.abs(d) > np.pi):
+            return False            # the common case (no coordinate moved π): nothing to do
         for j in angle_coordinates(self):
             k = round((q[j] - start[j]) / (2 * np.pi))
             if k:

@@ -2,9 +2,11 @@
 what a sweep, a design table's chunk on a thread or a dask worker, and the CUDA backend's
 points all share.
 
-``solve_points`` runs the module's compiled ``force_rows`` over the points (Φ_q, the force
-terms Q_a, Q_c, I, ν, the energies, the driver factors and, for a sorted build, λ block by
-block in the reverse solving order), solves λ with one batched numpy solve where the module
+``solve_points`` runs the module's compiled ``force_rows`` over the points (the driver
+factors and, for a sorted build, λ block by block in the reverse solving order: written out
+in multipliers_point where every block has one or two rows; with ``extras`` also Φ_q, the
+force terms Q_a, Q_c, I, ν and the energies, which a sweep makes only when its power,
+energy or shaking is asked for), solves λ with one batched numpy solve where the module
 has no blocks, and sends every point whose smallest pivot is below SING_RTOL (or a model
 with more equations than coordinates) to the SVD (``svd_solve``): there λ is the
 minimum-norm solution and the rows whose λ is not unique are named; where Φ_qᵀλ = Q has no
@@ -21,16 +23,19 @@ CONSISTENT_RTOL = 1e-8     # a residual of Φ_qᵀλ = Q above this share of its
 
 
 class PointForces:
-    """What solve_points gives, per point k: LAM[k] (λ, NaN where singular[k]), TERMS[k]
-    (Q_a, Q_c, I over the coordinates), NU[k] (Φ_q q̇), ENERGY[k] (kinetic, potential,
-    the potential's explicit rate), FACTORS[k] (per DRIVER_ROWS); ``dependent``: the row
-    indices whose λ is not unique at some point (redundant constraints)."""
+    """What solve_points gives, per point k: LAM[k] (λ, NaN where singular[k]),
+    FACTORS[k] (per DRIVER_ROWS); ``dependent``: the row indices whose λ is not unique
+    at some point (redundant constraints); with ``extras`` also TERMS[k] (Q_a, Q_c, I
+    over the coordinates), NU[k] (Φ_q q̇) and ENERGY[k] (kinetic, potential, the
+    potential's explicit rate), else those have no rows."""
 
-    def __init__(self, N, m, n, drivers):
+    def __init__(self, N, m, n, drivers, extras=True):
+        rows = N if extras else 0
+        self.extras = extras
         self.LAM = np.zeros((N, m))
-        self.TERMS = np.zeros((N, 3, n))
-        self.NU = np.zeros((N, m))
-        self.ENERGY = np.zeros((N, 3))
+        self.TERMS = np.zeros((rows, 3, n))
+        self.NU = np.zeros((rows, m))
+        self.ENERGY = np.zeros((rows, 3))
         self.FACTORS = np.zeros((N, drivers))
         self.singular = np.zeros(N, dtype=bool)
         self.dependent = set()
@@ -65,12 +70,16 @@ def svd_solve(J, rhs):
     return lam, rank, dependent, consistent
 
 
-def solve_points(module, ts, Q, QD, QDD, p, level) -> PointForces:
-    """λ and the force terms at every point (ts[k], Q[k], QD[k], QDD[k]) of one parameter
-    vector p; level "static" takes q̇ = q̈ = 0 (QD, QDD may then be None)."""
+def solve_points(module, ts, Q, QD, QDD, p, level, extras=True) -> PointForces:
+    """λ (and with ``extras`` the force terms, ν and the energies) at every point (ts[k],
+    Q[k], QD[k], QDD[k]) of one parameter vector p; level "static" takes q̇ = q̈ = 0 (QD,
+    QDD may then be None). A module without blocks makes the extras anyway (its λ are
+    solved here from them)."""
     N, n = Q.shape
     m = int(module.N_EQS)
-    out = PointForces(N, m, n, len(getattr(module, "DRIVER_ROWS", ())))
+    blocks = hasattr(module, "multipliers_sorted")
+    extras = extras or not blocks
+    out = PointForces(N, m, n, len(getattr(module, "DRIVER_ROWS", ())), extras)
     if not has_forces(module) or N == 0:
         return out
     Q = np.ascontiguousarray(Q, dtype=np.float64)
@@ -78,13 +87,14 @@ def solve_points(module, ts, Q, QD, QDD, p, level) -> PointForces:
         QD = np.zeros_like(Q)
     if level == "static" or QDD is None:
         QDD = np.zeros_like(Q)
-    blocks = hasattr(module, "multipliers_sorted")
     JAC = np.empty((1 if blocks else N, m, n))      # one reused where λ comes back solved
     PIV = np.empty(N)
     ts = np.ascontiguousarray(ts, dtype=np.float64)
-    module.force_rows(ts, Q, np.ascontiguousarray(QD), np.ascontiguousarray(QDD), p, JAC,
-                      out.TERMS, out.NU, out.ENERGY, out.FACTORS, PIV, out.LAM)
-    rhs = out.TERMS[:, 0] + out.TERMS[:, 1] - out.TERMS[:, 2]
+    QD, QDD = np.ascontiguousarray(QD), np.ascontiguousarray(QDD)
+    module.force_rows(ts, Q, QD, QDD, p, JAC, out.TERMS, out.NU, out.ENERGY, out.FACTORS,
+                      PIV, out.LAM)
+    if extras:
+        rhs = out.TERMS[:, 0] + out.TERMS[:, 1] - out.TERMS[:, 2]
     direct = (PIV >= SING_RTOL) if m == n else np.zeros(N, dtype=bool)
     if blocks:                                      # solved block by block already
         direct &= np.all(np.isfinite(out.LAM), axis=1)
@@ -98,12 +108,18 @@ def solve_points(module, ts, Q, QD, QDD, p, level) -> PointForces:
             out.LAM[np.flatnonzero(direct)[good]] = lam[good]
             direct[np.flatnonzero(direct)[~good]] = False
     J = np.empty((m, n))
+    terms = np.empty((3, n))
     for k in np.flatnonzero(~direct):
         if blocks:
             module.phi_q(Q[k], float(ts[k]), p, J)
         else:
             J = JAC[k]
-        lam, _, dependent, consistent = svd_solve(J, rhs[k])
+        if extras:
+            right = rhs[k]
+        else:
+            module.force_terms(Q[k], QD[k], QDD[k], float(ts[k]), p, terms)
+            right = terms[0] + terms[1] - terms[2]
+        lam, _, dependent, consistent = svd_solve(J, right)
         if consistent:
             out.LAM[k] = lam
             out.dependent.update(dependent)

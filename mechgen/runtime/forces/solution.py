@@ -119,8 +119,18 @@ class ForceSolution(Solution):
 
     force_level = "dynamic"
     lam = None
-    terms = None
+    _terms = None
     indeterminate = ()
+
+    @property
+    def terms(self) -> np.ndarray:
+        """(3, coordinates): Q_a, Q_c and I at this point (made when first asked for)."""
+        if self._terms is None:
+            zero = np.zeros(self.mechanism.n)
+            static = self.force_level == "static" or self.qd is None
+            self._terms = force_terms(self.mechanism, self.q, zero if static else self.qd,
+                                      zero if static or self.qdd is None else self.qdd, self.t)
+        return self._terms
 
     @property
     def multipliers(self) -> dict:
@@ -183,7 +193,8 @@ def _rhs(terms):
 
 
 def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -> ForceSolution:
-    """``mech.solve(t, level="static"|"dynamic")``: the kinematic solve, then λ."""
+    """``mech.solve(t, level="static"|"dynamic")``: the kinematic solve, then λ (one
+    compiled call where the module writes the multipliers out: multipliers_point)."""
     kin = "acceleration" if level == "dynamic" else "position"
     s = mech.solve(t, guess=guess, level=kin, method=method, tol=tol, maxit=maxit)
     if level == "static":
@@ -191,22 +202,31 @@ def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -
     else:
         qd, qdd = s.qd, s.qdd
     mod = mech.module
-    if hasattr(mod, "multipliers_sorted"):    # one compiled call: terms and λ by blocks
+    point = getattr(mod, "multipliers_point", None)
+    terms, dependent = None, ()
+    if point is not None:
+        lam = np.empty(mech.m)
+        piv = point(s.q, qd, qdd, s.t, mech.p, lam)
+        x = float(lam @ lam)
+        if not (piv >= SING_RTOL and x - x == 0.0):     # (x - x: NaN unless finite)
+            terms = force_terms(mech, s.q, qd, qdd, s.t)
+            lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
+    elif hasattr(mod, "multipliers_sorted"):    # one compiled call: terms and λ by blocks
         terms, lam, piv = np.zeros((1, 3, mech.n)), np.zeros((1, mech.m)), np.zeros(1)
         mod.force_rows(np.array([s.t]), s.q[None], qd[None], qdd[None], mech.p,
                        np.empty((1, mech.m, mech.n)), terms, np.zeros((1, mech.m)),
                        np.zeros((1, 3)), np.zeros((1, len(tables(mech).driver_rows))), piv, lam)
-        terms, lam, dependent = terms[0], lam[0], ()
+        terms, lam = terms[0], lam[0]
         if not (piv[0] >= SING_RTOL and np.all(np.isfinite(lam))):
             lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
     else:
         terms = force_terms(mech, s.q, qd, qdd, s.t)
         lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
-    out = ForceSolution(mech, s.t, s.q, s.qd, s.qdd, iterations=s.iterations,
-                        residual=s.residual, singular=s.singular, method=s.method)
-    out.force_level, out.lam, out.terms = level, lam, terms
-    out.indeterminate = _constraints_of(mech, dependent) if dependent else ()
-    mech.last = out
-    return out
+    s.__class__ = ForceSolution         # the kinematic solution, with its multipliers
+    s.force_level, s.lam, s._terms = level, lam, terms
+    s.indeterminate = _constraints_of(mech, dependent) if dependent else ()
+    mech.last = s
+    return s
+
 
 

@@ -19,6 +19,30 @@ class ForceSweep(Sweep):
     ``shaking``."""
 
     force_level = "dynamic"
+    _extras = None          # (TERMS, NU, ENERGY), made when first asked for
+
+    def _made(self, k):
+        if self._extras is None:
+            mech = self.mechanism
+            pts = solve_points(mech.module, self.t, self.Q, self.QD, self.QDD, mech.p,
+                               self.force_level, extras=True)
+            self._extras = (pts.TERMS, pts.NU, pts.ENERGY)
+        return self._extras[k]
+
+    @property
+    def TERMS(self) -> np.ndarray:
+        """(n, 3, coordinates): Q_a, Q_c and I at every point."""
+        return self._made(0)
+
+    @property
+    def NU(self) -> np.ndarray:
+        """(n, equations): ν = Φ_q q̇ at every point."""
+        return self._made(1)
+
+    @property
+    def ENERGY(self) -> np.ndarray:
+        """(n, 3): kinetic energy, potential energy and ∂V/∂t at every point."""
+        return self._made(2)
 
     def _velocities(self):
         return np.zeros_like(self.Q) if self.force_level == "static" else self.QD
@@ -152,9 +176,10 @@ def attach(sw, level, indeterminate_from=None) -> "ForceSweep":
     out = ForceSweep.__new__(ForceSweep)
     out.__dict__.update(sw.__dict__)
     out.force_level = level
-    pts = solve_points(mech.module, sw.t, sw.Q, sw.QD, sw.QDD, mech.p, level)
-    out.TERMS, out.ENERGY, out.LAM, out.NU, out.FACTORS = (
-        pts.TERMS, pts.ENERGY, pts.LAM, pts.NU, pts.FACTORS)
+    pts = solve_points(mech.module, sw.t, sw.Q, sw.QD, sw.QDD, mech.p, level, extras=False)
+    out.LAM, out.FACTORS = pts.LAM, pts.FACTORS
+    if pts.extras:
+        out._extras = (pts.TERMS, pts.NU, pts.ENERGY)
     out.force_singular = pts.singular
     labels = mech.constraint_labels
     out.indeterminate = _constraints_of(mech, {labels[i] for i in pts.dependent})
