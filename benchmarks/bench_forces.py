@@ -8,7 +8,9 @@ against the power form, pin forces against Newton–Euler body by body, power re
 the four-bar held still (virtual work, 5-point finite differences of the closed-form
 potential), the quick-return of examples/quick_return_forces.py (power residual over a
 turn, flywheel). Speed: a sweep of 10^5 points at level "acceleration" and "dynamic", and
-one solve at each, best of 3 after a warm-up.
+one solve at each, best of 5 after a warm-up, on the quick-return and the Strandbeest leg
+with masses (benchmarks/strandbeest_forces.py); a design table of peak torque on all
+cores beside the kinematic one.
 """
 from __future__ import annotations
 
@@ -59,7 +61,7 @@ def accuracy(folder):
     print(f"four-bar held still, 4 angles: holding torque against virtual work, max rel. "
           f"error {max(errs):.2e}")
     qr = mechgen.compile(os.path.join(ROOT, "examples", "quick_return_forces.py"),
-                         outdir=os.path.join(folder, "qr"))
+                         outdir=os.path.join(folder, "qr"), tier="compiled")
     sw = qr.sweep(0, 1, 1001, level="dynamic")
     p = sw.power()
     tau = sw.driver("crank driver")
@@ -70,28 +72,70 @@ def accuracy(folder):
     return qr
 
 
-def speed(mech, n=100_000):
+def _best(fn, rounds):
+    best = math.inf
+    for _ in range(rounds):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def speed(mech, name, n=100_000, rounds=5):
+    """A sweep of n points at level "acceleration" and "dynamic", interleaved, best of
+    ``rounds``; the dynamic one's λ and driver effort against a dense numpy solve."""
     mech.sweep(0, 1, 11, level="dynamic")
     mech.sweep(0, 1, 11, level="acceleration")
     best = {}
-    for _ in range(3):
+    for _ in range(rounds):
         for level in ("acceleration", "dynamic"):
-            t0 = time.perf_counter()
-            mech.sweep(0, 1, n, level=level)
-            best[level] = min(best.get(level, math.inf), time.perf_counter() - t0)
-    print(f"quick-return sweep of {n} points: acceleration {best['acceleration']:.4f} s, "
-          f"dynamic {best['dynamic']:.4f} s ({best['dynamic'] / best['acceleration']:.1f}x)")
+            best[level] = min(best.get(level, math.inf),
+                              _best(lambda: mech.sweep(0, 1, n, level=level), 1))
+    print(f"{name}: sweep of {n} points: acceleration {best['acceleration'] * 1e9 / n:.0f} ns "
+          f"a point, dynamic {best['dynamic'] * 1e9 / n:.0f} ns "
+          f"({best['dynamic'] / best['acceleration']:.2f}x)")
+    sw = mech.sweep(0, 1, 401, level="dynamic")
+    worst = 0.0
+    for k in range(0, 401, 8):
+        J = mech.jacobian(sw.Q[k], float(sw.t[k]))
+        terms = np.zeros((3, mech.n))
+        mech.module.force_terms(sw.Q[k], sw.QD[k], sw.QDD[k], float(sw.t[k]), mech.p, terms)
+        want = np.linalg.lstsq(J.T, terms[0] + terms[1] - terms[2], rcond=None)[0]
+        worst = max(worst, np.abs(sw.LAM[k] - want).max() / np.abs(want).max())
+    print(f"  λ against numpy's dense solve (51 points): max rel. error {worst:.1e}; "
+          f"power residual / peak input {np.abs(sw.power()['residual']).max() / np.abs(sw.power()['drivers']).max():.1e}")
+
+
+def solve_speed(mech, rounds=5, count=2000):
     s = mech.solve(0.1, level="dynamic")
+    out = {}
     for level in ("acceleration", "dynamic"):
-        times = []
-        for _ in range(3):
-            t0 = time.perf_counter()
-            for _ in range(500):
-                mech.solve(0.1, level=level, guess=s)
-            times.append((time.perf_counter() - t0) / 500)
-        print(f"quick-return solve at level {level}: {min(times) * 1e6:.1f} µs")
+        out[level] = _best(lambda: [mech.solve(0.1, level=level, guess=s)
+                                    for _ in range(count)], rounds) / count
+    print(f"quick-return solve with a guess: acceleration {out['acceleration'] * 1e6:.1f} µs, "
+          f"dynamic {out['dynamic'] * 1e6:.1f} µs")
+
+
+def table_speed(mech, designs=2000, n=1000):
+    """Peak driver torque per design on every core (reduce=), beside the kinematic table
+    of the same designs reducing X4."""
+    L = np.linspace(2.0, 4.0, designs)
+    kw = dict(params={"longitud": L}, on_fail="ignore")
+    mech.sweep(0, 1, 10, level="dynamic", reduce=["crank driver"], params={"longitud": L[:4]})
+    ta = _best(lambda: mech.sweep(0, 1, n, level="acceleration", reduce=["X4"], **kw), 2)
+    td = _best(lambda: mech.sweep(0, 1, n, level="dynamic", reduce=["crank driver"], **kw), 2)
+    red = mech.sweep(0, 1, n, level="dynamic", reduce=["crank driver"], **kw).reduced("crank driver")
+    print(f"design table, {designs} designs x {n} times, all cores: kinematic {ta:.2f} s, "
+          f"peak torque {td:.2f} s ({td / ta:.2f}x); peak torque from {np.nanmin(red.max):.4g} "
+          f"to {np.nanmax(red.max):.4g}")
 
 
 if __name__ == "__main__":
     with tempfile.TemporaryDirectory() as folder:
-        speed(accuracy(folder))
+        qr = accuracy(folder)
+        speed(qr, "quick-return")
+        sb = mechgen.compile(os.path.join(ROOT, "benchmarks", "strandbeest_forces.py"),
+                             outdir=os.path.join(folder, "sb"), tier="compiled")
+        speed(sb, "Strandbeest leg")
+        solve_speed(qr)
+        table_speed(qr)
