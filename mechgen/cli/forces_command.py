@@ -1,7 +1,8 @@
-"""``mechgen forces MODEL.py -t T [--static]``: every driver effort and joint reaction at
-one time (mechgen.runtime.forces)."""
+"""``mechgen forces MODEL.py -t T [--static]``: every driver effort, joint reaction and
+contact force (cams, gears, racks) at one time (mechgen.runtime.forces)."""
 from __future__ import annotations
 
+from ..runtime.forces.contact import CAM_KINDS
 from .loading import mechanism
 from .options import number_type, parse_guess
 
@@ -24,9 +25,24 @@ def cmd_forces(args):
     width = max((len(k) for k, _ in rows), default=0)
     for key, (fx, fy, mo) in rows:
         print(f"  {key:<{width}}  {fx + 0.0:>16.10g} {fy + 0.0:>16.10g} {mo + 0.0:>16.10g}")
+    contacts = s.contacts()
+    if contacts:
+        print("contact forces (a cam's along the normal, positive pushing; gears' tooth "
+              "force: the mesh's\n  torque on a gear / its pitch radius; a rack's: the force "
+              "on it along its axis)")
+        width = max(len(k) for k in contacts)
+        for label, value in contacts.items():
+            lost = ("  (pulling: the follower has lost contact)"
+                    if value < 0 and _is_cam(mech, label) else "")
+            print(f"  {label:<{width}}  {value + 0.0:>16.10g}{lost}")
     if s.indeterminate:
         print("indeterminate (redundant constraints; minimum-norm multipliers shown): "
               + "; ".join(s.indeterminate))
+
+
+def _is_cam(mech, label):
+    return any(lab == label and kind in CAM_KINDS
+               for _, kind, lab, _, _ in mech.module.CONSTRAINTS)
 
 
 def add_command(sub, common):

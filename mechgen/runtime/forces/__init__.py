@@ -20,13 +20,19 @@ X, Y, Th are the force and the moment about the body's origin. numpy only, never
 
 The package, bottom up: ``lookup`` (constraint and body names), ``points`` (λ at many
 points from the module alone: sweeps, design tables' chunks on threads and dask workers),
-``solution`` (one point), ``sweep`` (a sweep's efforts, reactions, power, shaking,
-flywheel) and ``table`` (design tables at the force levels, ``reduce=`` on drivers).
+``contact`` (the scalar force a cam, gear, rack or joint transmits, from Φ_q, λ and the
+points the module lists), ``contact_loss`` (where a cam follower would need a pulling
+contact), ``solution`` (one point), ``sweep`` (a sweep's efforts, reactions, contact
+forces, power, shaking, flywheel) and ``table`` (design tables at the force levels,
+``reduce=`` on drivers).
 """
+from .contact import CONTACT_KINDS, contact_values
+from .contact_loss import ContactLoss
 from .lookup import FORCE_LEVELS, is_force_level, tables
 from .points import solve_points
 from .solution import ForceSolution, force_solve
 from .sweep import ForceSweep, attach, force_sweep
 
-__all__ = ["FORCE_LEVELS", "ForceSolution", "ForceSweep", "attach", "force_solve", "force_sweep",
-           "is_force_level", "solve_points", "tables"]
+__all__ = ["CONTACT_KINDS", "ContactLoss", "FORCE_LEVELS", "ForceSolution", "ForceSweep",
+           "attach", "contact_values", "force_solve", "force_sweep", "is_force_level",
+           "solve_points", "tables"]

@@ -7,6 +7,7 @@ import numpy as np
 from ...errors import SingularError
 from ...protocol import SING_RTOL
 from ..results import Solution
+from .contact import contact_labels, contact_values
 from .lookup import _constraints_of, tables
 from .points import svd_solve
 
@@ -113,9 +114,10 @@ def _point_xy(mech, q, t):
 
 class ForceSolution(Solution):
     """A Solution with its multipliers: ``s.multipliers`` ({row label: λ}),
-    ``s.driver(name)``, ``s.reaction(name, on=body, about=point)``, ``s.indeterminate``
-    (the constraints whose reactions are not unique: redundant ones) and ``s.terms``
-    (Q_a, Q_c, I over the coordinates)."""
+    ``s.driver(name)``, ``s.reaction(name, on=body, about=point)``, ``s.contact(name)``
+    (a cam's, gear's or rack's contact force; a joint's force), ``s.indeterminate`` (the
+    constraints whose reactions are not unique: redundant ones) and ``s.terms`` (Q_a,
+    Q_c, I over the coordinates)."""
 
     force_level = "dynamic"
     lam = None
@@ -156,6 +158,19 @@ class ForceSolution(Solution):
         return _reaction(tables(mech), mech, name, on, about, mech.jacobian(self.q, self.t),
                          self.lam, self.q, _point_xy(mech, self.q, self.t))
 
+    def contact(self, name) -> float:
+        """The scalar force constraint ``name`` transmits (mechgen.runtime.forces.contact):
+        a cam's normal contact force, positive pushing (negative: the follower would need
+        a pulling contact, it has lost contact); gears' tooth force along the line of
+        action (the mesh's torque on either gear / its pitch radius); the force the pinion
+        applies to a rack along its axis; a revolute's, translate's or point_on_line's
+        force magnitude."""
+        return float(contact_values(self.mechanism, name, [self.t], self.q[None],
+                                    self.lam[None])[0])
+
+    def contacts(self) -> dict:
+        """{constraint label: contact force} for every cam, gear and rack constraint."""
+        return {label: self.contact(label) for label in contact_labels(self.mechanism)}
 
     def reactions(self) -> dict:
         """{(constraint label, body name): (fx, fy, moment about the body's origin)} for

@@ -8,6 +8,8 @@ import warnings
 import numpy as np
 
 from ..results import Sweep
+from .contact import CAM_KINDS, contact_labels, contact_values
+from .contact_loss import contact_loss, pulling
 from .lookup import _constraints_of, _name_of, tables
 from .points import solve_points
 from .solution import ForceSolution, _effort, _point_xy, _reaction
@@ -15,8 +17,8 @@ from .solution import ForceSolution, _effort, _point_xy, _reaction
 # -- a sweep -------------------------------------------------------------------------------
 class ForceSweep(Sweep):
     """A Sweep with λ at every point (``sw.LAM``, NaN where the force balance has no
-    solution: ``sw.force_singular``): ``driver``, ``reaction``, ``power``, ``energy``,
-    ``shaking``."""
+    solution: ``sw.force_singular``): ``driver``, ``reaction``, ``contact`` and
+    ``contact_lost``, ``power``, ``energy``, ``shaking``."""
 
     force_level = "dynamic"
     _extras = None          # (TERMS, NU, ENERGY), made when first asked for
@@ -62,6 +64,30 @@ class ForceSweep(Sweep):
             out[k] = _reaction(tab, mech, name, on, about, mech.jacobian(q, t), self.LAM[k],
                                q, _point_xy(mech, q, t))
         return out
+
+    def contact(self, name) -> np.ndarray:
+        """(n,): the scalar force constraint ``name`` transmits at every point
+        (ForceSolution.contact: a cam's contact force, positive pushing; gears' tooth
+        force; a rack's force along its axis; a joint's force magnitude), NaN where the
+        force balance has no solution."""
+        mech = self.mechanism
+        label = tables(mech).constraint(name, mech)[0]
+        return self._contacts([label])[label].copy()
+
+    def _contacts(self, labels) -> dict:
+        """{label: contact force array} for these constraints, computed once together."""
+        cache = self.__dict__.setdefault("_contact_cache", {})
+        missing = [label for label in labels if label not in cache]
+        if missing:
+            cache.update(contact_values(self.mechanism, missing, self.t, self.Q, self.LAM))
+        return {label: cache[label] for label in labels}
+
+    def contact_lost(self, name):
+        """Where cam constraint ``name``'s follower loses contact (its contact force
+        would have to pull): a ContactLoss, true when it is lost somewhere, with ``mask``,
+        ``times``, ``intervals`` and ``first`` (the first time the force reaches zero,
+        refined by solving between the sweep's points)."""
+        return contact_loss(self, name)
 
     def power(self) -> dict:
         """Power balance at every point: "drivers" (their power input, λ·Φ_t), "loads"
@@ -175,6 +201,7 @@ def attach(sw, level, indeterminate_from=None) -> "ForceSweep":
     mech = sw.mechanism
     out = ForceSweep.__new__(ForceSweep)
     out.__dict__.update(sw.__dict__)
+    out.__dict__.pop("_contact_cache", None)     # contact forces of other multipliers
     out.force_level = level
     pts = solve_points(mech.module, sw.t, sw.Q, sw.QD, sw.QDD, mech.p, level, extras=False)
     out.LAM, out.FACTORS = pts.LAM, pts.FACTORS
@@ -188,7 +215,28 @@ def attach(sw, level, indeterminate_from=None) -> "ForceSweep":
         warnings.warn(f"model '{mech.name}': no force balance at {times.size} point(s) "
                       f"(first t={times[0]:.6g}): a lock or toggle position; their "
                       "multipliers are NaN (sw.force_singular)", stacklevel=4)
+    if tables(mech).forces:
+        _warn_pulling(out)
     return out
+
+
+def _warn_pulling(sw):
+    """Warn for every cam contact whose force would have to pull somewhere."""
+    labels = contact_labels(sw.mechanism, CAM_KINDS)
+    if not labels:
+        return
+    try:
+        forces = sw._contacts(labels)
+    except ValueError:              # a module without the points it needs: no check
+        return
+    for label, force in forces.items():
+        where = pulling(force)
+        if where.any():
+            warnings.warn(f"model '{sw.mechanism.name}': cam contact {label!r} would have to "
+                          f"pull at {int(where.sum())} of {len(force)} point(s) (first "
+                          f"t={sw.t[where][0]:.6g}, least force {np.nanmin(force):.6g}): "
+                          f"the follower loses contact there (sw.contact_lost({label!r}))",
+                          stacklevel=5)
 
 
 def force_sweep(mech, t0, t1, n, level, **options) -> ForceSweep:
