@@ -217,6 +217,7 @@ def test_free_body_diagram_balances_with_the_inertia_force(sc):
     d = plot.draw(sc, s, forces="rod", frame="pose")
     arrows = {a.short: a for a in d.forces.arrows}
     assert set(arrows) == {"B", "C", "loads", "−m·a"}
+    assert d.title.get_text().endswith("forces on rod (dynamic)")
     rg, _, ag, _, al = k["bodies"]["rod"]
     _close(arrows["B"].force, ne["FB"], 600)
     _close(arrows["C"].force, -ne["FC"], 600)
@@ -254,8 +255,10 @@ def test_static_arrows_and_update_hides_them(sc):
     assert all(a.kind != "inertia" for a in d.forces.arrows)
     d.update(sc.solve(0.5))
     assert not any(a.get_visible() for a in d.artists["forces"])
+    assert d.title.get_text() == "sc_forces   T = 0.5"
     d.update(s)
     assert all(a.get_visible() for a in d.artists["forces"])
+    assert d.title.get_text() == "sc_forces   T = 0.3   forces (static)"
 
 
 def test_drawing_forces_refuses_bad_input(sc, fourbar):
@@ -371,3 +374,32 @@ m.rotation_lock(crank, 3.0 * T + 0.3, name="crank driver")
 m.gravity(9.807)
 m.force(slider[1], (-500.0, 120.0), name="press")
 '''
+
+
+# -- the worked example ------------------------------------------------------------------
+def test_readme_quotes_the_worked_example(capsys, monkeypatch, tmp_path):
+    """README's Forces section gives the numbers examples/quick_return_forces_demo.py
+    prints (run here in the plain tier; the numbers are the compiled tier's bit for bit)."""
+    import importlib.util
+    import re
+    from conftest import ROOT
+    monkeypatch.setenv("MECHGEN_CACHE", str(tmp_path))
+    spec = importlib.util.spec_from_file_location(
+        "qr_forces_demo", os.path.join(EXAMPLES, "quick_return_forces_demo.py"))
+    demo = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(demo)
+    mech = mechgen.compile(os.path.join(EXAMPLES, "quick_return_forces.py"),
+                           outdir=str(tmp_path), tier="python")
+    demo.analyse(mech)
+    out = capsys.readouterr().out
+    text = open(os.path.join(ROOT, "README.md"), encoding="utf-8").read()
+    section = text.split("\n## Forces\n", 1)[1].split("\n## ", 1)[0].replace("−", "-")
+    # every figure but the power balance's rounding (4e-16 here, machine-dependent)
+    figures = [x for x in re.findall(r"-?\d+\.\d+(?:e-?\d+)?", out) if "e" not in x]
+    assert len(figures) >= 16
+    missing = [x for x in figures if x not in section and x not in ("0.05", "0.708", "0.710",
+                                                                   "0.697", "0.664", "3239.7",
+                                                                   "1356.7")]
+    assert not missing, f"README does not quote the demo's {missing}"
+    ratio = float(re.search(r"at most (\S+) of the largest", out).group(1))
+    assert ratio < 1e-12

@@ -69,10 +69,12 @@ class ForceArrow:
 
 class ForceArrows:
     """What force_arrows() drew: ``arrows`` (ForceArrow), ``scale`` (drawn length per unit
-    of force), ``note`` (a text where there was nothing to draw), ``place_labels()``."""
+    of force), ``note`` (a text where there was nothing to draw), ``bodies`` (the free
+    bodies drawn; empty for the pins), ``place_labels()``."""
 
-    def __init__(self, arrows, scale, note=None):
+    def __init__(self, arrows, scale, note=None, bodies=()):
         self.arrows, self.scale, self.note = arrows, scale, note
+        self.bodies = list(bodies)       # the free bodies drawn (none: the pins)
         self._place = lambda: None
 
     def artists(self):
@@ -251,7 +253,7 @@ def force_arrows(drawing, solution, on=None, *, scale=None, length=LENGTH, fonts
     if scale is None:
         scale = length * span / top if top > 0 else 0.0
     w = drawing.size or 0.014 * span
-    result = ForceArrows(shown, float(scale))
+    result = ForceArrows(shown, float(scale), bodies=on or ())
     if not shown:
         where = f"T = {solution.t:.4g}"
         result.note = ax.text(0.5, 0.04, f"every force is zero at {where} ({solution.force_level})",

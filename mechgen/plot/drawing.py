@@ -343,14 +343,17 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
         ax.grid(True, color="#dddddd", linewidth=0.6, zorder=0)
         ax.set_axisbelow(True)
     ax.tick_params(labelsize=fontsize - 1)
-    if title is None and arrows is not None:
-        d.title = ax.set_title(f"{mech.name}   T = {solution.t:.4g}   forces "
-                               f"({solution.force_level})", fontsize=fontsize + 2)
-    elif title is None:
-        d.title = ax.set_title(f"{mech.name}   T = {solution.t:.4g}", fontsize=fontsize + 2)
+    if title is None:
+        said = "" if arrows is None else "   forces" + \
+            ("" if forces is True else " on " + ", ".join(arrows.bodies)) + \
+            f" ({solution.force_level})"
+        d.title = ax.set_title(f"{mech.name}   T = {solution.t:.4g}{said}",
+                               fontsize=fontsize + 2)
 
         def retitle(P, q, t, text=d.title, name=mech.name):
-            text.set_text(f"{name}   T = {t:.4g}")
+            # the forces belong to the configuration drawn (add_forces hides them elsewhere)
+            shown = arrows is not None and arrows.artists() and arrows.artists()[0].get_visible()
+            text.set_text(f"{name}   T = {t:.4g}{said if shown else ''}")
         d.on_move(retitle)
     elif title:
         d.title = ax.set_title(title, fontsize=fontsize + 2)
