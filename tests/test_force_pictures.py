@@ -272,6 +272,28 @@ def test_drawing_forces_refuses_bad_input(sc, fourbar):
     assert d.forces.arrows and "dynamic" in d.title.get_text()
 
 
+@pytest.mark.filterwarnings("ignore::mechgen.RedundancyWarning")   # expected: it is redundant
+def test_redundant_reactions_are_starred(tmp_path):
+    """The parallelogram with a third crank: the shares of the redundant pins are not
+    unique (starred, with a note); the driver's torque is exact, the same as without the
+    third crank."""
+    from test_forces import parallelogram
+    three = mechgen.compile(parallelogram(True), outdir=str(tmp_path), tier="python")
+    two = mechgen.compile(parallelogram(False), outdir=str(tmp_path), tier="python")
+    s = three.solve(0.1, level="static")
+    assert s.indeterminate
+    d = plot.draw(three, s, forces=True)
+    starred = {a.short[:-1] for a in d.forces.arrows if a.short.endswith("*")}
+    named = {label.split(":")[0] for label in s.indeterminate}
+    assert starred and starred <= named
+    assert all(a.short.rstrip("*") not in named or a.short.endswith("*")
+               for a in d.forces.arrows)
+    assert "not unique" in d.forces.note.get_text()
+    drive = next(a for a in d.forces.arrows if a.short == "drive")
+    assert drive.moment == pytest.approx(two.solve(0.1, level="static").driver("drive"),
+                                         rel=1e-9)
+
+
 ZERO_MODEL = '''
 from mechgen import Model, T, Piecewise
 m = Model("late_press")

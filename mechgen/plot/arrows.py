@@ -180,6 +180,8 @@ def collect(solution, scene, P, on=None, span=1.0):
         r = solution.reaction(label, on=body, about=ref)
         at, m = _on_line(ref, r[:2], r[2], span)
         name = short_name(mech, label)
+        if label in getattr(solution, "indeterminate", ()):
+            name += "*"                # redundant: its share is not unique
         color = scene.by_name[body].edge
         out.append(ForceArrow(what, label, body, at, r[:2], m, name, color))
     terms = solution.terms if solution.terms is not None else np.zeros((3, mech.n))
@@ -227,7 +229,8 @@ def force_arrows(drawing, solution, on=None, *, scale=None, length=LENGTH, fonts
     sizes: the largest is ``length`` × the drawing's larger side, or ``scale`` (drawn
     length per unit of force: the same scale in several drawings). Each is labelled
     with the constraint's name and its size; a moment with its size beside a curved
-    arrow. A model without mass and loads raises MechgenError (every force is zero);
+    arrow; a starred name is a redundant constraint's (``s.indeterminate``), its share
+    the minimum-norm one, not unique. A model without mass and loads raises MechgenError (every force is zero);
     forces that are all zero at this instant leave a note on the drawing.
     ``reframe``: grow the axes' limits to show every arrow, and place the labels now."""
     if not isinstance(solution, ForceSolution) or not is_force_level(solution.force_level):
@@ -290,6 +293,10 @@ def force_arrows(drawing, solution, on=None, *, scale=None, length=LENGTH, fonts
         a.label = ax.annotate(a.text, xy=a.head, xytext=(0.0, 0.0), textcoords="offset points",
                               ha="center", va="center", fontsize=fontsize, color=a.color,
                               zorder=9, path_effects=HALO, annotation_clip=False)
+    if any(a.short.endswith("*") for a in shown):
+        result.note = ax.text(0.01, 0.01, "* not unique (redundant constraints): the "
+                              "minimum-norm shares", transform=ax.transAxes, ha="left",
+                              va="bottom", fontsize=fontsize - 1, color=INK, zorder=9)
     result._place = lambda: _place_labels(ax, shown)
     if reframe:                 # alone on a drawing: framed and labelled now (draw()
         _grow(ax, result.extent())   # frames them with the rest and labels them last)
