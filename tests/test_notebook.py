@@ -38,7 +38,7 @@ SEED = {
 SECTIONS = ["(1) Bodies", "(2A) Constraints", "(2) The constraint equations", "(3) Position",
             "(3) Assembly modes", "(4) The drawing", "(5) Output functions", "(5) Time plots",
             "(6) Velocities", "(7) Accelerations", "The stroke", "(2B) The slider-driven",
-            "(3B) The lock points"]
+            "(3B) The lock points", "(8) Forces"]
 
 
 def texts(nb, kind="text"):

@@ -1,15 +1,44 @@
 """``mechgen forces MODEL.py -t T [--static]``: every driver effort, joint reaction and
-contact force (cams, gears, racks) at one time (mechgen.runtime.forces)."""
+contact force (cams, gears, racks) at one time (mechgen.runtime.forces); ``-o FILE``: a
+driver's effort against the quantity it drives over --t0 .. --t1, with its mean and peak
+(mechgen.plot.effort)."""
 from __future__ import annotations
 
+from ..errors import MechgenError
 from ..runtime.forces.contact import CAM_KINDS
 from .loading import mechanism
-from .options import number_type, parse_guess
+from .options import number_type, output_file, parse_guess
 
 
 def cmd_forces(args):
+    if args.t is None and args.output is None:
+        raise MechgenError("forces: give -t T (print the forces at T) or -o FILE (plot a "
+                           "driver's effort over --t0 .. --t1), or both")
     mech = mechanism(args)
     level = "static" if args.static else "dynamic"
+    if args.t is not None:
+        print_forces(mech, args, level)
+    if args.output is not None:
+        plot_effort(mech, args, level)
+
+
+def plot_effort(mech, args, level):
+    from .plot_commands import _pictures
+    path = output_file(args.output)
+    if args.n < 2:
+        raise MechgenError(f"-n must be at least 2, got {args.n}")
+    plt, plot = _pictures()
+    plot.forceplots.pick_driver(mech, args.driver)      # an unknown driver fails first
+    sw = mech.sweep(args.t0, args.t1, args.n, level=level, guess=parse_guess(args.guess),
+                    method=args.method)
+    e = plot.effort(sw, args.driver)
+    e.figure.savefig(path, dpi=args.dpi)
+    plt.close(e.figure)
+    print(f"wrote {path} ({e.line.get_label()} over T = {sw.t[0]:g} .. {sw.t[-1]:g}, "
+          f"{len(sw)} points, {level}: mean {e.mean:.10g}, peak {e.peak:.10g})")
+
+
+def print_forces(mech, args, level):
     s = mech.solve(args.t, guess=parse_guess(args.guess), level=level, method=args.method)
     print(f"{mech.name} at T = {s.t:g} ({level}: Phi_q^T lambda = Q"
           f"{'' if args.static else ' - M qdd - h'})")
@@ -46,14 +75,29 @@ def _is_cam(mech, label):
 
 
 def add_command(sub, common):
-    p = sub.add_parser("forces", help="driver efforts and joint reactions at one time",
+    p = sub.add_parser("forces", help="driver efforts and joint reactions at one time; "
+                                      "a driver's effort over a cycle (-o)",
                        description="Solve the model at time T (positions, velocities, "
                                    "accelerations; positions only with --static), then its "
                                    "multipliers, and print every driver's torque or force "
-                                   "and every constraint's reaction on each body.")
+                                   "and every constraint's reaction on each body. With -o "
+                                   "FILE, plot a driver's effort against the quantity it "
+                                   "drives over --t0 .. --t1 instead (or as well, with -t).")
     common(p)
-    p.add_argument("-t", type=number_type, required=True,
+    p.add_argument("-t", type=number_type, default=None,
                    help="the time: a number or an expression such as 0.5/pi")
+    p.add_argument("-o", "--output", metavar="FILE",
+                   help="plot a driver's effort (torque or force) against the quantity it "
+                        "drives over --t0 .. --t1, with its mean and peak (PNG, SVG, PDF)")
+    p.add_argument("--driver", metavar="NAME",
+                   help="with -o: which driver (default: the model's only one)")
+    p.add_argument("--t0", type=number_type, default=0.0,
+                   help="with -o: the first time (default 0)")
+    p.add_argument("--t1", type=number_type, default=1.0,
+                   help="with -o: the last time (default 1): one cycle")
+    p.add_argument("-n", type=int, default=361,
+                   help="with -o: number of times, both ends included (default 361)")
+    p.add_argument("--dpi", type=float, default=100, help="with -o: dots per inch")
     p.add_argument("--static", action="store_true",
                    help="statics: the loads at rest (velocities and accelerations zero)")
     p.add_argument("--guess", action="append", metavar="NAME=VALUE",

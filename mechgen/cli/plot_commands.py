@@ -1,6 +1,7 @@
 """The picture commands: ``mechgen draw | animate | plot`` (matplotlib, headless)."""
 from __future__ import annotations
 
+import math
 import re
 
 from ..errors import MechgenError
@@ -55,16 +56,35 @@ def cmd_draw(args):
     trace = tuple(args.trace or ())
     for label in trace:                         # an unknown point fails before any solve
         plot.scene.Scene(mech).locate(label)
-    s = mech.solve(args.t, guess=guess)
+    if args.static and args.forces is None:
+        raise MechgenError("--static goes with --forces (the forces at rest)")
+    forces = None if args.forces is None else _bodies(args.forces)
+    if forces:
+        plot.forceplots.require_forces(mech, "--forces")
+        if forces is not True:         # an unknown body fails before any solve
+            plot.arrows.check_bodies(mech, forces)
+    level = LEVELS[0] if forces is None else "static" if args.static else "dynamic"
+    s = mech.solve(args.t, guess=guess, level=level)
     # the paths over --t0 .. --t1, in the drawn configuration's assembly mode
     sw = _sweep(mech, args, guess=s.q) if trace else None
     d = plot.draw(mech, s, sweep=sw, trace=trace, labels=_bodies(args.labels),
-                  axes=_bodies(args.axes), legend=args.legend, width=args.width)
+                  axes=_bodies(args.axes), legend=args.legend, width=args.width, forces=forces)
     d.figure.savefig(path, dpi=args.dpi)
     plt.close(d.figure)
     paths = f"; the path of {', '.join(trace)} over T = {sw.t[0]:g} .. {sw.t[-1]:g}" \
         if trace else ""
-    print(f"wrote {path} ({mech.name} at T = {s.t:g}{paths})")
+    print(f"wrote {path} ({mech.name} at T = {s.t:g}{paths}{_forces_said(d.forces, level)})")
+
+
+def _forces_said(arrows, level):
+    """What the force arrows show, for the line the draw command prints."""
+    if arrows is None:
+        return ""
+    if not arrows.arrows:
+        return f"; every force is zero ({level})"
+    big = max(arrows.arrows, key=lambda a: math.hypot(*a.force))
+    return (f"; {len(arrows.arrows)} forces ({level}), the largest "
+            f"{math.hypot(*big.force):.6g} ({big.short} on {big.body})")
 
 
 def cmd_animate(args):
@@ -147,6 +167,13 @@ def add_commands(sub, add_common):
     trace(p, " over --t0 .. --t1 (in -n points)")
     span(p, 101)
     looks(p)
+    p.add_argument("--forces", nargs="?", const="all", metavar="BODIES",
+                   help="force arrows, scaled and labelled (inverse dynamics at T): the pin "
+                        "force at every revolute, the drivers' efforts and the loads; or the "
+                        "free body diagram of the bodies named (comma-separated)")
+    p.add_argument("--static", action="store_true",
+                   help="with --forces: the forces at rest (velocities and accelerations "
+                        "zero)")
     p.set_defaults(func=cmd_draw)
 
     p = sub.add_parser("animate", help="animate the mechanism over a time range (GIF, MP4)",

@@ -37,11 +37,16 @@ glyphs         the Builder: a glyph for every joint and body, labels, axes, the 
 drawing        Drawing, draw, draw_modes, motion
 animation      Animation, animate, check_movie_path (one period: no repeated frame)
 timeplot       plot, unit (time T, no made-up units, twin y axes, paths at equal scale)
+forceplots     effort (a driver's torque over a cycle, its mean and peak), polar (a pin
+               force's polar diagram)
+arrows         force_arrows: the forces of a solution on a drawing (draw(forces=...))
 =============  =====================================================================
 """
 from .animation import Animation, animate, check_movie_path
+from .arrows import ForceArrows, force_arrows
 from .drawing import Drawing, draw, draw_modes, motion
 from .shapes import AUTO, Bar, Disk, Edge, Plate, Shape
+from .forceplots import EffortPlot, PolarPlot, effort, polar
 from .timeplot import plot, unit
 
 # the settings of the look, readable as plot.INK etc. (as before the split)
@@ -50,4 +55,5 @@ from .drawing import MOTION_POINTS  # noqa: F401
 from .style import BAR, INK, MARGIN, PALETTE  # noqa: F401
 
 __all__ = ["draw", "draw_modes", "animate", "plot", "motion", "unit", "Drawing", "Animation",
-           "Shape", "Disk", "Bar", "Edge", "Plate", "AUTO", "check_movie_path"]
+           "Shape", "Disk", "Bar", "Edge", "Plate", "AUTO", "check_movie_path",
+           "effort", "polar", "force_arrows", "EffortPlot", "PolarPlot", "ForceArrows"]

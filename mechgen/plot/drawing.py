@@ -15,6 +15,7 @@ from matplotlib.patches import Patch
 
 from ..errors import MechgenError
 from ..runtime.results import Solution
+from .arrows import force_arrows
 from .cams import KINDS as CAM_KINDS
 from .cams import draw as draw_cam
 from .gears import draw_library
@@ -46,6 +47,7 @@ class Drawing:
         self.transforms = {}      # body name -> the Affine2D that carries its artists
         self.redrawn = set()      # bodies drawn by user functions, redrawn at each update
         self.points = None        # the points (npoints, 2) of the configuration shown
+        self.forces = None        # the force arrows (plot.arrows.ForceArrows), if drawn
         self._movers = []         # functions (P, q, t) moving what a transform cannot
         self._place_labels = lambda: None
 
@@ -96,12 +98,12 @@ def _listed(shapes):
     return list(shapes) if isinstance(shapes, (list, tuple)) else [shapes]
 
 
-def _as_solution(mech, solution):
+def _as_solution(mech, solution, level="position"):
     if isinstance(solution, Solution):
         return solution
     if isinstance(solution, (int, float, np.floating, np.integer)) \
             and not isinstance(solution, bool):
-        return mech.solve(float(solution))
+        return mech.solve(float(solution), level=level)
     raise TypeError(f"draw() takes a Solution (mech.solve(t)) or a time, got {solution!r}")
 
 
@@ -204,7 +206,7 @@ def _set_frame(ax, frame, width=None, aside=0.0):
 
 def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=False,
          artists=None, colors=None, title=None, legend=False, grid=True, fontsize=9,
-         width=8.0, trace=()):
+         width=8.0, trace=(), forces=None):
     """Draw the mechanism at one instant; returns a :class:`Drawing`.
 
     ``solution``: a Solution (``mech.solve(t)``) or a time. The frame covers the motion:
@@ -219,8 +221,14 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
     ``trace``: points whose paths over the motion (``sweep``, else the one time unit that
     frames the drawing) are drawn in their body's colour: ``"colisa[2]"``, ``body[k]``,
     ``body.at(x, y)`` (a point the model need not name); the frame takes them in.
+    ``forces``: True draws the pin force at every revolute, the drivers' efforts and the
+    loads; a body name (or a list) its free body diagram; ``solution`` is then a solve at
+    level "dynamic" or "static" (a time is solved at "dynamic"). The arrows are
+    ``d.forces`` (plot.arrows.ForceArrows), drawn for this configuration only: update()
+    hides them.
     """
-    solution = _as_solution(mech, solution)
+    solution = _as_solution(mech, solution, "dynamic" if forces is not None and
+                            forces is not False else "position")
     st = Scene(mech, colors)
     P0, q0 = solution.points(), solution.q
     if sweep is not None:
@@ -313,20 +321,39 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
         d.artists["traces"] += _trace_marks(d, st, trace, P0, q0)
         if not isinstance(frame, (tuple, list)):
             d.frame = _take_in(d.frame, np.concatenate([xy for _, xy in paths]))
+    arrows = None
+    if forces is not None and forces is not False:
+        arrows = add_forces(d, solution, None if forces is True else forces, fontsize)
+        if not isinstance(frame, (tuple, list)) and arrows.arrows:
+            d.frame = _take_in(d.frame, arrows.extent())
     outside = legend is True and own
     if outside:
         width += 1.4
     _set_frame(ax, d.frame, width if own else None, 1.5 if outside else 0.0)
     bld.labels(chosen(labels), fontsize)
+    if arrows is not None:      # their labels placed last, clear of the points' labels
+        arrows.place_labels()
+        points_again = d._place_labels
+
+        def again():
+            points_again()
+            arrows.place_labels()
+        d._place_labels = again
     if grid:
         ax.grid(True, color="#dddddd", linewidth=0.6, zorder=0)
         ax.set_axisbelow(True)
     ax.tick_params(labelsize=fontsize - 1)
     if title is None:
-        d.title = ax.set_title(f"{mech.name}   T = {solution.t:.4g}", fontsize=fontsize + 2)
+        said = "" if arrows is None else "   forces" + \
+            ("" if forces is True else " on " + ", ".join(arrows.bodies)) + \
+            f" ({solution.force_level})"
+        d.title = ax.set_title(f"{mech.name}   T = {solution.t:.4g}{said}",
+                               fontsize=fontsize + 2)
 
         def retitle(P, q, t, text=d.title, name=mech.name):
-            text.set_text(f"{name}   T = {t:.4g}")
+            # the forces belong to the configuration drawn (add_forces hides them elsewhere)
+            shown = arrows is not None and arrows.artists() and arrows.artists()[0].get_visible()
+            text.set_text(f"{name}   T = {t:.4g}{said if shown else ''}")
         d.on_move(retitle)
     elif title:
         d.title = ax.set_title(title, fontsize=fontsize + 2)
@@ -340,6 +367,21 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
             ax.legend(handles=handles, loc=legend if isinstance(legend, str) else "best",
                       fontsize=fontsize, framealpha=0.85)
     return d
+
+
+def add_forces(d, solution, on, fontsize):
+    """The force arrows of a drawing (plot.arrows), hidden when it moves elsewhere."""
+    arrows = force_arrows(d, solution, on, fontsize=fontsize, reframe=False)
+    d.forces = arrows
+    d.artists["forces"] = arrows.artists()
+    q0, t0 = np.array(solution.q), solution.t
+
+    def hide(P, q, t):
+        shown = t == t0 and np.array_equal(q, q0)
+        for art in d.artists["forces"]:
+            art.set_visible(shown)
+    d.on_move(hide)
+    return arrows
 
 
 def draw_modes(mech, solutions, axs=None, titles=None, **kwargs):
