@@ -1,7 +1,8 @@
 """The quick-return of seed 001 with masses, gravity and a cutting force: the torque the
 crank's motor must give, the load on every pin, the shaking of the frame and the
 flywheel (API.md §5). The kinematics is examples/quick_return.py's; the cutting force
-(``corte``) resists the slider while it moves to the right, the slow stroke."""
+(``corte``) resists the slider while it moves to the left: the slow stroke, 70 % of the
+crank's turn (the tool cuts slowly and returns quickly, as a shaper does)."""
 from mechgen import Model, Piecewise, T, pi, velocity
 
 m = Model("quick_return_forces")
@@ -28,4 +29,4 @@ m.translate(base.line(3, 4), deslizadera.line(1, 2), name="guide")
 
 m.gravity(9.807)
 slider_speed = velocity(deslizadera[1])[0]
-m.force(deslizadera[1], (Piecewise((-corte, slider_speed > 0), (0, True)), 0), name="cutting")
+m.force(deslizadera[1], (Piecewise((corte, slider_speed < 0), (0, True)), 0), name="cutting")

@@ -26,9 +26,9 @@ def analyse(mech):
     torque = sw.driver("crank driver")
     angle = np.degrees(driven(sw, "crank driver")[0])
     k = int(np.argmax(np.abs(torque)))
-    print(f"crank torque: peak {torque[k]:.2f} at {angle[k]:.1f}° (T = {sw.t[k]:.3f}), "
-          f"mean over the turn {cycle_mean(angle, torque):.2f}, "
-          f"least {torque.min():.2f}")
+    print(f"crank torque: largest in size {torque[k]:.2f} at {angle[k]:.1f}° "
+          f"(T = {sw.t[k]:.3f}), mean over the turn {cycle_mean(angle, torque):.2f}, "
+          f"from {torque.min():.2f} to {torque.max():.2f}")
     fly = sw.flywheel(CS)
     print(f"flywheel for cs = {CS}: energy fluctuation {fly['energy']:.1f}, inertia "
           f"{fly['inertia']:.1f}, mean power {fly['mean_power']:.1f}")
