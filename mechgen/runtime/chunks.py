@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..protocol import OK, STATUS_CODE
-from .reduce import design_status, reduce_chunk
+from .reduce import DRIVER, design_status, reduce_chunk
 
 # A design table's per-point record: the first column of a sweep's STATUS rows (int16: the
 # status code, protocol.STATUS_*), 2 bytes a point; INFO is its name in a DesignTable. The
@@ -19,6 +19,9 @@ DESIGN_INFO_DTYPE = np.int16
 # solved points (designs x times) per chunk: big enough that a call's overhead vanishes,
 # small enough that a reduced table's buffers stay small and progress moves
 CHUNK_POINTS = 100_000
+# a design table reducing a driver's effort sweeps and reduces this many points at a time
+# (a few designs), so that the multipliers read the points from the cache
+FORCE_POINTS = 4_000
 # the smallest chunk of a guided split (guided_chunks): a call's overhead still small
 TAIL_POINTS = 5_000
 
@@ -117,11 +120,34 @@ def solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, scratch=N
         lent = dict(zip(names, scratch_arrays({} if scratch is None else scratch, D, N, nq,
                                               names)))
         Q, QD, QDD, INFO = (lent.get(k) for k in ("Q", "QD", "QDD", "INFO"))
+    if slots is not None and np.any(slots[:, 0] == DRIVER):
+        return _solve_forces(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots,
+                             Q, QD, QDD, INFO)
     done = sweep_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, Q, QD, QDD, INFO)
     status = design_status(INFO, done, N)
     if slots is None:
         return done, status, Q, QD, QDD, INFO
     return (done, status) + reduce_chunk(module, slots, ts, P, Q, QD, QDD, done)
+
+
+def _solve_forces(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, Q, QD, QDD, INFO):
+    """solve_chunk with a driver's effort among the reductions: a few designs at a time
+    (about FORCE_POINTS points), each reduced while its points are still in the cache
+    (the multipliers read every coordinate, velocity and acceleration again)."""
+    D, N = P.shape[0], ts.shape[0]
+    step = max(1, FORCE_POINTS // max(N, 1))
+    done = np.zeros(D, dtype=np.int64)
+    status = np.zeros(D, dtype=np.int64)
+    red = [np.empty((D, slots.shape[0])) for _ in range(4)]
+    cut = (lambda a, lo, hi: None if a is None else a[lo:hi])
+    for a in range(0, D, step):
+        b = min(D, a + step)
+        part = [cut(x, 0, b - a) for x in (Q, QD, QDD, INFO)]
+        done[a:b] = sweep_chunk(module, ts, q0, P[a:b], lev, tol, xtol, maxit, meth, *part)
+        status[a:b] = design_status(part[3], done[a:b], N)
+        for arr, got in zip(red, reduce_chunk(module, slots, ts, P[a:b], *part[:3], done[a:b])):
+            arr[a:b] = got
+    return (done, status) + tuple(red)
 
 
 class Collector:

@@ -233,7 +233,7 @@ class DesignTable:
             pts = solve_points(mech.module, self.t[:k], self.Q[d, :k],
                                None if self.QD is None else self.QD[d, :k],
                                None if self.QDD is None else self.QDD[d, :k], self.P[d],
-                               self.force_level)
+                               self.force_level, extras=False)
             out[d, :k] = efforts(pts.LAM, pts.FACTORS, rows, cols)
         return out.reshape(self.shape + (N,))
 

@@ -125,7 +125,8 @@ def _forces(module, ts, P, Q, QD, QDD, done, level):
     """forces.points.solve_points for every design over the times it solved (None for a
     design that solved none)."""
     return [solve_points(module, ts[:k], Q[d, :k], None if QD is None else QD[d, :k],
-                         None if QDD is None else QDD[d, :k], P[d], level) if k else None
+                         None if QDD is None else QDD[d, :k], P[d], level, extras=False)
+            if k else None
             for d, k in enumerate(int(x) for x in done)]
 
 
