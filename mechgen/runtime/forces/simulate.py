@@ -1,0 +1,163 @@
+"""Motion under forces (API.md §6): ``mech.simulate(t0, t1, n, free=[driver names])``.
+
+The drivers named in ``free`` stop prescribing their motion at t0; the others keep
+theirs. The equations of motion are the index-1 form of M q̈ + Φ_Cᵀ λ = Q, Φ_C(q, t) = 0
+(C: every constraint row but the freed drivers'): at a state (q, q̇) the module's
+``free_accelerations`` solves the saddle-point system [M Φ_Cᵀ; Φ_C 0] [q̈; λ] = [Q − h;
+γ_C] (M and h from its force_terms, the rank-revealing elimination), and scipy's
+``solve_ivp`` integrates (q, q̇) from one output time to the next. At every output time
+the state is put back on the constraints (Gauss-Newton on Φ_C = 0, minimum-norm steps,
+then q̇ onto Φ_C q̇ = ν_C), so the positions satisfy Φ = 0 to the solver's tolerance at
+every output and nothing drifts from one interval into the next; each interval starts
+the integrator afresh from the projected state.
+
+Why this method: it needs nothing the module does not already have (Φ_q, γ, the force
+terms) and no choice of independent coordinates, so it cannot be caught by a choice
+going singular; a configuration where the saddle-point system loses rank (a lock, a
+toggle of the constraints that remain) stops the integration with a SingularError naming
+the time. The result is a ForceSweep at level "dynamic": positions, velocities,
+accelerations, the multipliers of the constraints still acting (0 on the freed rows), the
+efforts of the drivers still prescribed, power() and energy() to show what the
+integration conserved.
+"""
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+
+from ...errors import ConvergenceError, SingularError
+from ..results import Sweep
+from .lookup import tables
+from .sweep import ForceSweep
+
+PROJECT_TOL = 1e-12     # |Φ_C| (relative to the mechanism's size) after the projection
+PROJECT_MAXIT = 25
+
+
+class _System:
+    """The rows kept, and the module's functions at one parameter vector."""
+
+    def __init__(self, mech, free):
+        self.mech, self.mod, self.p = mech, mech.module, mech.p
+        self.n, self.m = mech.n, mech.m
+        self.keep = np.ones(self.m, dtype=np.bool_)
+        tab = tables(mech)
+        if not tab.forces:
+            raise ValueError(f"simulate: model '{mech.name}' has no masses and no loads: "
+                             "nothing moves it (give its bodies mass=, inertia=)")
+        if isinstance(free, str):
+            free = [free]
+        for name in free or ():
+            label, rows, driver = tab.constraint(name, mech)
+            if not driver:
+                raise ValueError(f"simulate: free={name!r}: constraint {label!r} is not a "
+                                 "driver (its equations do not hold T)")
+            self.keep[list(rows)] = False
+        self.c = int(self.keep.sum())
+        self.J = np.empty((self.m, self.n))
+        self.r = np.empty(self.m)
+
+    def accelerations(self, q, qd, t):
+        qdd, lam = np.empty(self.n), np.empty(self.m)
+        rank = self.mod.free_accelerations(q, qd, float(t), self.p, self.keep, qdd, lam)
+        if rank < self.n + self.c:
+            raise SingularError(
+                f"simulate: model '{self.mech.name}' at t={t:.9g}: the equations of motion "
+                f"lose rank ({rank} of {self.n + self.c}): a lock or toggle position of the "
+                "constraints still acting, or redundant constraints", t=float(t),
+                constraints=(), level="dynamic", q=np.array(q))
+        return qdd, lam
+
+    def rhs(self, t, y):
+        n = self.n
+        qdd, _ = self.accelerations(y[:n], y[n:], t)
+        return np.concatenate([y[n:], qdd])
+
+    def residual(self, q, t):
+        self.mod.phi(q, float(t), self.p, self.r)
+        return self.r[self.keep]
+
+    def jacobian(self, q, t):
+        self.mod.phi_q(q, float(t), self.p, self.J)
+        return self.J[self.keep]
+
+    def project(self, q, qd, t, size):
+        """(q, q̇) put back on Φ_C = 0 and Φ_C q̇ = ν_C (minimum-norm corrections); the
+        size of the position correction."""
+        q, qd = q.copy(), qd.copy()
+        start = q.copy()
+        for _ in range(PROJECT_MAXIT):
+            r = self.residual(q, t)
+            if not np.all(np.isfinite(r)):
+                break
+            if np.max(np.abs(r), initial=0.0) <= PROJECT_TOL * size:
+                break
+            q -= np.linalg.lstsq(self.jacobian(q, t), r, rcond=None)[0]
+        else:
+            raise ConvergenceError(f"simulate: model '{self.mech.name}' at t={t:.9g}: the "
+                                   "state could not be put back on the constraints",
+                                   t=float(t))
+        J = self.jacobian(q, t)
+        nu = np.empty(self.m)
+        self.mod.nu(q, float(t), self.p, nu)
+        qd -= np.linalg.lstsq(J, J @ qd - nu[self.keep], rcond=None)[0]
+        return q, qd, float(np.max(np.abs(q - start), initial=0.0))
+
+
+def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
+             method="DOP853", max_step=np.inf) -> ForceSweep:
+    """See Mechanism.simulate."""
+    from scipy.integrate import solve_ivp
+    from ..guards import sweep_times
+    ts = sweep_times(t0, t1, n)
+    system = _System(mech, free)
+    t_start = float(ts[0])
+    if q0 is None:
+        kin = mech.solve(t_start, level="velocity")
+        q, qd = kin.q.copy(), kin.qd.copy()
+    else:
+        q = mech._start(q0)
+        qd = np.zeros(mech.n) if qd0 is None else np.asarray(qd0, dtype=float).copy()
+    if qd0 is not None and q0 is None:
+        qd = np.asarray(qd0, dtype=float).copy()
+    size = 1.0 + float(np.max(np.abs(mech.points_at(q, t_start))))
+    qd_in = qd.copy()
+    q, qd, moved = system.project(q, qd, t_start, size)
+    if q0 is not None or qd0 is not None:
+        dv = float(np.max(np.abs(qd - qd_in), initial=0.0))
+        if moved > 1e-9 * size or dv > 1e-9 * (1.0 + float(np.max(np.abs(qd_in)))):
+            warnings.warn(f"simulate: the initial state was made consistent with the "
+                          f"constraints still acting (positions moved by up to {moved:.3g}, "
+                          f"velocities by up to {dv:.3g})", stacklevel=3)
+    N = ts.shape[0]
+    Q, QD, QDD = np.empty((N, mech.n)), np.empty((N, mech.n)), np.empty((N, mech.n))
+    LAM = np.empty((N, mech.m))
+    Q[0], QD[0] = q, qd
+    QDD[0], LAM[0] = system.accelerations(q, qd, t_start)
+    steps = evaluations = 0
+    for k in range(1, N):
+        sol = solve_ivp(system.rhs, (float(ts[k - 1]), float(ts[k])), np.concatenate([q, qd]),
+                        method=method, rtol=rtol, atol=atol, max_step=max_step)
+        evaluations += sol.nfev
+        steps += max(len(sol.t) - 1, 0)
+        if sol.status != 0:
+            raise ConvergenceError(f"simulate: model '{mech.name}': the integration stopped "
+                                   f"at t={sol.t[-1]:.9g}: {sol.message}", t=float(sol.t[-1]))
+        y = sol.y[:, -1]
+        q, qd, _ = system.project(y[:mech.n], y[mech.n:], ts[k], size)
+        Q[k], QD[k] = q, qd
+        QDD[k], LAM[k] = system.accelerations(q, qd, ts[k])
+    out = ForceSweep.__new__(ForceSweep)
+    out.__dict__.update(Sweep(mech, ts, Q, QD, QDD, np.zeros(N, dtype=np.int16)).__dict__)
+    out.force_level = "dynamic"
+    out.LAM = LAM
+    out.FACTORS = np.zeros((N, len(tables(mech).driver_rows)))
+    for k in range(N):
+        if out.FACTORS.shape[1]:
+            mech.module.driver_factors(Q[k], float(ts[k]), mech.p, out.FACTORS[k])
+    out.force_singular = np.zeros(N, dtype=bool)
+    out.indeterminate = ()
+    out.free = tuple(mech.constraint_labels[i] for i in np.flatnonzero(~system.keep))
+    out.steps, out.evaluations = steps, evaluations
+    return out

@@ -1,0 +1,199 @@
+"""Motion under forces (issue 22, API.md §6: mech.simulate), each against a reference
+written here without mechgen's equations: a compound pendulum against its own ODE in the
+angle alone; the slider-crank of test_forces started from rest by a motor torque law
+T0 (1 − ω/ω0), against the equivalent-inertia equation J(θ) θ̈ + ½ J′(θ) θ̇² = T − ∂V/∂θ
++ F·∂r_C/∂θ in the crank angle alone, J and J′ from the closed-form kinematics; a
+four-bar swinging under gravity (energy kept, constraints kept); a double pendulum whose
+first link is still driven while the second swings free, the driver's torque against
+Lagrange's equation written out by hand."""
+import math
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import mechgen
+from mechgen import Model, T, dt, rotation
+from test_forces import G, MASS, PRESS, closed_form, slider_crank
+
+RTOL = 1e-10
+
+
+def _compile(model, tmp_path):
+    return mechgen.compile(model, outdir=str(tmp_path), tier="compiled")
+
+
+def _phi(mech, q, t):
+    r = np.empty(mech.m)
+    mech.module.phi(q, float(t), mech.p, r)
+    return r
+
+
+# -- a compound pendulum --------------------------------------------------------------------
+L1, MB, JB = 1.2, 2.0, 0.15
+
+
+def pendulum():
+    m = Model("sim_pendulum")
+    base = m.ground("base", points=[(0, 0)])
+    bar = m.body("bar", points=[(0, 0), (L1, 0)], guess=(0, 0, -0.3), mass=MB, inertia=JB,
+                 centroid=(L1 / 2, 0))
+    m.revolute(base[1], bar[1])
+    w = m.param("w", 0.0)
+    m.rotation_lock(bar, -0.3 + w * T, name="hold")
+    m.gravity(G)
+    return m
+
+
+def test_a_released_pendulum_swings_as_its_own_equation(tmp_path):
+    mech = _compile(pendulum(), tmp_path)
+    sw = mech.simulate(0.0, 4.0, 201, free=["hold"], rtol=RTOL, atol=1e-12)
+    JO = JB + MB * (L1 / 2) ** 2
+    ref = solve_ivp(lambda t, y: [y[1], -MB * G * (L1 / 2) * math.cos(y[0]) / JO], (0, 4.0),
+                    [-0.3, 0.0], method="DOP853", rtol=1e-12, atol=1e-14, t_eval=sw.t)
+    assert np.abs(sw["Th2"] - ref.y[0]).max() < 1e-8
+    assert np.abs(sw["Th2d"] - ref.y[1]).max() < 1e-8
+    e = sw.energy()["total"]
+    assert np.abs(e - e[0]).max() <= 1e-9 * abs(e[0])
+    assert sw.free == (mech.constraint_labels[2],)
+    assert np.all(sw.LAM[:, 2] == 0.0)             # the freed driver carries nothing
+
+
+# -- the slider-crank started by a motor -----------------------------------------------------
+T0, W0 = 300.0, 30.0
+
+
+def motor_slider_crank():
+    m = slider_crank()
+    crank = m.bodies["crank"]
+    m.moment(crank, T0 * (1 - dt(rotation(crank)) / W0), name="motor")
+    return m
+
+
+def equivalent_inertia(theta):
+    """J(θ), J′(θ) and the generalized load Q(θ) (gravity, the press) of the slider-crank,
+    from test_forces' closed form at the speed it was written for (θ̈ = 0 there, so a_G =
+    k_G′ θ̇² with k_G = v_G / θ̇ the velocity coefficients)."""
+    from test_forces import TH0, W
+    k = closed_form((theta - TH0) / W)
+    J = dJ = Q = 0.0
+    for name, (rg, vg, ag, om, al) in k["bodies"].items():
+        m, Ji = MASS[name]
+        kv, ka = vg / W, ag / W ** 2
+        J += m * kv @ kv + Ji * (om / W) ** 2
+        dJ += 2 * m * kv @ ka + 2 * Ji * (om / W) * (al / W ** 2)
+        Q += m * np.array([0.0, -G]) @ kv
+    Q += np.array(PRESS) @ (k["vC"] / W)
+    return J, dJ, Q
+
+
+def test_a_motor_starts_the_slider_crank_as_the_equivalent_inertia_says(tmp_path):
+    mech = _compile(motor_slider_crank(), tmp_path).with_params(w=0.0)
+    sw = mech.simulate(0.0, 1.5, 151, free=["crank driver"], rtol=RTOL, atol=1e-12)
+    th0 = float(sw["Th2"][0])
+
+    def rhs(t, y):
+        J, dJ, Q = equivalent_inertia(y[0])
+        return [y[1], (T0 * (1 - y[1] / W0) + Q - 0.5 * dJ * y[1] ** 2) / J]
+    ref = solve_ivp(rhs, (0, 1.5), [th0, 0.0], method="DOP853", rtol=1e-12, atol=1e-13,
+                    t_eval=sw.t)
+    assert np.abs(sw["Th2"] - ref.y[0]).max() < 1e-8 * (1 + np.abs(ref.y[0]).max())
+    assert np.abs(sw["Th2d"] - ref.y[1]).max() < 1e-8 * (1 + np.abs(ref.y[1]).max())
+    assert sw["Th2d"][-1] > 10.0                      # it did start
+    p = sw.power()
+    assert np.abs(p["residual"]).max() <= 1e-8 * np.abs(p["loads"]).max()
+
+
+# -- a four-bar swinging under gravity ------------------------------------------------------
+def swinging_four_bar():
+    m = Model("sim_fourbar")
+    base = m.ground("base", points=[(0, 0), (2.0, 0)])
+    crank = m.body("crank", points=[(0, 0), (1.0, 0)], guess=(0, 0, 1.2), mass=1.0,
+                   inertia=0.1, centroid=(0.5, 0))
+    coupler = m.body("coupler", points=[(0, 0), (2.2, 0)], guess=(0.36, 0.93, -0.2),
+                     mass=2.0, inertia=0.8, centroid=(1.1, 0.1))
+    rocker = m.body("rocker", points=[(0, 0), (1.6, 0)], guess=(2, 0, 1.7), mass=1.5,
+                    inertia=0.3, centroid=(0.8, 0))
+    m.revolute(base[1], crank[1])
+    m.revolute(crank[2], coupler[1])
+    m.revolute(coupler[2], rocker[2])
+    m.revolute(base[2], rocker[1])
+    w = m.param("w", 0.0)
+    m.rotation_lock(crank, 1.2 + w * T, name="hold")
+    m.gravity(G)
+    return m
+
+
+def test_a_four_bar_swinging_keeps_its_energy_and_its_constraints(tmp_path):
+    mech = _compile(swinging_four_bar(), tmp_path)
+    sw = mech.simulate(0.0, 12.0, 241, free=["hold"], rtol=RTOL, atol=1e-12)
+    e = sw.energy()["total"]
+    swing = sw["Th2"]
+    assert swing.max() - swing.min() > 0.5                   # it swings
+    assert np.count_nonzero(np.diff(np.sign(sw["Th2d"][1:])) != 0) >= 6
+    assert np.abs(e - e[0]).max() <= 1e-8 * np.abs(sw.energy()["kinetic"]).max()
+    rows = [i for i, lab in enumerate(mech.constraint_labels) if lab not in sw.free]
+    worst = max(np.abs(_phi(mech, sw.Q[k], sw.t[k])[rows]).max() for k in range(len(sw)))
+    assert worst < 1e-10
+
+
+# -- a double pendulum: the first link driven, the second free ------------------------------
+LA, LB, MA, MBB, JA, JBB = 1.0, 0.8, 1.5, 1.0, 0.12, 0.06
+WA = 2.0
+
+
+def double_pendulum():
+    m = Model("sim_double")
+    base = m.ground("base", points=[(0, 0)])
+    a = m.body("a", points=[(0, 0), (LA, 0)], guess=(0, 0, 0.0), mass=MA, inertia=JA,
+               centroid=(LA / 2, 0))
+    b = m.body("b", points=[(0, 0), (LB, 0)], guess=(LA, 0, -1.0), mass=MBB, inertia=JBB,
+               centroid=(LB / 2, 0))
+    m.revolute(base[1], a[1])
+    m.revolute(a[2], b[1])
+    m.rotation_lock(a, WA * T, name="arm")
+    w = m.param("w", 0.0)
+    m.rotation_lock(b, a, -1.0 + w * T, name="elbow")
+    m.gravity(G)
+    return m
+
+
+def test_a_driven_arm_with_a_free_elbow(tmp_path):
+    """Lagrange for θ1 (driven at WA), θ2 free: τ1 = (JA + MA c1² + MB LA²) θ̈1
+    + MB LA c2 (θ̈2 cos(θ1 − θ2) + θ̇2² sin(θ1 − θ2)) + (MA c1 + MB LA) g cos θ1, with
+    c1 = LA/2, c2 = LB/2, θ̈1 = 0; and θ2's own equation holds on the simulated motion."""
+    mech = _compile(double_pendulum(), tmp_path)
+    sw = mech.simulate(0.0, 2.0, 101, free=["elbow"], rtol=RTOL, atol=1e-12)
+    t1, t2 = sw["Th2"], sw["Th3"]
+    d2, dd2 = sw["Th3d"], sw["Th3dd"]
+    c1, c2 = LA / 2, LB / 2
+    np.testing.assert_allclose(t1, WA * sw.t, atol=1e-10)
+    tau = MBB * LA * c2 * (dd2 * np.cos(t1 - t2) + d2 ** 2 * np.sin(t1 - t2)) + \
+        (MA * c1 + MBB * LA) * G * np.cos(t1)
+    got = sw.driver("arm")
+    np.testing.assert_allclose(got, tau, rtol=1e-8, atol=1e-8 * np.abs(tau).max())
+    # θ2: (JB + MB c2²) θ̈2 + MB LA c2 (θ̈1 cos(θ1 − θ2) − θ̇1² sin(θ1 − θ2)) + MB c2 g cos θ2 = 0
+    res = (JBB + MBB * c2 ** 2) * dd2 - MBB * LA * c2 * WA ** 2 * np.sin(t1 - t2) + \
+        MBB * c2 * G * np.cos(t2)
+    assert np.abs(res).max() < 1e-8
+
+
+def test_simulate_refuses_what_it_cannot_do(tmp_path):
+    mech = _compile(pendulum(), tmp_path)
+    with pytest.raises(ValueError, match="no constraint 'nope'"):
+        mech.simulate(0, 1, 11, free=["nope"])
+    with pytest.raises(ValueError, match="is not a driver"):
+        mech.simulate(0, 1, 11, free=[1])
+    plain = mechgen.compile(Model_without_loads(), outdir=str(tmp_path / "plain"),
+                            tier="python")
+    with pytest.raises(ValueError, match="no masses and no loads"):
+        plain.simulate(0, 1, 11, free=["hold"])
+
+
+def Model_without_loads():  # noqa: N802 - a model factory
+    m = Model("sim_no_loads")
+    base = m.ground("base", points=[(0, 0)])
+    bar = m.body("bar", points=[(0, 0), (1, 0)], guess=(0, 0, 0))
+    m.revolute(base[1], bar[1])
+    m.rotation_lock(bar, T, name="hold")
+    return m
