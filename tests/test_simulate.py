@@ -197,3 +197,36 @@ def Model_without_loads():  # noqa: N802 - a model factory
     m.revolute(base[1], bar[1])
     m.rotation_lock(bar, T, name="hold")
     return m
+
+
+PENDULUM_FILE = '''
+from mechgen import Model, T
+m = Model("cli_pendulum")
+base = m.ground("base", points=[(0, 0)])
+bar = m.body("bar", points=[(0, 0), (1.2, 0)], guess=(0, 0, -0.3), mass=2.0, inertia=0.15,
+             centroid=(0.6, 0))
+m.revolute(base[1], bar[1])
+w = m.param("w", 0.0)
+m.rotation_lock(bar, -0.3 + w * T, name="hold")
+m.gravity(9.807)
+'''
+
+
+def test_the_command_line_writes_the_simulated_motion(tmp_path, monkeypatch, capsys):
+    import csv
+    from mechgen.cli import main
+    model = tmp_path / "pend.py"
+    model.write_text(PENDULUM_FILE)
+    monkeypatch.chdir(tmp_path)
+    out = tmp_path / "motion.csv"
+    rc = main(["simulate", str(model), "--free", "hold", "--t1", "2", "-n", "21",
+               "--rtol", "1e-10", "-o", str(out)])
+    assert rc in (0, None)
+    assert "simulated 21 times" in capsys.readouterr().err
+    rows = list(csv.DictReader(open(out)))
+    th = np.array([float(r["Th2"]) for r in rows])
+    JO = 0.15 + 2.0 * 0.6 ** 2
+    ref = solve_ivp(lambda t, y: [y[1], -2.0 * 9.807 * 0.6 * math.cos(y[0]) / JO], (0, 2),
+                    [-0.3, 0.0], method="DOP853", rtol=1e-12, atol=1e-14,
+                    t_eval=np.linspace(0, 2, 21))
+    assert np.abs(th - ref.y[0]).max() < 1e-7

@@ -14,7 +14,7 @@ import sys
 from ..errors import MechgenError
 from ..protocol import LEVELS
 from .tables import FORCE_LEVELS
-from . import forces_command, plot_commands, solve_commands
+from . import forces_command, plot_commands, simulate_command, solve_commands
 from .loading import models
 from .options import module_folder, number_type
 
@@ -132,6 +132,7 @@ def parser() -> argparse.ArgumentParser:
     solve_commands.add_commands(sub, _add_common, _add_solve_opts)
     plot_commands.add_commands(sub, _add_common)
     forces_command.add_command(sub, _add_common)
+    simulate_command.add_command(sub, _add_common)
     return ap
 
 
