@@ -7,6 +7,7 @@ ground bars across gears and cams, a cam's pivot without its symbol).
 Every expected value is computed here from the geometry (math.atan2, circle
 intersections), never taken from mechgen."""
 import math
+import os
 
 import matplotlib
 
@@ -21,6 +22,8 @@ from matplotlib.patches import Polygon  # noqa: E402
 import mechgen  # noqa: E402
 from mechgen import Model, T, cos, pi, sin  # noqa: E402
 from mechgen.compiler.check import check_report  # noqa: E402
+from mechgen.model.loader import load_model  # noqa: E402
+from conftest import ROOT  # noqa: E402
 
 R1, R2, COUPLER, CRANK = 2.0, 1.0, 3.0, 1.0     # gear ratio -R1/R2 = -2
 
@@ -276,3 +279,29 @@ def test_quick_return_assemblies_against_closed_form(qr, t):
                                                            abs=1e-9)
     for s in modes:
         assert same_angle(s["Th3"], math.atan2(C[1], C[0]) - math.pi / 2)
+
+
+def test_a_gear_train_has_one_meshing_at_a_time():
+    """examples/gear_train.py (A drives BC, BC drives D whose centre slides along x): the
+    wrapped rolling rows vanish on every meshing whole turns of the centre line apart
+    (14 "modes" before); at one time, with A where its driver puts it, only the meshing
+    that Mech's relation r1 (Th1 − β) + r2 (Th2 − β) = c gives is this mechanism: D right
+    of C (X4 = 8) exactly once, with Th3 = −rA Th2/rB and Th4 = −rC Th3/rD (β = 0)."""
+    mech = mechgen.load(os.path.join(ROOT, "generated", "gear_train.py"))
+    t = 0.1
+    right = [s for s in mech.assemblies(t) if abs(s["X4"] - 8.0) < 1e-9]
+    assert len(right) == 1
+    th2 = 2 * math.pi * t
+    th3 = -1.0 * th2 / 3.0
+    th4 = -1.5 * th3 / 2.5
+    assert math.remainder(right[0]["Th3"] - th3, 2 * math.pi) == pytest.approx(0, abs=1e-9)
+    assert math.remainder(right[0]["Th4"] - th4, 2 * math.pi) == pytest.approx(0, abs=1e-9)
+    text, ok = check_report(load_model(os.path.join(ROOT, "examples", "gear_train.py")), t)
+    assert ok
+    table = text.split("    mode  X4", 1)[1].splitlines()[1:]
+    rows = []
+    for line in table:
+        if not line.strip()[:1].isdigit():
+            break
+        rows.append(line.split())
+    assert sum(1 for r in rows if abs(float(r[1]) - 8.0) < 1e-6) == 1, text

@@ -14,7 +14,9 @@ import sympy as sp
 
 from ..model.geometry import T
 from ..model.symbolic import rank_analysis
+from ..turns import meshed_alike, turn_coefficients
 from .blocks import sort_blocks
+from .equations_code import mesh_counts
 
 TOL = 1e-9          # max |Φ| below which a configuration counts as assembled
 STARTS = 128        # quasi-random starts of the assembly-mode search
@@ -163,7 +165,30 @@ def _is_flip(a, b, periodic, same):
     return bool(flipped) and np.max(np.abs(rest), initial=0.0) <= same
 
 
-def assembly_modes(system, guess, periodic, starts=STARTS, first=None, turns=()):
+class Meshing:
+    """Whether two assemblies mesh their gears alike (mechgen.turns): the mesh counts of
+    the model's gear rows as a numpy function of q, the driver rows (those holding T)."""
+
+    def __init__(self, eq, params, t, system):
+        counts = mesh_counts(eq)
+        self.t, self.params, self.system = float(t), list(params), system
+        self._f = sp.lambdify((list(eq.q), list(eq.params), T), [e for _, e in counts],
+                              modules="numpy")
+        self.drivers = [i for i in range(eq.phi.rows) if T in eq.phi[i].free_symbols]
+
+    def counts(self, q):
+        return np.array(self._f(list(q), self.params, self.t), dtype=float)
+
+    def alike(self, q, ref, turns):
+        turns = sorted(turns)
+        C = turn_coefficients(self.counts, np.asarray(ref, dtype=float), turns)
+        J = self.system(ref)[1]
+        D = J[np.ix_(self.drivers, turns)] if self.drivers else np.zeros((0, len(turns)))
+        return meshed_alike(self.counts(ref), self.counts(q), C, D)
+
+
+def assembly_modes(system, guess, periodic, starts=STARTS, first=None, turns=(),
+                   meshing=None):
     """Every distinct assembly found at the system's time from the guess and from
     ``starts`` quasi-random starts (angles over [−π, π), positions within the model's size
     of the guess; ``first`` is the solution Newton reaches from the guess, when known), as
@@ -218,6 +243,11 @@ def assembly_modes(system, guess, periodic, starts=STARTS, first=None, turns=())
                 w = v
         return w
 
+    if meshing is not None and reached is not None:     # one meshing of the gears
+        keep = [k for k, w in enumerate(found) if k == reached or
+                meshing.alike(w, found[reached], turns)]
+        reached = keep.index(reached)
+        found = [found[k] for k in keep]
     modes, mode = [], None
     for k, w in enumerate(found):
         w = w if k == reached else turned(w)
@@ -373,8 +403,11 @@ class _Check:
         none."""
         t, periodic, lines = self.t, self.periodic, self.lines
         q, residual, its, converged = self.first
+        meshing = Meshing(self.eq, self.model.param_defaults.values(), t, self.system) \
+            if mesh_counts(self.eq) else None
         modes, reached = assembly_modes(self.system, self.guess, periodic, self.starts,
-                                        first=q if converged else None, turns=self.shown)
+                                        first=q if converged else None, turns=self.shown,
+                                        meshing=meshing)
         if not modes:
             return self.contradiction()
         target = wrap(self.guess, periodic)

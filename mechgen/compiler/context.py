@@ -17,8 +17,8 @@ from ..model.stages import constraint_table, stages_context
 from ..model.symbolic import check_square
 from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
-from .equations_code import (gamma_body, nu_body, outputs_bodies, phi_body, phi_q_body,
-                             point_list, points_body)
+from .equations_code import (gamma_body, mesh_turns_body, nu_body, outputs_bodies, phi_body,
+                             phi_q_body, point_list, points_body)
 from .forces_code import force_blocks, forces_bodies, multipliers_point_body
 from .ir import Options, code_words, render, symbols
 from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
@@ -60,6 +60,9 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     put("nu", nu_body(plan, eq))
     put("gamma", gamma_body(plan, eq))
     put("points_code", points_body(plan, eq, points))
+    meshes = mesh_turns_body(plan, eq)
+    if meshes is not None:
+        put("mesh_turns", meshes[:2])
     derivatives = None
     if plan.sorted:
         put("position_sorted", position_body(plan, eq))
@@ -107,6 +110,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         outputs=list(plan.outputs), output_orders=orders,
         phi=text("phi"), phi_q=text("phi_q"), nu=text("nu"), gamma=text("gamma"),
         points_code=text("points_code"),
+        mesh_turns=text("mesh_turns"), mesh_rows=meshes[2] if meshes else [],
         outputs_code=[text(("outputs", k)) for k in range(3)],
         sorted=plan.sorted,
         blocks=[dict(kind=b.kind, method=b.method, summary=summary(b, eq.q),

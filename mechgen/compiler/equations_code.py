@@ -22,7 +22,8 @@ TITLES = {"phi": "Φ, a row per constraint equation", "phi_q": "Φ_q, its nonzer
           "nu": "ν, its nonzero rows", "gamma": "γ, its nonzero rows",
           "points": "The points, (x, y) each", "outputs": "The outputs",
           "outputs_d": "Their first time derivatives",
-          "outputs_dd": "Their second time derivatives"}
+          "outputs_dd": "Their second time derivatives",
+          "mesh_turns": "The mesh counts, a gear row each (MESH_ROWS)"}
 
 
 def _sections(name, inputs, body):
@@ -141,3 +142,28 @@ def outputs_bodies(plan, eq, model):
         bodies.append(straight_line(plan, eq, st, fn, OUTPUT_ARGS, with_qd=True, with_qdd=True)
                       if st else ([Code("pass")], []))
     return bodies, orders
+
+
+def mesh_turns_body(plan, eq):
+    """(body, helpers, rows) of ``mesh_turns(q, t, p, out)``: for each row of Φ holding a
+    gear's wrapped rolling relation (mesh_angle(ux, uy, ψ, k)), (ψ − β)/2π unwrapped, β
+    the angle of k u: the whole turns of the centre line the gears have rolled through,
+    which the wrapped row cannot tell (it vanishes on every one). None without gears."""
+    counts = mesh_counts(eq)
+    if not counts:
+        return None
+    st = [Store(f"out[{k}]", expr, eq.labels[i]) for k, (i, expr) in enumerate(counts)]
+    body, helpers = straight_line(plan, eq, st, "mesh_turns")
+    return body, helpers, [i for i, _ in counts]
+
+
+def mesh_counts(eq) -> list:
+    """[(row, (ψ − β)/2π)] for every row of Φ holding a gear's wrapped rolling relation
+    (mesh_angle(ux, uy, ψ, k), β the angle of k u): mechgen.turns' mesh counts."""
+    out = []
+    for i in range(eq.phi.rows):
+        found = [f for f in eq.phi[i].atoms(sp.Function) if getattr(f, "wraps", False)]
+        if found:
+            ux, uy, psi, k = found[0].args
+            out.append((i, (psi - sp.atan2(k * uy, k * ux)) / (2 * sp.pi)))
+    return out

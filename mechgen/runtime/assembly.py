@@ -11,6 +11,7 @@ import weakref
 import numpy as np
 
 from ..protocol import OK, POINT_INFO_SIZE
+from ..turns import meshed_alike, turn_coefficients
 
 # angle_coordinates() of each mechanism, with the module and parameters it was found for
 _ANGLES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
@@ -91,6 +92,28 @@ def _wrap(q, angles):
     return q
 
 
+def _meshed_like(mech, t, q, ref, turns):
+    """Whether solution q meshes its gears as ref does (mechgen.turns): whole turns of the
+    angles, the drivers still holding, take ref's mesh counts to q's."""
+    mod = mech.module
+    counts_of = (lambda v: _mesh_counts(mod, v, t, mech.p))
+    C = turn_coefficients(counts_of, ref, turns)
+    J = mech.jacobian(ref, t)
+    rows, row = [], 0
+    for _, _, _, count, driver in mod.CONSTRAINTS:
+        if driver:
+            rows.extend(range(row, row + count))
+        row += count
+    D = J[np.ix_(rows, list(turns))] if rows else np.zeros((0, len(turns)))
+    return meshed_alike(counts_of(ref), counts_of(q), C, D)
+
+
+def _mesh_counts(mod, q, t, p):
+    out = np.empty(len(mod.MESH_ROWS))
+    mod.mesh_turns(q, t, p, out)
+    return out
+
+
 def _flip_of(a, b, angles, same):
     """True when b is a turned half a turn in some angle coordinates and equal elsewhere:
     the mirror root of a parallel or point-on-line condition (a slider reversed on its
@@ -155,6 +178,9 @@ def assemblies(mech, t, q_guess, starts, level, tol, method, flips=False):
             for j in others:
                 q[j] = q_guess[j] + size * (2 * u[j] - 1)
         attempt(q)
+    if guess_mode is not None and hasattr(mod, "mesh_turns"):
+        found = [w for w in found if w is guess_mode or
+                 _meshed_like(mech, t, w, guess_mode, turns)]
     if not flips and found:
         target = _wrap(q_guess, angles)
 
