@@ -488,7 +488,7 @@ def test_quick_return_power_balance_and_torque(tmp_path):
     assert np.abs(power["residual"]).max() <= 1e-9 * np.abs(power["drivers"]).max()
     bodies = {2: (2.0, 1.5, (1.5, 0.0)), 3: (5.0, 33.75, (0.0, 4.5)), 4: (3.0, 1.0, (1.0, 0.2))}
     expected = inertia_and_weight_power(sw, bodies)
-    cut = np.where(sw["X4d"] > 0, -500.0, 0.0)
+    cut = np.where(sw["X4d"] < 0, 500.0, 0.0)           # the slow (cutting) stroke
     expected -= cut * sw["X4d"]
     expected /= 2 * math.pi
     np.testing.assert_allclose(sw.driver("crank driver"), expected, rtol=1e-9,
