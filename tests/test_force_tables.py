@@ -24,7 +24,8 @@ MASSES = [1.0, 3.0, 5.5]
 
 @pytest.fixture(scope="module")
 def sc(tmp_path_factory):
-    return mechgen.compile(slider_crank(), outdir=str(tmp_path_factory.mktemp("sct")))
+    return mechgen.compile(slider_crank(), outdir=str(tmp_path_factory.mktemp("sct")),
+                           tier="python")
 
 
 def torque(t, mass4):

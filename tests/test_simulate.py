@@ -20,7 +20,7 @@ RTOL = 1e-10
 
 
 def _compile(model, tmp_path):
-    return mechgen.compile(model, outdir=str(tmp_path), tier="compiled")
+    return mechgen.compile(model, outdir=str(tmp_path), tier="python")
 
 
 def _phi(mech, q, t):
@@ -218,6 +218,7 @@ def test_the_command_line_writes_the_simulated_motion(tmp_path, monkeypatch, cap
     model = tmp_path / "pend.py"
     model.write_text(PENDULUM_FILE)
     monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("MECHGEN_TIER", "python")
     out = tmp_path / "motion.csv"
     rc = main(["simulate", str(model), "--free", "hold", "--t1", "2", "-n", "21",
                "--rtol", "1e-10", "-o", str(out)])
