@@ -231,3 +231,13 @@ def test_the_command_line_writes_the_simulated_motion(tmp_path, monkeypatch, cap
                     [-0.3, 0.0], method="DOP853", rtol=1e-12, atol=1e-14,
                     t_eval=np.linspace(0, 2, 21))
     assert np.abs(th - ref.y[0]).max() < 1e-7
+
+
+def test_a_released_driver_has_no_force_columns(tmp_path):
+    """Its multiplier is 0 by construction: a column of zeros would read as a measured
+    effort."""
+    mech = _compile(pendulum(), tmp_path)
+    sw = mech.simulate(0.0, 0.5, 6, free=["hold"])
+    header, _ = sw.table()
+    assert not any(h.startswith("hold") for h in header)
+    assert any(h.startswith("1 on bar") for h in header)

@@ -114,9 +114,11 @@ class ForceSweep(Sweep):
         mech = self.mechanism
         names, arrays = [], []
         short = {}
+        free = set(getattr(self, "free", ()))     # a simulation's released drivers: no effort
         for number, kind, label, _, driver in mech.module.CONSTRAINTS:
             short[label] = _name_of(label, kind) or str(number)
-            if driver:
+            rows = tables(mech).constraint(label, mech)[1]
+            if driver and not all(mech.constraint_labels[r] in free for r in rows):
                 try:
                     arrays.append(self.driver(label))
                 except ValueError:      # an effort this slice does not define: no column
@@ -127,6 +129,9 @@ class ForceSweep(Sweep):
         first = ForceSolution(mech, self.t[0], self.Q[0])
         first.lam = np.nan_to_num(self.LAM[0])
         for label, body in first.reactions():
+            if free and all(mech.constraint_labels[r] in free
+                            for r in tables(mech).constraint(label, mech)[1]):
+                continue
             r = self.reaction(label, on=body)
             for k, part in enumerate(("fx", "fy", "m")):
                 names.append(f"{short[label]} on {body} {part}")
