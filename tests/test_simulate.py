@@ -241,3 +241,27 @@ def test_a_released_driver_has_no_force_columns(tmp_path):
     header, _ = sw.table()
     assert not any(h.startswith("hold") for h in header)
     assert any(h.startswith("1 on bar") for h in header)
+
+
+def test_readme_quotes_the_press_example(capsys, monkeypatch, tmp_path):
+    """The README's press figures are what examples/press_motor_demo.py prints (its large
+    flywheel, run here in the plain tier: the same numbers)."""
+    import importlib.util
+    import os
+    import re
+    from conftest import ROOT
+    monkeypatch.setenv("MECHGEN_CACHE", str(tmp_path))
+    spec = importlib.util.spec_from_file_location(
+        "press_demo", os.path.join(ROOT, "examples", "press_motor_demo.py"))
+    demo = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(demo)
+    mech = mechgen.compile(os.path.join(ROOT, "examples", "press_motor.py"),
+                           outdir=str(tmp_path), tier="python")
+    demo.run(mech, 2.0)
+    out = capsys.readouterr().out
+    text = open(os.path.join(ROOT, "README.md"), encoding="utf-8").read()
+    section = text.split("\n## Motion under forces\n", 1)[1].split("\n## ", 1)[0]
+    figures = re.findall(r"\d+\.\d+", out.split(";", 1)[1])
+    assert len(figures) >= 5
+    missing = [x for x in figures if x not in section]
+    assert not missing, f"README does not quote the demo's {missing}"
