@@ -265,3 +265,17 @@ def test_readme_quotes_the_press_example(capsys, monkeypatch, tmp_path):
     assert len(figures) >= 5
     missing = [x for x in figures if x not in section]
     assert not missing, f"README does not quote the demo's {missing}"
+
+
+def test_a_stalling_press_stops_with_a_clear_error(monkeypatch, tmp_path):
+    """Pressing 6000 N, the ram stalls on the work: the pressing force switches off as
+    the ram stops and on as it moves, and the integrator would spend its steps there for
+    ever. It stops after a budget of evaluations, naming the time."""
+    import os
+    from conftest import ROOT
+    import mechgen.runtime.forces.simulate as simulation
+    monkeypatch.setattr(simulation, "INTERVAL_EVALUATIONS", 3000)
+    mech = mechgen.compile(os.path.join(ROOT, "examples", "press_motor.py"),
+                           outdir=str(tmp_path), tier="python").with_params(press=6000.0)
+    with pytest.raises(mechgen.ConvergenceError, match=r"stalled near t=0\.14"):
+        mech.simulate(0.0, 0.3, 4, free=["crank driver"])

@@ -33,6 +33,15 @@ from .sweep import ForceSweep
 
 PROJECT_TOL = 1e-12     # |Φ_C| (relative to the mechanism's size) after the projection
 PROJECT_MAXIT = 25
+INTERVAL_EVALUATIONS = 200_000  # evaluations between two output times before giving up
+
+
+class _Stalled(Exception):
+    """The integrator spends its steps at one time (a load switching on and off)."""
+
+    def __init__(self, t):
+        super().__init__(t)
+        self.t = float(t)
 
 
 class _System:
@@ -55,6 +64,7 @@ class _System:
                                  "driver (its equations do not hold T)")
             self.keep[list(rows)] = False
         self.c = int(self.keep.sum())
+        self.calls = 0
         self.J = np.empty((self.m, self.n))
         self.r = np.empty(self.m)
 
@@ -71,6 +81,9 @@ class _System:
 
     def rhs(self, t, y):
         n = self.n
+        self.calls += 1
+        if self.calls > INTERVAL_EVALUATIONS:
+            raise _Stalled(t)
         qdd, _ = self.accelerations(y[:n], y[n:], t)
         return np.concatenate([y[n:], qdd])
 
@@ -137,8 +150,18 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
     QDD[0], LAM[0] = system.accelerations(q, qd, t_start)
     steps = evaluations = 0
     for k in range(1, N):
-        sol = solve_ivp(system.rhs, (float(ts[k - 1]), float(ts[k])), np.concatenate([q, qd]),
-                        method=method, rtol=rtol, atol=atol, max_step=max_step)
+        system.calls = 0
+        try:
+            sol = solve_ivp(system.rhs, (float(ts[k - 1]), float(ts[k])),
+                            np.concatenate([q, qd]), method=method, rtol=rtol, atol=atol,
+                            max_step=max_step)
+        except _Stalled as stall:
+            raise ConvergenceError(
+                f"simulate: model '{mech.name}': the integration stalled near t="
+                f"{stall.t:.9g} ({INTERVAL_EVALUATIONS:,} evaluations between the outputs "
+                f"at {ts[k - 1]:.6g} and {ts[k]:.6g}): a load that switches on and off there "
+                "(a press stalling on its work, say) chatters; smooth it, or change the "
+                "loads", t=stall.t) from None
         evaluations += sol.nfev
         steps += max(len(sol.t) - 1, 0)
         if sol.status != 0:
