@@ -279,3 +279,15 @@ def test_a_stalling_press_stops_with_a_clear_error(monkeypatch, tmp_path):
                            outdir=str(tmp_path), tier="python").with_params(press=6000.0)
     with pytest.raises(mechgen.ConvergenceError, match=r"stalled near t=0\.14"):
         mech.simulate(0.0, 0.3, 4, free=["crank driver"])
+
+
+def test_a_given_start_is_made_consistent_and_said_so(tmp_path):
+    """q0 off the constraints (the pendulum's pin pulled 1 cm off its pivot), qd0 at rest:
+    projected back with a warning, then the swing from there; a wrong qd0 is refused."""
+    mech = _compile(pendulum(), tmp_path)
+    with pytest.warns(UserWarning, match="made consistent"):
+        sw = mech.simulate(0.0, 1.0, 11, free=["hold"], q0={"X2": 0.01, "Y2": 0.0,
+                                                            "Th2": -0.3})
+    assert abs(sw["X2"][0]) < 1e-12 and sw["Th2d"][0] == 0.0
+    with pytest.raises(ValueError, match="qd0 must be 3 finite velocities"):
+        mech.simulate(0.0, 1.0, 11, free=["hold"], qd0=[0.0, 1.0])

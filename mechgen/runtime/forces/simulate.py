@@ -103,7 +103,9 @@ class _System:
         for _ in range(PROJECT_MAXIT):
             r = self.residual(q, t)
             if not np.all(np.isfinite(r)):
-                break
+                raise ConvergenceError(f"simulate: model '{self.mech.name}' at t={t:.9g}: "
+                                       "the constraints are not finite at the state reached",
+                                       t=float(t))
             if np.max(np.abs(r), initial=0.0) <= PROJECT_TOL * size:
                 break
             q -= np.linalg.lstsq(self.jacobian(q, t), r, rcond=None)[0]
@@ -126,14 +128,16 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
     ts = sweep_times(t0, t1, n)
     system = _System(mech, free)
     t_start = float(ts[0])
-    if q0 is None:
+    if q0 is None:                  # the drivers' state at t0, all of them still acting
         kin = mech.solve(t_start, level="velocity")
         q, qd = kin.q.copy(), kin.qd.copy()
     else:
-        q = mech._start(q0)
-        qd = np.zeros(mech.n) if qd0 is None else np.asarray(qd0, dtype=float).copy()
-    if qd0 is not None and q0 is None:
-        qd = np.asarray(qd0, dtype=float).copy()
+        q, qd = mech._start(q0), np.zeros(mech.n)
+    if qd0 is not None:
+        qd = np.asarray(qd0, dtype=float).reshape(-1).copy()
+        if qd.shape != (mech.n,) or not np.all(np.isfinite(qd)):
+            raise ValueError(f"simulate: qd0 must be {mech.n} finite velocities (one per "
+                             f"coordinate: {', '.join(mech.coordinates)})")
     size = 1.0 + float(np.max(np.abs(mech.points_at(q, t_start))))
     qd_in = qd.copy()
     q, qd, moved = system.project(q, qd, t_start, size)
