@@ -139,10 +139,9 @@ def _solve_forces(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, Q, QD, 
     done = np.zeros(D, dtype=np.int64)
     status = np.zeros(D, dtype=np.int64)
     red = [np.empty((D, slots.shape[0])) for _ in range(4)]
-    cut = (lambda a, lo, hi: None if a is None else a[lo:hi])
     for a in range(0, D, step):
         b = min(D, a + step)
-        part = [cut(x, 0, b - a) for x in (Q, QD, QDD, INFO)]
+        part = [None if x is None else x[:b - a] for x in (Q, QD, QDD, INFO)]
         done[a:b] = sweep_chunk(module, ts, q0, P[a:b], lev, tol, xtol, maxit, meth, *part)
         status[a:b] = design_status(part[3], done[a:b], N)
         for arr, got in zip(red, reduce_chunk(module, slots, ts, P[a:b], *part[:3], done[a:b])):

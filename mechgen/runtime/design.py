@@ -22,10 +22,10 @@ from ..protocol import LEVEL, LEVELS
 from .backends import progress_reporter, run_backend
 from .guards import finite, fits, point_bytes, sweep_times
 from .quantity import _lookup, column_names
-from .forces import attach, is_force_level, solve_points
+from .forces import attach, is_force_level
 from .forces.lookup import tables
-from .forces.points import driver_rows, efforts, has_forces
-from .reduce import DRIVER, Reduction, reduce_chunk, reduce_slots, status_name
+from .reduce import (DRIVER, Reduction, driver_efforts, driver_slot, reduce_chunk,
+                     reduce_slots, status_name)
 from .results import Sweep, pandas, write_csv
 
 ON_FAIL = ("warn", "raise", "ignore")
@@ -218,24 +218,10 @@ class DesignTable:
         if not is_driver:
             raise ValueError(f"constraint {label!r} of model '{mech.name}' is not a driver "
                              "(its equations do not hold T)")
-        rows, cols = driver_rows(mech.module)[label]
-        N = len(self.t)
-        out = np.full((len(self), N), np.nan)
-        for d in range(len(self)):
-            k = int(self.done[d])
-            if not k:
-                continue
-            if not has_forces(mech.module):
-                out[d, :k] = 0.0
-                continue
-            if cols is None:
-                raise ValueError(f"driver {label!r}: its effort is not defined (no driver row)")
-            pts = solve_points(mech.module, self.t[:k], self.Q[d, :k],
-                               None if self.QD is None else self.QD[d, :k],
-                               None if self.QDD is None else self.QDD[d, :k], self.P[d],
-                               self.force_level, extras=False)
-            out[d, :k] = efforts(pts.LAM, pts.FACTORS, rows, cols)
-        return out.reshape(self.shape + (N,))
+        _, index, _ = driver_slot(mech, label, self.force_level)
+        out = driver_efforts(mech.module, self.t, self.P, self.Q, self.QD, self.QDD,
+                             self.done, index, self.force_level)
+        return out.reshape(self.shape + (len(self.t),))
 
     @property
     def sweeps(self) -> list:

@@ -121,6 +121,13 @@ def reduce_chunk(module, slots, ts, P, Q, QD, QDD, done):
     return mn, mx, tmn, tmx
 
 
+def driver_efforts(module, ts, P, Q, QD, QDD, done, index, level) -> np.ndarray:
+    """(designs, times): the effort of the driver CONSTRAINTS[index] at every point the
+    designs solved, at force level ``level`` (NaN elsewhere)."""
+    return _efforts(module, _forces(module, ts, P, Q, QD, QDD, done, level), index,
+                    Q.shape[0], ts.shape[0])
+
+
 def _forces(module, ts, P, Q, QD, QDD, done, level):
     """forces.points.solve_points for every design over the times it solved (None for a
     design that solved none)."""

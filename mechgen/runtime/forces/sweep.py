@@ -199,7 +199,7 @@ class ForceSweep(Sweep):
         return out
 
 
-def attach(sw, level, indeterminate_from=None) -> "ForceSweep":
+def attach(sw, level) -> "ForceSweep":
     """The kinematic sweep ``sw`` (at acceleration for "dynamic", position for "static")
     with λ at every point, as a ForceSweep; warns where the force balance has no
     solution."""
