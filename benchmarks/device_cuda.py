@@ -2,7 +2,10 @@
 backend="cuda" design tables of the quick-return beside the hand-written kernel of
 benchmarks/bench_cuda.py, at 10^5 designs × 10^3 times, positions and all levels, then
 10^6 designs × 10^3 times in positions; each with its difference from the hand kernel
-and from the CPU design table on a sample of designs.
+and from the CPU design table on a sample of designs. Then a force table: the peak crank
+torque of 10^4 designs of examples/quick_return_forces.py × 10^3 times at level
+"dynamic" (kernel for the kinematics, host for the multipliers) beside the same table on
+the CPU's cores, and their largest difference.
 
     PYTHONPATH=. MECHGEN_TIER=compiled python3 benchmarks/device_cuda.py [--quick]
 """
@@ -24,12 +27,41 @@ if not hasattr(np, "row_stack"):
 import bench_cuda  # noqa: E402
 
 
+def forces(designs=10_000, times=1000):
+    """backend="cuda" against backend="cpu" for reduce= on the crank driver, dynamic."""
+    import mechgen
+    mech = mechgen.load(os.path.join(os.path.dirname(HERE), "generated",
+                                     "quick_return_forces.py"))
+    kw = dict(params={"longitud": np.linspace(2.2, 3.5, designs)}, level="dynamic",
+              reduce=["crank driver", "X4"], on_fail="ignore")
+    mech.sweep(0.0, 1.0, 8, backend="cuda", **dict(kw, params={"longitud": [2.5, 3.0]}))
+    mech.sweep(0.0, 1.0, 8, **dict(kw, params={"longitud": [2.5, 3.0]}))
+    out = {}
+    for backend in ("cuda", "cpu"):
+        t0 = time.perf_counter()
+        out[backend] = mech.sweep(0.0, 1.0, times, backend=backend, **kw)
+        out[backend + "_s"] = time.perf_counter() - t0
+    a, b = out["cuda"], out["cpu"]
+    diff = {n: max(float(np.nanmax(np.abs(getattr(a.reduced(n), w) - getattr(b.reduced(n), w))))
+                   for w in ("min", "max")) for n in kw["reduce"]}
+    scale = float(np.nanmax(np.abs(b.reduced("crank driver").max)))
+    pts = designs * times
+    print(f"{designs} designs x {times} times, dynamic, reduce crank driver: cuda "
+          f"{out['cuda_s']:.3g} s ({pts / out['cuda_s']:.3g} points/s), cpu "
+          f"{out['cpu_s']:.3g} s ({pts / out['cpu_s']:.3g} points/s, {os.cpu_count()} cores), "
+          f"cpu/cuda time {out['cpu_s'] / out['cuda_s']:.3g}; max|cuda-cpu| torque "
+          f"{diff['crank driver']:.3g} on a scale of {scale:.3g}, X4 {diff['X4']:.3g}; "
+          f"statuses differing {int(np.sum(a.status != b.status))}", flush=True)
+
+
 def main():
     runs = [(100_000, 1000, "position"), (100_000, 1000, "acceleration"),
             (1_000_000, 1000, "position")]
     if "--quick" in sys.argv:
         runs = runs[:2]
-    for designs, times, level in runs:
+    if "--forces" in sys.argv:
+        runs = []
+    for i, (designs, times, level) in enumerate(runs):
         t0 = time.perf_counter()
         r = bench_cuda.measure(designs, times, sample=300, rounds=3, level=level)
         if r is None:
@@ -44,6 +76,10 @@ def main():
               f"{r['max_diff_gen_cpu']:.3g} on {r['sampled']} designs, statuses differing "
               f"{r['status_mismatches']}, failed {r['failed']}; "
               f"wall {time.perf_counter() - t0:.1f} s", flush=True)
+        if i == 1:
+            forces()
+    if not runs:
+        forces()
     return 0
 
 
