@@ -291,3 +291,66 @@ def test_a_given_start_is_made_consistent_and_said_so(tmp_path):
     assert abs(sw["X2"][0]) < 1e-12 and sw["Th2d"][0] == 0.0
     with pytest.raises(ValueError, match="qd0 must be 3 finite velocities"):
         mech.simulate(0.0, 1.0, 11, free=["hold"], qd0=[0.0, 1.0])
+
+
+# -- models with no driver: held at the guess, simulated from it ----------------------------
+def free_pendulum():
+    m = Model("sim_free_pendulum")
+    base = m.ground("base", points=[(0, 0)])
+    m.body("bar", points=[(0, 0), (L1, 0)], guess=(0, 0, -0.3), mass=MB, inertia=JB,
+           centroid=(L1 / 2, 0))
+    m.revolute(base[1], m.bodies["bar"][1])
+    m.gravity(G)
+    return m
+
+
+def test_a_model_without_a_driver_is_held_at_its_guess_and_swings_from_it(tmp_path):
+    """No driver, one degree of freedom: the build holds Th2 at its guess (a driver that
+    stands still, its effort the torque that holds the bar against gravity), and simulate
+    lets it go with no free= at all."""
+    mech = _compile(free_pendulum(), tmp_path)
+    assert mech.constraint_labels[-1] == "2 hold Th2: hold(Th2, -0.3)"
+    s = mech.solve(0.0, level="static")
+    assert s["Th2"] == -0.3
+    hold = MB * G * (L1 / 2) * math.cos(-0.3)
+    assert abs(s.driver("hold Th2") - hold) <= 1e-12 * hold
+    sw = mech.simulate(0.0, 3.0, 61, rtol=RTOL, atol=1e-12)
+    assert sw.free == ("2 hold Th2: hold(Th2, -0.3)",)
+    JO = JB + MB * (L1 / 2) ** 2
+    ref = solve_ivp(lambda t, y: [y[1], -MB * G * (L1 / 2) * math.cos(y[0]) / JO], (0, 3.0),
+                    [-0.3, 0.0], method="DOP853", rtol=1e-12, atol=1e-14, t_eval=sw.t)
+    assert np.abs(sw["Th2"] - ref.y[0]).max() < 1e-8
+
+
+def test_the_users_model_is_left_as_it_was_and_a_massless_one_still_needs_a_driver(tmp_path):
+    model = free_pendulum()
+    mechgen.compile(model, outdir=str(tmp_path), tier="python")
+    assert [c.kind for c in model.constraints] == ["revolute"]
+    bare = Model("sim_bare")
+    base = bare.ground("base", points=[(0, 0)])
+    bar = bare.body("bar", points=[(0, 0), (1, 0)], guess=(0, 0, 0))
+    bare.revolute(base[1], bar[1])
+    with pytest.raises(mechgen.ModelError, match="not square"):
+        mechgen.compile(bare, outdir=str(tmp_path / "bare"), tier="python")
+
+
+def free_four_bar():
+    m = swinging_four_bar()
+    m.constraints.pop()             # the "hold" driver: this four-bar has none
+    m._equations = None
+    m.name = "sim_free_fourbar"
+    return m
+
+
+def test_a_free_four_bar_swings_a_hundred_times_keeping_energy_and_constraints(tmp_path):
+    """Issue 22: a conservative four-bar, no driver, no damping, over 100 swings at rtol
+    1e-10: energy drift below 1e-8 of its kinetic swing, |Φ| below 1e-10 at every output."""
+    mech = mechgen.compile(free_four_bar(), outdir=str(tmp_path), tier="compiled")
+    sw = mech.simulate(0.0, 420.0, 2101, rtol=RTOL, atol=1e-12)
+    swings = np.count_nonzero(np.diff(np.sign(sw["Th2d"][1:])) != 0) // 2
+    assert swings >= 100
+    e = sw.energy()
+    assert np.abs(e["total"] - e["total"][0]).max() <= 1e-8 * np.abs(e["kinetic"]).max()
+    kept = [i for i, lab in enumerate(mech.constraint_labels) if "hold" not in lab]
+    worst = max(np.abs(_phi(mech, sw.Q[k], sw.t[k])[kept]).max() for k in range(len(sw)))
+    assert worst < 1e-10

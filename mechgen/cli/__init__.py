@@ -40,9 +40,10 @@ def cmd_build(args):
 
 
 def cmd_equations(args):
+    from ..model.holds import held
     from ..model.printing import equations_text
     for model in models(args):
-        sys.stdout.write(equations_text(model, numeric=args.numeric, latex=args.latex,
+        sys.stdout.write(equations_text(held(model), numeric=args.numeric, latex=args.latex,
                                         mathematica_style=args.mathematica))
 
 

@@ -13,6 +13,7 @@ import numpy as np
 import sympy as sp
 
 from ..model.geometry import T
+from ..model.holds import held
 from ..model.symbolic import rank_analysis
 from ..turns import meshed_alike, turn_coefficients
 from .blocks import sort_blocks
@@ -456,8 +457,16 @@ def check_report(model, t=0.0, starts=STARTS) -> tuple[str, bool]:
     at t (constraints that contradict each other, or a guess from which no mode is
     reached); redundant but consistent equations are reported, not failed.
     """
-    check = _Check(model, t, starts)
+    holding = held(model)
+    check = _Check(holding, t, starts)
     ok = check.run()
+    if holding is not model:
+        held_rows = [c.args_text.split(",")[0] for c in holding.constraints[
+            len(model.constraints):]]
+        check.lines.insert(1, f"  no driver for {', '.join(held_rows)}: held at the guess "
+                              "for the kinematics; mech.simulate releases "
+                              f"{'it' if len(held_rows) == 1 else 'them'} (motion under "
+                              "the model's forces)")
     return "\n".join(check.lines) + "\n", ok
 
 

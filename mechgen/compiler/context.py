@@ -14,6 +14,7 @@ import sympy as sp
 
 from ..model.geometry import T
 from ..model.stages import constraint_table, stages_context
+from ..model.holds import held
 from ..model.symbolic import check_square
 from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
@@ -33,6 +34,7 @@ from .sweep import sweep_fast_body, written_step
 def module_context(model, sort=True, level="acceleration", outputs=None, cse=True,
                    closed_forms="cheap") -> dict:
     """The render context of ``model``'s module for the given build options."""
+    model = held(model)       # masses or loads and no driver: its free coordinates held
     eq = model.equations()
     check_square(model, eq)   # fewer equations than coordinates: refuse to build
     plan = make_plan(model, eq, sort=sort, level=level, outputs=outputs, cse=cse,

@@ -112,6 +112,8 @@ def driver_factors(model, eq):
 
 def _factor(row, kind, coords):
     """∂Φ/∂f of one driver row (driver_factors)."""
+    if kind == "hold":
+        return sp.Integer(-1)               # q − value: the effort is the force along q
     if isinstance(row, sp.Piecewise):
         pieces = [(_factor(e, kind, coords), c) for e, c in row.args]
         if all(f == pieces[0][0] for f, _ in pieces):

@@ -57,6 +57,11 @@ class _System:
                              "nothing moves it (give its bodies mass=, inertia=)")
         if isinstance(free, str):
             free = [free]
+        # the rows the build added to hold a model's undriven coordinates at the guess
+        # (mechgen.model.holds) always let go: they are no drivers of the user's
+        for k, (_, kind, *_rest) in enumerate(mech.module.CONSTRAINTS):
+            if kind == "hold":
+                self.keep[list(tab.constraint(_rest[0], mech)[1])] = False
         for name in free or ():
             label, rows, driver = tab.constraint(name, mech)
             if not driver:
