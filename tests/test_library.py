@@ -464,3 +464,18 @@ def test_library_lints_clean():
     for name in library.FILES + ("toy.py", "__init__.py"):
         pyflakes.check(library.source(name), name, Reporter(out, out))
     assert out.getvalue() == ""
+
+
+def test_cholesky_solves_and_refuses_what_is_not_positive_definite():
+    rng = np.random.default_rng(7)
+    B = rng.normal(size=(6, 6))
+    A = B @ B.T + 0.1 * np.eye(6)
+    b = rng.normal(size=6)
+    L = A.copy()
+    assert linalg._cholesky(L, 1e-12)
+    x = b.copy()
+    linalg._cholesky_solve(L, x)
+    np.testing.assert_allclose(x, np.linalg.solve(A, b), rtol=1e-12, atol=1e-13)
+    A[3, :] = A[:, 3] = 0.0          # a coordinate without mass or inertia
+    assert not linalg._cholesky(A.copy(), 1e-12)
+    assert not linalg._cholesky(-np.eye(3), 1e-12)

@@ -128,6 +128,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
                  for h in helpers],
         inline=inline,
         forces=dict(force_terms=text("force_terms"), energies=text("energies"),
+                    mass_matrix=text("mass_matrix"),
                     driver_factors=text("driver_factors"), driver_rows=driver_rows,
                     point=text("multipliers_point"),
                     blocks=force_blocks(plan, eq))

@@ -21,6 +21,7 @@ from .printer import Local
 from .schedule import emit
 
 TITLES.update(force_terms="Q_a, Q_c and I, their nonzero entries",
+              mass_matrix="M of I = M q̈ + h, its nonzero entries",
               energies="Kinetic energy, potential energy, ∂V/∂t",
               driver_factors="∂Φ/∂f per driver row")
 
@@ -42,6 +43,11 @@ def forces_bodies(plan, eq, model):
     bodies["force_terms"] = straight_line(plan, eq, st, "force_terms",
                                           "q, qd, qdd, t, p, out", with_qd=True,
                                           with_qdd=True) if st else ([Code("pass")], [])
+    mass = dyn.inertial.jacobian(list(eq.qdd))
+    st = [Store(f"out[{i}, {j}]", mass[i, j], f"M {q[i]} {q[j]}")
+          for i in range(len(q)) for j in range(len(q)) if mass[i, j] != 0]
+    bodies["mass_matrix"] = straight_line(plan, eq, st, "mass_matrix") if st \
+        else ([Code("pass")], [])
     energy = [Store("out[0]", dyn.kinetic, "kinetic"), Store("out[1]", dyn.potential, "potential"),
               Store("out[2]", dyn.potential_t, "∂V/∂t")]
     bodies["energies"] = straight_line(plan, eq, energy, "energies", "q, qd, t, p, out",
