@@ -384,3 +384,22 @@ def test_the_three_ways_of_free_accelerations_agree(tmp_path, massless):
                                    atol=1e-11 * np.abs(out[1][0]).max())
         np.testing.assert_allclose(out[0][1], out[1][1], rtol=1e-11,
                                    atol=1e-11 * np.abs(out[1][1]).max())
+
+
+def test_the_command_line_moves_a_model_without_a_driver_and_draws_it(tmp_path, monkeypatch,
+                                                                     capsys):
+    from mechgen.cli import main
+    model = tmp_path / "free_pend.py"
+    model.write_text(PENDULUM_FILE.replace('w = m.param("w", 0.0)\n', "").replace(
+        'm.rotation_lock(bar, -0.3 + w * T, name="hold")\n', ""))
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+    rc = main(["simulate", str(model), "--t1", "1", "-n", "11", "-o", "m.csv",
+               "--plot", "Th2,Th2d", "--plot-file", "swing.png", "--animate", "swing.gif"])
+    assert rc in (0, None)
+    out = capsys.readouterr().out
+    assert "wrote swing.png (Th2, Th2d over 11 times)" in out
+    assert "wrote swing.gif (11 frames" in out
+    from PIL import Image
+    assert Image.open(tmp_path / "swing.png").size[0] > 300
+    assert Image.open(tmp_path / "swing.gif").n_frames == 11

@@ -406,7 +406,7 @@ class Mechanism:
         return run_sweep(self, ts, q0, lev, tol, maxit, meth, out, shared)
 
     def simulate(self, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
-                 method="DOP853", max_step=float("inf")):
+                 method="DOP853", max_step=float("inf"), progress=None):
         """Motion under forces (API.md §6): the drivers named in ``free`` stop
         prescribing their motion at t0, and from the state there (the kinematic solution
         at t0, or ``q0``/``qd0``, made consistent with the constraints still acting) the
@@ -414,10 +414,13 @@ class Mechanism:
         theirs; n output times from t0 to t1. ``rtol``, ``atol``, ``method`` (scipy's
         solve_ivp: "DOP853", "RK45", "Radau", "BDF", ...) set the integration. Returns a
         Sweep at level "dynamic" (mechgen.runtime.forces.simulate): power() and energy()
-        show what the integration conserved."""
+        show what the integration conserved. A model built without a driver for every
+        degree of freedom has its free coordinates held at the guess (``hold`` rows,
+        mechgen.model.holds): simulate always lets those go. ``progress(t)`` is called
+        after each output time is reached."""
         from .forces.simulate import simulate
         return simulate(self, t0, t1, n, free=free, q0=q0, qd0=qd0, rtol=rtol, atol=atol,
-                        method=method, max_step=max_step)
+                        method=method, max_step=max_step, progress=progress)
 
     def design_sweep(self, t0, t1, n, params, level="position", guess=None, method=None,
                      tol=None, maxit=None, times=None, progress=None, on_fail="warn",

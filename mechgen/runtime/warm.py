@@ -20,7 +20,7 @@ from ..protocol import LEVEL, LEVELS
 # in the order users need them: a position, its derivatives, a sweep (the quick path,
 # then the careful continuation), what pictures and diagnostics call, a design table
 STAGES = ("position", "derivatives", "sweep", "careful", "diagnostics", "design")
-STAGES_FOR = {"sweep": ("sweep",), "design": ("design",)}
+STAGES_FOR = {"sweep": ("sweep",), "design": ("design",), "simulate": ("simulate",)}
 
 
 def _top(mech):
@@ -72,8 +72,14 @@ def _design(mech, t):
                           level=_top(mech), on_fail="ignore")
 
 
+def _simulate(mech, t):
+    if getattr(mech.module, "FORCES", False):
+        mech.simulate(t, t + 1e-3, 2)
+
+
 _RUN = {"position": _position, "derivatives": _derivatives, "sweep": _sweep,
-        "careful": _careful, "diagnostics": _diagnostics, "design": _design}
+        "careful": _careful, "diagnostics": _diagnostics, "design": _design,
+        "simulate": _simulate}
 
 
 def warm(mech, stages=STAGES, t=0.0) -> list:

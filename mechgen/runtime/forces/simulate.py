@@ -33,7 +33,8 @@ from .sweep import ForceSweep
 
 PROJECT_TOL = 1e-12     # |Φ_C| (relative to the mechanism's size) after the projection
 PROJECT_MAXIT = 25
-INTERVAL_EVALUATIONS = 200_000  # evaluations between two output times before giving up
+INTERVAL_EVALUATIONS = 200_000
+SIMULATE_POINTS = 100_000   # what an integration is counted as, for the tiers' choice  # evaluations between two output times before giving up
 
 
 class _Stalled(Exception):
@@ -126,12 +127,15 @@ class _System:
 
 
 def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
-             method="DOP853", max_step=np.inf) -> ForceSweep:
+             method="DOP853", max_step=np.inf, progress=None) -> ForceSweep:
     """See Mechanism.simulate."""
     from scipy.integrate import solve_ivp
     from ..guards import sweep_times
     ts = sweep_times(t0, t1, n)
     system = _System(mech, free)
+    # an integration makes thousands of calls: in the python tier of "auto", compiled first
+    mech._tiers.expect(mech, SIMULATE_POINTS, "simulate")
+    system.mod = mech.module
     t_start = float(ts[0])
     if q0 is None:                  # the drivers' state at t0, all of them still acting
         kin = mech.solve(t_start, level="velocity")
@@ -180,6 +184,8 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
         q, qd, _ = system.project(y[:mech.n], y[mech.n:], ts[k], size)
         Q[k], QD[k] = q, qd
         QDD[k], LAM[k] = system.accelerations(q, qd, ts[k])
+        if progress is not None:
+            progress(float(ts[k]))
     out = ForceSweep.__new__(ForceSweep)
     out.__dict__.update(Sweep(mech, ts, Q, QD, QDD, np.zeros(N, dtype=np.int16)).__dict__)
     out.force_level = "dynamic"
