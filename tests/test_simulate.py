@@ -403,3 +403,45 @@ def test_the_command_line_moves_a_model_without_a_driver_and_draws_it(tmp_path, 
     from PIL import Image
     assert Image.open(tmp_path / "swing.png").size[0] > 300
     assert Image.open(tmp_path / "swing.gif").n_frames == 11
+
+
+def _hanging_four_bar(name, ground, a, b, c, th):
+    m = Model(name)
+    base = m.ground("base", points=[(0, 0), (ground, 0)])
+    crank = m.body("crank", points=[(0, 0), (a, 0)], guess=(0, 0, th), mass=1.0,
+                   inertia=0.1, centroid=(a / 2, 0))
+    coupler = m.body("coupler", points=[(0, 0), (b, 0)],
+                     guess=(a * math.cos(th), a * math.sin(th), -0.3), mass=1.0, inertia=0.1,
+                     centroid=(b / 2, 0))
+    rocker = m.body("rocker", points=[(0, 0), (c, 0)], guess=(ground, 0, 2.0), mass=1.0,
+                    inertia=0.1, centroid=(c / 2, 0))
+    m.revolute(base[1], crank[1])
+    m.revolute(crank[2], coupler[1])
+    m.revolute(coupler[2], rocker[2])
+    m.revolute(base[2], rocker[1])
+    m.gravity(G)
+    return m
+
+
+def test_a_free_swing_passes_the_cranks_toggle_and_stops_at_a_true_lock(tmp_path):
+    """A crank-rocker left to swing reaches the crank's toggle (coupler and rocker in
+    line: a dead centre only for a crank driver) and turns back through it, energy kept;
+    a parallelogram swinging down to its flat change point (every pin in line: the
+    constraints themselves lose rank) stops there with a SingularError naming the time
+    and the constraints."""
+    toggle = mechgen.compile(_hanging_four_bar("sim_toggle", 3.0, 1.0, 1.0, 1.5, 0.3),
+                             outdir=str(tmp_path / "a"), tier="python")
+    sw = toggle.simulate(0.0, 3.0, 61, rtol=RTOL, atol=1e-12)
+    # the toggle angle: |A − D| = coupler + rocker
+    reach = -math.acos((1.0 + 9.0 - 2.5 ** 2) / (2 * 3.0))
+    assert sw["Th2"].min() > reach and sw["Th2"].min() < reach + 0.05   # turned back close
+    e = sw.energy()["total"]
+    assert np.abs(e - e[0]).max() <= 1e-8 * np.abs(sw.energy()["kinetic"]).max()
+    flat = mechgen.compile(_hanging_four_bar("sim_flat", 2.0, 1.0, 2.0, 1.0, 0.8),
+                           outdir=str(tmp_path / "b"), tier="python")
+    with pytest.raises(mechgen.SingularError, match="lock there") as info:
+        flat.simulate(0.0, 3.0, 61, rtol=RTOL, atol=1e-12)
+    assert set(info.value.constraints) == {f"{k} {lab}" for k, lab in zip(
+        range(1, 5), ["revolute(base[1], crank[1])", "revolute(crank[2], coupler[1])",
+                      "revolute(coupler[2], rocker[2])", "revolute(base[2], rocker[1])"])}
+    assert "at t=0.42" in str(info.value)

@@ -78,12 +78,37 @@ class _System:
         qdd, lam = np.empty(self.n), np.empty(self.m)
         rank = self.mod.free_accelerations(q, qd, float(t), self.p, self.keep, qdd, lam)
         if rank < self.n + self.c:
+            constraints, why = self.why(q, t)
             raise SingularError(
                 f"simulate: model '{self.mech.name}' at t={t:.9g}: the equations of motion "
-                f"lose rank ({rank} of {self.n + self.c}): a lock or toggle position of the "
-                "constraints still acting, or redundant constraints", t=float(t),
-                constraints=(), level="dynamic", q=np.array(q))
+                f"lose rank ({rank} of {self.n + self.c}): {why}", t=float(t),
+                constraints=constraints, level="dynamic", q=np.array(q))
         return qdd, lam
+
+    def why(self, q, t):
+        """(constraints, text) of a rank loss of the equations of motion at (q, t): the
+        constraints still acting whose equations become dependent (a lock or toggle, or
+        redundant constraints), else the coordinates free to move without mass."""
+        from ..singular import _support, _unique, constraint_of_rows, scaled_jacobian
+        J = scaled_jacobian(self.mech, q, t)[self.keep]
+        rows = np.flatnonzero(self.keep)
+        u, sv, vt = np.linalg.svd(J)
+        k = J.shape[0]                           # the weakest direction of the rows kept
+        ratio = float(sv[k - 1] / sv[0]) if k and sv[0] > 0 else 0.0
+        M = np.empty((self.n, self.n))
+        self.mod.mass_matrix(np.asarray(q, dtype=float), float(t), self.p, M)
+        free = vt[k:].T                                      # motions the constraints allow
+        w, v = np.linalg.eigh(free.T @ M @ free) if free.shape[1] else (np.ones(1), None)
+        scale = max(float(np.abs(np.diag(M)).max(initial=0.0)), 1e-300)
+        if v is None or ratio <= float(w.min()) / scale:
+            owner = constraint_of_rows(self.mech)
+            names = _unique(owner[rows[i]] for i in _support(u[:, k - 1:k], axis=1))
+            return names, ("the constraints still acting lock there (or are redundant): "
+                           + "; ".join(names))
+        still = free @ v[:, :1]
+        coords = [self.mech.coordinates[j] for j in _support(still, axis=1)]
+        return (), ("a motion the constraints allow carries no mass or inertia (of "
+                    f"{', '.join(coords)}): give those bodies mass=, inertia=")
 
     def rhs(self, t, y):
         n = self.n
