@@ -127,7 +127,12 @@ class Sweep:
     rows; ``sw.status`` is each point's status code (protocol: OK, JUMP,
     THROUGH_SINGULAR) and ``sw.iterations`` its Newton iterations. ``sw.jumps`` and
     ``sw.crossings`` are the times a sweep reached by a branch jump or at or through a
-    singular configuration (Mechanism.sweep fills them in)."""
+    singular configuration (Mechanism.sweep fills them in). ``sw.simulation`` is how a
+    sweep of mech.simulate was integrated (its free drivers and tolerances), else None:
+    the exact values that extrema() and roots() refine come from integrating again
+    between its outputs, never from the kinematics."""
+
+    simulation = None
 
     def __init__(self, mech, t, Q, QD=None, QDD=None, status=None, report=None):
         self.mechanism = mech
@@ -255,6 +260,7 @@ class Sweep:
         QD, QDD = self.mechanism.solve_derivatives(self.t, self.Q, self.QD, self.QDD, lev)
         out = Sweep(self.mechanism, self.t, self.Q, QD, QDD, self._status, self._report)
         out.jumps, out.crossings = self.jumps, self.crossings
+        out.simulation = self.simulation
         return out
 
     # -- analysis (mechgen.runtime.interpolate, mechgen.runtime.events) ---------------------

@@ -223,4 +223,6 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
     out.indeterminate = ()
     out.free = tuple(mech.constraint_labels[i] for i in np.flatnonzero(~system.keep))
     out.steps, out.evaluations = steps, evaluations
+    out.simulation = dict(free=tuple(free) if not isinstance(free, str) else (free,),
+                          rtol=rtol, atol=atol, method=method, max_step=max_step)
     return out
