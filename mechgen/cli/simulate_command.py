@@ -95,8 +95,9 @@ def add_command(sub, common):
     p.add_argument("-n", type=int, default=101, help="output times, both ends (default 101)")
     p.add_argument("--rtol", type=float, default=1e-8, help="relative tolerance (1e-8)")
     p.add_argument("--atol", type=float, default=1e-10, help="absolute tolerance (1e-10)")
-    p.add_argument("--method", default="DOP853",
-                   help="scipy solve_ivp method: DOP853 (default), RK45, Radau, BDF, LSODA")
+    p.add_argument("--method", default="dopri5",
+                   help="dopri5 (default: Dormand-Prince 5(4), compiled in the module), or "
+                        "a scipy solve_ivp method: DOP853, RK45, Radau, BDF, LSODA")
     p.add_argument("-o", "--csv", metavar="FILE", dest="csv",
                    help="write the table to this CSV file instead of printing it")
     p.add_argument("--columns", action="append", metavar="NAMES",

@@ -406,13 +406,15 @@ class Mechanism:
         return run_sweep(self, ts, q0, lev, tol, maxit, meth, out, shared)
 
     def simulate(self, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
-                 method="DOP853", max_step=float("inf"), progress=None):
+                 method="dopri5", max_step=float("inf"), progress=None):
         """Motion under forces (API.md §6): the drivers named in ``free`` stop
         prescribing their motion at t0, and from the state there (the kinematic solution
         at t0, or ``q0``/``qd0``, made consistent with the constraints still acting) the
         mechanism moves under its masses and loads, the other drivers still prescribing
-        theirs; n output times from t0 to t1. ``rtol``, ``atol``, ``method`` (scipy's
-        solve_ivp: "DOP853", "RK45", "Radau", "BDF", ...) set the integration. Returns a
+        theirs; n output times from t0 to t1. ``rtol``, ``atol``, ``method`` set the
+        integration: "dopri5" (the default: the Dormand–Prince 5(4) pair of scipy's RK45,
+        compiled into the module with its right side, one call an output interval) or
+        any of scipy's solve_ivp ("DOP853", "RK45", "Radau" and "BDF" for stiff loads). Returns a
         Sweep at level "dynamic" (mechgen.runtime.forces.simulate): power() and energy()
         show what the integration conserved. A model built without a driver for every
         degree of freedom has its free coordinates held at the guess (``hold`` rows,

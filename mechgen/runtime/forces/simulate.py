@@ -34,7 +34,8 @@ from .sweep import ForceSweep
 PROJECT_TOL = 1e-12     # |Φ_C| (relative to the mechanism's size) after the projection
 PROJECT_MAXIT = 25
 INTERVAL_EVALUATIONS = 200_000
-SIMULATE_POINTS = 100_000   # what an integration is counted as, for the tiers' choice  # evaluations between two output times before giving up
+SIMULATE_POINTS = 100_000
+COMPILED = "dopri5"         # the module's own integrator (integrate_span)   # what an integration is counted as, for the tiers' choice  # evaluations between two output times before giving up
 
 
 class _Stalled(Exception):
@@ -151,10 +152,62 @@ class _System:
         return q, qd, float(np.max(np.abs(q - start), initial=0.0))
 
 
-def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
-             method="DOP853", max_step=np.inf, progress=None) -> ForceSweep:
-    """See Mechanism.simulate."""
+def _stalled(mech, t, t_a, t_b):
+    return ConvergenceError(
+        f"simulate: model '{mech.name}': the integration stalled near t={t:.9g} "
+        f"({INTERVAL_EVALUATIONS:,} evaluations between the outputs at {t_a:.6g} and "
+        f"{t_b:.6g}): a load that switches on and off there (a press stalling on its work, "
+        "say) chatters; smooth it, or change the loads", t=t)
+
+
+def _scipy_span(system, y, t_a, t_b, method, rtol, atol, max_step):
+    """(y at t_b, steps, evaluations) by scipy's solve_ivp."""
     from scipy.integrate import solve_ivp
+    system.calls = 0
+    try:
+        sol = solve_ivp(system.rhs, (t_a, t_b), y, method=method, rtol=rtol, atol=atol,
+                        max_step=max_step)
+    except _Stalled as stall:
+        raise _stalled(system.mech, stall.t, t_a, t_b) from None
+    if sol.status != 0:
+        raise ConvergenceError(f"simulate: model '{system.mech.name}': the integration "
+                               f"stopped at t={sol.t[-1]:.9g}: {sol.message}",
+                               t=float(sol.t[-1]))
+    return sol.y[:, -1], max(len(sol.t) - 1, 0), sol.nfev
+
+
+def _compiled_span(system, rtol, atol, max_step):
+    """A function (y, t_a, t_b) -> (y at t_b, steps, evaluations) by the module's
+    integrate_span (Dormand–Prince 5(4), compiled), carrying its step from one span to
+    the next."""
+    mod = system.mod
+    if not hasattr(mod, "integrate_span"):
+        raise ValueError(f"simulate: method={COMPILED!r} needs a module built by this "
+                         "version of mechgen (build the model again)")
+    stats = np.zeros(4)
+
+    def span(y, t_a, t_b):
+        y = np.array(y, dtype=np.float64)
+        code = mod.integrate_span(y, t_a, t_b, system.p, system.keep, float(rtol),
+                                  float(atol), float(max_step), INTERVAL_EVALUATIONS, stats)
+        t = float(stats[3])
+        if code == 1:
+            constraints, why = system.why(y[:system.n], t)
+            raise SingularError(f"simulate: model '{system.mech.name}' at t={t:.9g}: the "
+                                f"equations of motion lose rank: {why}", t=t,
+                                constraints=constraints, level="dynamic", q=y[:system.n])
+        if code == 2:
+            raise _stalled(system.mech, t, t_a, t_b)
+        if code == 3:
+            raise ConvergenceError(f"simulate: model '{system.mech.name}': the step fell "
+                                   f"below round-off at t={t:.9g}", t=t)
+        return y, int(stats[1]), int(stats[2])
+    return span
+
+
+def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
+             method=COMPILED, max_step=np.inf, progress=None) -> ForceSweep:
+    """See Mechanism.simulate."""
     from ..guards import sweep_times
     ts = sweep_times(t0, t1, n)
     system = _System(mech, free)
@@ -187,25 +240,16 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
     Q[0], QD[0] = q, qd
     QDD[0], LAM[0] = system.accelerations(q, qd, t_start)
     steps = evaluations = 0
+    span = _compiled_span(system, rtol, atol, max_step) if method == COMPILED else None
     for k in range(1, N):
-        system.calls = 0
-        try:
-            sol = solve_ivp(system.rhs, (float(ts[k - 1]), float(ts[k])),
-                            np.concatenate([q, qd]), method=method, rtol=rtol, atol=atol,
-                            max_step=max_step)
-        except _Stalled as stall:
-            raise ConvergenceError(
-                f"simulate: model '{mech.name}': the integration stalled near t="
-                f"{stall.t:.9g} ({INTERVAL_EVALUATIONS:,} evaluations between the outputs "
-                f"at {ts[k - 1]:.6g} and {ts[k]:.6g}): a load that switches on and off there "
-                "(a press stalling on its work, say) chatters; smooth it, or change the "
-                "loads", t=stall.t) from None
-        evaluations += sol.nfev
-        steps += max(len(sol.t) - 1, 0)
-        if sol.status != 0:
-            raise ConvergenceError(f"simulate: model '{mech.name}': the integration stopped "
-                                   f"at t={sol.t[-1]:.9g}: {sol.message}", t=float(sol.t[-1]))
-        y = sol.y[:, -1]
+        t_a, t_b = float(ts[k - 1]), float(ts[k])
+        if span is not None:
+            y, taken, calls = span(np.concatenate([q, qd]), t_a, t_b)
+        else:
+            y, taken, calls = _scipy_span(system, np.concatenate([q, qd]), t_a, t_b,
+                                          method, rtol, atol, max_step)
+        steps += taken
+        evaluations += calls
         q, qd, _ = system.project(y[:mech.n], y[mech.n:], ts[k], size)
         Q[k], QD[k] = q, qd
         QDD[k], LAM[k] = system.accelerations(q, qd, ts[k])
