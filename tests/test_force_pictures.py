@@ -423,3 +423,35 @@ def test_readme_quotes_the_worked_example(capsys, monkeypatch, tmp_path):
     assert not missing, f"README does not quote the demo's {missing}"
     ratio = float(re.search(r"at most (\S+) of the largest", out).group(1))
     assert ratio < 1e-12
+
+
+def test_springs_and_dampers_are_drawn_between_their_points_and_move_with_them(tmp_path):
+    """A spring drawn as a zigzag and a damper as a dashpot, each from its first point to
+    its second, in the drawn configuration and after update()."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from mechgen import Model, T
+    from mechgen.plot import draw
+    m = Model("drawn_loads")
+    base = m.ground("base", points=[(0, 0), (2, 1)])
+    bar = m.body("bar", points=[(0, 0), (1, 0)], guess=(0, 0, 0.3), mass=1, inertia=0.1)
+    m.revolute(base[1], bar[1])
+    m.rotation_lock(bar, 0.3 + T, name="turn")
+    m.spring(base[2], bar[2], 10.0, 1.0, name="k")
+    m.damper(base[2], bar[2], 2.0, name="c")
+    mech = mechgen.compile(m, outdir=str(tmp_path), tier="python")
+    assert mech.module.LOADS == (("k", "spring", (1, 3)), ("c", "damper", (1, 3)))
+    d = draw(mech, mech.solve(0.0))
+    for t in (0.0, 0.7):
+        s = mech.solve(t)
+        d.update(s)
+        P = s.points()
+        lines = [a for a in d.artists["joints"] if a.get_zorder() == 3.5]
+        assert len(lines) == 3                 # the zigzag; the damper's rod and cylinder
+        zig = np.column_stack(lines[0].get_data())
+        assert np.allclose(zig[0], P[1]) and np.allclose(zig[-1], P[3])
+        assert len(zig) > 10
+        rod, cyl = (np.column_stack(a.get_data()) for a in lines[1:])
+        assert np.allclose(rod[0], P[1]) and np.allclose(cyl[-1], P[3])
+    plt.close(d.figure)

@@ -194,4 +194,7 @@ def drawing_context(model, points):
     body_points = [(b.name, -1 if b.is_ground else at(b[0]),
                     [at(b[k]) for k in range(1, len(b.points) + 1)])
                    for b in model.bodies.values()]
-    return dict(joints=joints, body_points=body_points)
+    # springs and dampers, drawn between their points (the pictures of a model with loads)
+    loads = [(ld.name or ld.kind, ld.kind, [at(pt) for pt in ld.points])
+             for ld in getattr(model, "loads", ()) if ld.kind in ("spring", "damper")]
+    return dict(joints=joints, body_points=body_points, loads=loads)

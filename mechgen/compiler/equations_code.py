@@ -102,6 +102,10 @@ def point_list(model):
     for con in model.constraints:
         for pt in getattr(con, "points", ()):
             add(pt)
+    for load in getattr(model, "loads", ()):
+        if load.kind in ("spring", "damper"):     # drawn between their points
+            for pt in load.points:
+                add(pt)
     return out
 
 

@@ -23,6 +23,7 @@ from .glyphs import Builder
 from .ground import lift_cam_pivots
 from .scene import Scene
 from .shapes import AUTO
+from .springs import draw_loads
 from .style import INK, MARGIN
 
 MOTION_POINTS = 41   # solves of the sweep that frames a single drawing
@@ -279,6 +280,7 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
         elif kind in CAM_KINDS:
             draw_cam(bld, kind, used)
     draw_library(bld)        # gears, racks, gen_revolute, ... (plot/gears.py)
+    draw_loads(bld)          # springs and dampers (plot/springs.py)
     lift_cam_pivots(bld)     # a pivot under a cam's plate drawn over it (plot/ground.py)
     for b in st.bodies:
         if b.ground and (b.name not in custom or AUTO in _listed(custom[b.name])):

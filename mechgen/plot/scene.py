@@ -1,7 +1,7 @@
 """The scene a generated module states: its bodies (with colours), their points, the
 joints between them, and the pose of every body over a motion.
 
-Read from ``POINTS``, ``BODIES``, ``JOINTS`` and ``BODY_POINTS`` of the module and from
+Read from ``POINTS``, ``BODIES``, ``JOINTS``, ``BODY_POINTS`` and ``LOADS`` of the module and from
 solved coordinates; nothing here draws.
 """
 from __future__ import annotations
@@ -53,6 +53,7 @@ class Scene:
         stated = {name: (origin, tuple(pts))
                   for name, origin, pts in getattr(mod, "BODY_POINTS", ())}
         self.joints = [(n, kind, tuple(used)) for n, kind, used in getattr(mod, "JOINTS", ())]
+        self.loads = [(n, kind, tuple(used)) for n, kind, used in getattr(mod, "LOADS", ())]
         self.bodies, self.by_name = [], {}
         index = {c: k for k, c in enumerate(mech.coordinates)}
         colors = dict(colors or {})
