@@ -134,3 +134,25 @@ print(json.dumps({{n: max(float(np.max(np.abs(getattr(a.reduced(n), w) - getattr
     assert out.returncode == 0, out.stderr[-3000:]
     diffs = json.loads(out.stdout.strip().splitlines()[-1])
     assert diffs["crank driver"] <= 1e-9 * 5e4 and diffs["X4"] <= 1e-12, diffs
+
+
+def test_the_hosts_force_reduction_on_threads_is_the_one_pass(sc, monkeypatch):
+    """What the GPU's table hands the host (every design's points) is reduced a few
+    designs at a time on threads: the same minima, maxima and their times as one pass."""
+    import mechgen.runtime.chunks as chunks
+    from mechgen.runtime.reduce import reduce_chunk, reduce_slots, reduce_threads
+    tab = sc.sweep(0.0, PERIOD, 40, params={"mass4": np.linspace(0.5, 6.0, 7)},
+                   level="acceleration")
+    slots = reduce_slots(sc, ["crank driver", "X4"], 2, "dynamic")[1]
+    done = np.full(7, 40, dtype=np.int64)
+    args = (sc.module, slots, tab.t, tab.P, tab.Q.reshape(7, 40, -1),
+            tab.QD.reshape(7, 40, -1), tab.QDD.reshape(7, 40, -1), done)
+    whole = reduce_chunk(*args)
+    monkeypatch.setattr(chunks, "FORCE_POINTS", 90)          # two designs a chunk
+    for workers in (1, 3):
+        parts = reduce_threads(*args, workers=workers)
+        for a, b in zip(whole, parts):
+            np.testing.assert_array_equal(a, b)
+    expected = [max(abs(torque(t, m)) for t in tab.t) for m in np.linspace(0.5, 6.0, 7)]
+    peak = np.maximum(np.abs(whole[0][:, 0]), np.abs(whole[1][:, 0]))
+    np.testing.assert_allclose(peak, expected, rtol=1e-9)

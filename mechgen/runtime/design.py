@@ -25,7 +25,7 @@ from .quantity import _lookup, column_names
 from .forces import attach, is_force_level
 from .forces.lookup import tables
 from .reduce import (DRIVER, Reduction, driver_efforts, driver_slot, reduce_chunk,
-                     reduce_slots, status_name)
+                     reduce_slots, reduce_threads, status_name)
 from .results import Sweep, pandas, write_csv
 
 ON_FAIL = ("warn", "raise", "ignore")
@@ -399,8 +399,8 @@ def design_table(mech, t0, t1, n, params, level="position", guess=None, method=N
                        workers=workers, client=client, slots=None if on_host else slots,
                        progress=progress_reporter(progress, P.shape[0]))
     if on_host:         # the kernel keeps the points; the multipliers are solved here
-        data.red = reduce_chunk(mech.module, slots, ts, P, data.Q, data.QD, data.QDD,
-                                data.done)
+        data.red = reduce_threads(mech.module, slots, ts, P, data.Q, data.QD, data.QDD,
+                                  data.done, workers)
         data.Q = data.QD = data.QDD = data.INFO = None
     table = DesignTable(mech, names, axes, ts, P, data, LEVELS[lev], grid=grid,
                         reduced=reduced, force_level=force_level)

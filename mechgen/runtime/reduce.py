@@ -121,6 +121,36 @@ def reduce_chunk(module, slots, ts, P, Q, QD, QDD, done):
     return mn, mx, tmn, tmx
 
 
+def reduce_threads(module, slots, ts, P, Q, QD, QDD, done, workers=None):
+    """reduce_chunk over every design of a solved table (a GPU's, whose points came back
+    to the host for the multipliers), a few designs at a time on ``workers`` threads (None:
+    every core): the compiled force loop releases the GIL, and a chunk's points stay in
+    the cache while its multipliers are solved."""
+    import os
+    from concurrent.futures import ThreadPoolExecutor
+    from .chunks import FORCE_POINTS
+    D, N = Q.shape[0], ts.shape[0]
+    step = max(1, FORCE_POINTS // max(N, 1))
+    spans = [(a, min(D, a + step)) for a in range(0, D, step)]
+    workers = (os.cpu_count() or 1) if workers is None else workers
+    if getattr(module, "__mechgen_tier__", "compiled") == "python" or len(spans) < 2:
+        workers = 1
+
+    def job(span):
+        a, b = span
+        return reduce_chunk(module, slots, ts, P[a:b], Q[a:b],
+                            None if QD is None else QD[a:b],
+                            None if QDD is None else QDD[a:b], done[a:b])
+    if workers == 1:
+        parts = [job(span) for span in spans]
+    else:
+        with ThreadPoolExecutor(max_workers=min(workers, len(spans))) as pool:
+            parts = list(pool.map(job, spans))
+    if not parts:
+        return reduce_chunk(module, slots, ts, P, Q, QD, QDD, done)
+    return tuple(np.concatenate([part[i] for part in parts]) for i in range(4))
+
+
 def driver_efforts(module, ts, P, Q, QD, QDD, done, index, level) -> np.ndarray:
     """(designs, times): the effort of the driver CONSTRAINTS[index] at every point the
     designs solved, at force level ``level`` (NaN elsewhere)."""
