@@ -1,24 +1,27 @@
 """Motion under forces (API.md §6): ``mech.simulate(t0, t1, n, free=[driver names])``.
 
-The drivers named in ``free`` stop prescribing their motion at t0; the others keep
-theirs. The equations of motion are the index-1 form of M q̈ + Φ_Cᵀ λ = Q, Φ_C(q, t) = 0
-(C: every constraint row but the freed drivers'): at a state (q, q̇) the module's
-``free_accelerations`` solves the saddle-point system [M Φ_Cᵀ; Φ_C 0] [q̈; λ] = [Q − h;
-γ_C] (M and h from its force_terms, the rank-revealing elimination), and scipy's
-``solve_ivp`` integrates (q, q̇) from one output time to the next. At every output time
-the state is put back on the constraints (Gauss-Newton on Φ_C = 0, minimum-norm steps,
-then q̇ onto Φ_C q̇ = ν_C), so the positions satisfy Φ = 0 to the solver's tolerance at
-every output and nothing drifts from one interval into the next; each interval starts
-the integrator afresh from the projected state.
+The drivers named in ``free`` stop prescribing their motion at t0 (and the ``hold`` rows
+that the build gives a model without a driver for every degree of freedom always do); the
+others keep theirs. The equations of motion are the index-1 form of M q̈ + Φ_Cᵀ λ = Q,
+Φ_C(q, t) = 0 (C: every constraint row but the freed ones): at a state (q, q̇) the
+module's ``free_accelerations`` gives q̈ and λ (by the sorted blocks and a reduced system
+as small as the freedoms released, else by M's Cholesky factor, else the whole saddle
+point; see DESIGN.md). The module's ``integrate_span`` (the default, "dopri5": the
+Dormand–Prince 5(4) pair and error control of scipy's RK45, compiled with the right side)
+or scipy's ``solve_ivp`` (any other method) integrates (q, q̇) from one output time to
+the next. At every output time the state is put back on the constraints (Gauss-Newton on
+Φ_C = 0, minimum-norm steps, then q̇ onto Φ_C q̇ = ν_C), so the positions satisfy Φ = 0 to
+the solver's tolerance at every output and nothing drifts from one interval into the next.
 
 Why this method: it needs nothing the module does not already have (Φ_q, γ, the force
 terms) and no choice of independent coordinates, so it cannot be caught by a choice
-going singular; a configuration where the saddle-point system loses rank (a lock, a
-toggle of the constraints that remain) stops the integration with a SingularError naming
-the time. The result is a ForceSweep at level "dynamic": positions, velocities,
-accelerations, the multipliers of the constraints still acting (0 on the freed rows), the
-efforts of the drivers still prescribed, power() and energy() to show what the
-integration conserved.
+going singular (a crank's toggle, a dead centre only for a driver, is passed); a
+configuration where the constraints still acting lose rank (a lock) stops the
+integration with a SingularError naming the time and the constraints. The result is a
+ForceSweep at level "dynamic": positions, velocities, accelerations, the multipliers of
+the constraints still acting (0 on the freed rows), the efforts of the drivers still
+prescribed, power() and energy() to show what the integration conserved, and
+``simulation`` (how it was integrated: extrema() and roots() refine on it).
 """
 from __future__ import annotations
 
@@ -33,9 +36,9 @@ from .sweep import ForceSweep
 
 PROJECT_TOL = 1e-12     # |Φ_C| (relative to the mechanism's size) after the projection
 PROJECT_MAXIT = 25
-INTERVAL_EVALUATIONS = 200_000
-SIMULATE_POINTS = 100_000
-COMPILED = "dopri5"         # the module's own integrator (integrate_span)   # what an integration is counted as, for the tiers' choice  # evaluations between two output times before giving up
+INTERVAL_EVALUATIONS = 200_000   # evaluations between two output times before giving up
+SIMULATE_POINTS = 100_000        # what an integration counts as, for the tiers' choice
+COMPILED = "dopri5"              # the module's own integrator (integrate_span)
 
 
 class _Stalled(Exception):
