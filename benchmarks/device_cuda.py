@@ -41,6 +41,11 @@ def forces(designs=10_000, times=1000):
         t0 = time.perf_counter()
         out[backend] = mech.sweep(0.0, 1.0, times, backend=backend, **kw)
         out[backend + "_s"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    one = mech.sweep(0.0, 1.0, times, workers=1, **dict(kw, params={"longitud": np.linspace(
+        2.2, 3.5, designs)[: designs // 8]}))
+    single = (time.perf_counter() - t0) * 8     # an eighth of the designs, on one thread
+    assert len(one.status)
     a, b = out["cuda"], out["cpu"]
     diff = {n: max(float(np.nanmax(np.abs(getattr(a.reduced(n), w) - getattr(b.reduced(n), w))))
                    for w in ("min", "max")) for n in kw["reduce"]}
@@ -49,7 +54,8 @@ def forces(designs=10_000, times=1000):
     print(f"{designs} designs x {times} times, dynamic, reduce crank driver: cuda "
           f"{out['cuda_s']:.3g} s ({pts / out['cuda_s']:.3g} points/s), cpu "
           f"{out['cpu_s']:.3g} s ({pts / out['cpu_s']:.3g} points/s, {os.cpu_count()} cores), "
-          f"cpu/cuda time {out['cpu_s'] / out['cuda_s']:.3g}; max|cuda-cpu| torque "
+          f"cpu/cuda time {out['cpu_s'] / out['cuda_s']:.3g}; one thread {single:.3g} s "
+          f"(all cores {single / out['cpu_s']:.3g}x faster); max|cuda-cpu| torque "
           f"{diff['crank driver']:.3g} on a scale of {scale:.3g}, X4 {diff['X4']:.3g}; "
           f"statuses differing {int(np.sum(a.status != b.status))}", flush=True)
 

@@ -11,9 +11,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..protocol import JUMP, OK, STATUS_CODE, STATUS_NAMES, THROUGH_SINGULAR
+from ..protocol import JUMP, OK, SING_RTOL, STATUS_CODE, STATUS_NAMES, THROUGH_SINGULAR
 from .forces.lookup import FORCE_LEVELS, tables
-from .forces.points import driver_rows, efforts, has_forces, solve_points
+from .forces.points import driver_rows, efforts, has_forces, solve_points, svd_solve
 from .quantity import _lookup
 
 # A reduction slot: [kind, index, order]; kind COORDINATE (index into the coordinates,
@@ -160,17 +160,53 @@ def driver_efforts(module, ts, P, Q, QD, QDD, done, index, level) -> np.ndarray:
 
 def _forces(module, ts, P, Q, QD, QDD, done, level):
     """forces.points.solve_points for every design over the times it solved (None for a
-    design that solved none)."""
+    design that solved none); a module with force_rows_designs (a sorted build with mass
+    or loads) solves the chunk in one compiled call instead (_forces_batch)."""
+    if has_forces(module) and hasattr(module, "force_rows_designs"):
+        return _forces_batch(module, ts, P, np.ascontiguousarray(Q), QD, QDD,
+                             np.ascontiguousarray(done, dtype=np.int64), level)
     return [solve_points(module, ts[:k], Q[d, :k], None if QD is None else QD[d, :k],
                          None if QDD is None else QDD[d, :k], P[d], level, extras=False)
             if k else None
             for d, k in enumerate(int(x) for x in done)]
 
 
+def _forces_batch(module, ts, P, Q, QD, QDD, done, level):
+    """(LAM, FACTORS), (designs, times, ·), of a chunk of designs by the module's compiled
+    force_rows_designs (one call, the GIL released); the points whose block pivot falls
+    below SING_RTOL solved by the SVD as solve_points does (NaN where no force balance)."""
+    D, N, n = Q.shape
+    m = int(module.N_EQS)
+    if level == "static" or QD is None:
+        QD = np.zeros_like(Q)
+    if level == "static" or QDD is None:
+        QDD = np.zeros_like(Q)
+    LAM = np.full((D, N, m), np.nan)
+    FACTORS = np.zeros((D, N, len(getattr(module, "DRIVER_ROWS", ()))))
+    PIV = np.zeros((D, N))
+    module.force_rows_designs(ts, Q, QD, QDD, P, done, FACTORS, PIV, LAM)
+    solved = np.arange(N)[None, :] < done[:, None]
+    weak = solved & ~((PIV >= SING_RTOL) & np.all(np.isfinite(LAM), axis=2))
+    if weak.any():
+        J, terms = np.empty((m, n)), np.empty((3, n))
+        for d, k in zip(*np.nonzero(weak)):
+            t = float(ts[k])
+            module.phi_q(Q[d, k], t, P[d], J)
+            module.force_terms(Q[d, k], QD[d, k], QDD[d, k], t, P[d], terms)
+            lam, _, _, consistent = svd_solve(J, terms[0] + terms[1] - terms[2])
+            LAM[d, k] = lam if consistent else np.nan
+    return LAM, FACTORS
+
+
 def _efforts(module, forces, index, D, N):
     """(D, N): the effort of the driver CONSTRAINTS[index] at every solved point (NaN
     elsewhere, and where the force balance has no solution)."""
     rows, cols = driver_rows(module)[module.CONSTRAINTS[index][2]]
+    if isinstance(forces, tuple):                   # _forces_batch's arrays
+        LAM, FACTORS = forces
+        if cols is None:
+            return np.full((D, N), np.nan)
+        return efforts(LAM, FACTORS, rows, cols)    # NaN already where not solved
     vals = np.full((D, N), np.nan)
     for d, pts in enumerate(forces):
         if pts is None:
