@@ -20,8 +20,12 @@ DESIGN_INFO_DTYPE = np.int16
 # small enough that a reduced table's buffers stay small and progress moves
 CHUNK_POINTS = 100_000
 # a design table reducing a driver's effort sweeps and reduces this many points at a time
-# (a few designs), so that the multipliers read the points from the cache
-FORCE_POINTS = 4_000
+# (some tens of designs): few enough that the points are still in the cache when their
+# multipliers read them, many enough that the Python between two compiled calls (holding
+# the GIL) is small beside them. On 16 cores of the GPU machine (benchmarks/
+# bench_force_threads.py) 4,000 scaled to 1.65x one thread, 16,000 to 3.4x, 64,000 to
+# 6.5x (the kinematic table: 6.4x), one thread as fast at each
+FORCE_POINTS = 64_000
 # the smallest chunk of a guided split (guided_chunks): a call's overhead still small
 TAIL_POINTS = 5_000
 
