@@ -207,19 +207,22 @@ def test_header_constants_are_the_protocol_s(path):
     assert values["FORMAT_VERSION"] == protocol.FORMAT_VERSION
 
 
-def _library_names():
+def _library_names(forces=False):
     from mechgen.compiler.library import toy
-    return set(toy.__all__)
+    return set(toy.__all__) - (set() if forces else set(toy.FORCE_NAMES))
 
 
 @pytest.mark.parametrize("path", GENERATED_FILES, ids=os.path.basename)
 def test_module_holds_the_library_and_what_it_needs(path):
-    """The library's text verbatim, and every name the library takes from a module."""
+    """The library's text verbatim (with its force part where the model has mass or
+    loads), and every name the library takes from a module."""
     from mechgen.compiler.library import library_text
     text = _read(path)
-    assert library_text() in text
-    _, defined = _top_level(text)
-    assert _library_names() <= defined, sorted(_library_names() - defined)
+    values, defined = _top_level(text)
+    forces = bool(values.get("FORCES", False))
+    assert library_text(forces) in text
+    assert forces or library_text(True) not in text
+    assert _library_names(forces) <= defined, sorted(_library_names(forces) - defined)
 
 
 @pytest.mark.parametrize("options", [dict(sort=False), dict(level="position"),

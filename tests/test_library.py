@@ -406,7 +406,8 @@ def _free_names(tree):
 
 
 def test_bodies_import_nothing_and_need_only_what_a_module_defines():
-    trees = {name: ast.parse(library.body(name)) for name in library.FILES}
+    trees = {name: ast.parse(library.body(name))
+             for name in library.FILES + library.FORCE_FILES}
     defined = {node.name for tree in trees.values() for node in tree.body
                if isinstance(node, ast.FunctionDef)}
     header = {"math", "np", "njit"}      # what a generated module's header imports
@@ -425,7 +426,7 @@ def test_bodies_import_nothing_and_need_only_what_a_module_defines():
 
 def test_library_files_import_only_numerics_the_toy_and_each_other():
     allowed = {"math", "numpy", "numba"}
-    for name in library.FILES + ("toy.py",):
+    for name in library.FILES + library.FORCE_FILES + ("toy.py",):
         tree = ast.parse(library.source(name))
         for node in ast.walk(tree):
             if isinstance(node, ast.Import):
@@ -467,6 +468,7 @@ def test_library_lints_clean():
 
 
 def test_cholesky_solves_and_refuses_what_is_not_positive_definite():
+    from mechgen.compiler.library import forces as linalg     # the force part's own
     rng = np.random.default_rng(7)
     B = rng.normal(size=(6, 6))
     A = B @ B.T + 0.1 * np.eye(6)
@@ -479,3 +481,23 @@ def test_cholesky_solves_and_refuses_what_is_not_positive_definite():
     A[3, :] = A[:, 3] = 0.0          # a coordinate without mass or inertia
     assert not linalg._cholesky(A.copy(), 1e-12)
     assert not linalg._cholesky(-np.eye(3), 1e-12)
+
+
+def test_the_force_blocks_solve_both_ways_on_the_toy():
+    """library/forces.py's multipliers_sorted (Φ_qᵀ λ = r, blocks in the reverse solving
+    order) and coordinates_sorted (Φ_q x = b, in the solving order) against numpy's dense
+    solves, on the toy crank-slider's Φ_q at a few configurations."""
+    from mechgen.compiler.library import forces as flib
+    rng = np.random.default_rng(11)
+    n = toy.N_COORDS
+    A, y, r = np.empty((n, n)), np.empty(n), np.empty(n)
+    for _ in range(5):
+        q = np.array([rng.uniform(-3, 3), rng.uniform(-0.5, 0.5), 2.5])
+        J = np.empty((n, n))
+        toy.phi_q(q, 0.0, P, J)
+        b, rhs = rng.normal(size=n), rng.normal(size=n)
+        x, lam = np.empty(n), np.empty(n)
+        assert flib.coordinates_sorted(J, b, x, A, y) >= toy.SING_RTOL
+        np.testing.assert_allclose(x, np.linalg.solve(J, b), rtol=1e-12, atol=1e-12)
+        assert flib.multipliers_sorted(J, rhs, lam, A, y, r) >= toy.SING_RTOL
+        np.testing.assert_allclose(lam, np.linalg.solve(J.T, rhs), rtol=1e-12, atol=1e-12)

@@ -20,7 +20,7 @@ from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
 from .equations_code import (gamma_body, mesh_turns_body, nu_body, outputs_bodies, phi_body,
                              phi_q_body, point_list, points_body)
-from .forces_code import force_blocks, forces_bodies, multipliers_point_body
+from .forces_code import force_blocks, force_functions, forces_bodies, multipliers_point_body
 from .ir import Options, code_words, render, symbols
 from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
 from .names import Names, emitter_symbols, identifiers, module_words
@@ -127,10 +127,8 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         helpers=[dict(name=h.name, args=h.args, doc=h.doc, lines=render(h.body, plain))
                  for h in helpers],
         inline=inline,
-        forces=dict(force_terms=text("force_terms"), energies=text("energies"),
-                    mass_matrix=text("mass_matrix"),
-                    driver_factors=text("driver_factors"), driver_rows=driver_rows,
-                    point=text("multipliers_point"),
+        forces=dict(functions=force_functions(text), driver_rows=driver_rows,
+                    point=text("multipliers_point") is not None,
                     blocks=force_blocks(plan, eq))
         if force_parts else None,
         pivot_rtol=repr(PIVOT_RTOL),

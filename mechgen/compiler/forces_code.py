@@ -143,3 +143,44 @@ def multipliers_point_body(plan, eq, model):
     exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
     body = prologue(eq, exprs, with_qd=True, with_qdd=True) + emit(st, cse=plan.cse)
     return body + [Code("return _w")], []
+
+
+# the force functions the template lays out, in order: (name, arguments, docstring lines,
+# whether ``out`` is zeroed first); their bodies are the emitted ones
+FUNCTIONS = (
+    ("force_terms", "q, qd, qdd, t, p, out",
+     ("out[0] = Q_a (applied forces, moments, dampers), out[1] = Q_c = −∂V/∂q (gravity,",
+      "springs), out[2] = I (inertial: Σ m J_Gᵀ a_G + J θ̈), each over the coordinates."),
+     True),
+    ("energies", "q, qd, t, p, out", ("out = (kinetic energy, potential energy, ∂V/∂t).",),
+     False),
+    ("driver_factors", "q, t, p, out",
+     ("∂Φ/∂f per row of DRIVER_ROWS (f the driven quantity; NaN: not defined).",), False),
+    ("mass_matrix", "q, t, p, out",
+     ("M of the inertial terms I = M q̈ + h, over the coordinates (a body's block couples",
+      "its X, Y with its angle where its centroid is off its origin)."), True),
+    ("multipliers_point", "q, qd, qdd, t, p, lam",
+     ("Φ_qᵀ λ = Q_a + Q_c − I at one point, written out block by block in the reverse of",
+      "the solving order (Φ_qᵀ is block upper-triangular in it): a block of one row by one",
+      "division, of two by Cramer's rule, the right side and the entries of Φ_q sharing",
+      "their terms. Each pivot is measured on rows scaled by their largest entry (partial",
+      "pivoting, as multipliers_sorted): below SING_RTOL it is returned at once (the caller",
+      "solves Φ_q's rank instead: lam is then not to be used). Returns the smallest pivot."),
+     False),
+)
+POINT_STUB = ("Not written out for this model (a block of three or more rows, or no sorted",
+              "build): FORCE_POINT is False and force_rows solves the multipliers otherwise.")
+
+
+def force_functions(text) -> list:
+    """The template's force functions: dict(name, args, doc, zero, lines), the lines of
+    each from ``text(name)`` (multipliers_point a stub that returns 0.0 where it is not
+    written out)."""
+    out = []
+    for name, args, doc, zero in FUNCTIONS:
+        lines = text(name)
+        if lines is None:
+            doc, lines = POINT_STUB, ["return 0.0"]
+        out.append(dict(name=name, args=args, doc="\n    ".join(doc), zero=zero,
+                        lines=lines))
+    return out

@@ -80,7 +80,7 @@ def module_words() -> frozenset:
     out = set(dir(builtins))
     for text in _template_sources():
         out |= identifiers(text)
-    out |= module_level_names(library_text())
+    out |= module_level_names(library_text(forces=True))
     out |= {name for _, names in header_constants() for name, _ in names}
     return frozenset(out)
 

@@ -48,7 +48,7 @@ def module_context(model, *, sort=True, level="acceleration", outputs=None, cse=
     ``inline_mode`` (the numba inline option of the hot solvers)."""
     ctx = solver_context(model, sort=sort, level=level, outputs=outputs, cse=cse,
                          closed_forms=closed_forms)
-    ctx.update(constants=header_constants(), library=library_text(),
+    ctx.update(constants=header_constants(), library=library_text(bool(ctx.get("forces"))),
                all_solved=all(ctx["solved"]),
                inline_mode="always" if ctx["inline"] else "never")
     return ctx

@@ -6,6 +6,9 @@ workers).
 """
 from __future__ import annotations
 
+import os
+from concurrent.futures import ThreadPoolExecutor
+
 import numpy as np
 
 from ..protocol import OK, STATUS_CODE
@@ -175,3 +178,30 @@ class Collector:
         if self.slots is None:
             return TableData(*self.arrays, self.done, self.status)
         return TableData(None, None, None, None, self.done, self.status, tuple(self.arrays))
+
+
+def reduce_threads(module, slots, ts, P, Q, QD, QDD, done, workers=None):
+    """reduce_chunk over every design of a solved table (a GPU's, whose points came back
+    to the host for the multipliers), a few designs at a time on ``workers`` threads (None:
+    every core): the compiled force loop releases the GIL, and a chunk's points stay in
+    the cache while its multipliers are solved."""
+    D, N = Q.shape[0], ts.shape[0]
+    step = max(1, FORCE_POINTS // max(N, 1))
+    spans = [(a, min(D, a + step)) for a in range(0, D, step)]
+    workers = (os.cpu_count() or 1) if workers is None else workers
+    if getattr(module, "__mechgen_tier__", "compiled") == "python" or len(spans) < 2:
+        workers = 1
+
+    def job(span):
+        a, b = span
+        return reduce_chunk(module, slots, ts, P[a:b], Q[a:b],
+                            None if QD is None else QD[a:b],
+                            None if QDD is None else QDD[a:b], done[a:b])
+    if workers == 1:
+        parts = [job(span) for span in spans]
+    else:
+        with ThreadPoolExecutor(max_workers=min(workers, len(spans))) as pool:
+            parts = list(pool.map(job, spans))
+    if not parts:
+        return reduce_chunk(module, slots, ts, P, Q, QD, QDD, done)
+    return tuple(np.concatenate([part[i] for part in parts]) for i in range(4))

@@ -20,12 +20,13 @@ import numpy as np
 from ..errors import MechgenError
 from ..protocol import LEVEL, LEVELS
 from .backends import progress_reporter, run_backend
+from .chunks import reduce_threads
 from .guards import finite, fits, point_bytes, sweep_times
 from .quantity import _lookup, column_names
 from .forces import attach, is_force_level
 from .forces.lookup import tables
 from .reduce import (DRIVER, Reduction, driver_efforts, driver_slot, reduce_chunk,
-                     reduce_slots, reduce_threads, status_name)
+                     reduce_slots, status_name)
 from .results import Sweep, pandas, write_csv
 
 ON_FAIL = ("warn", "raise", "ignore")

@@ -13,7 +13,8 @@ import numpy as np
 
 from ..protocol import JUMP, OK, SING_RTOL, STATUS_CODE, STATUS_NAMES, THROUGH_SINGULAR
 from .forces.lookup import FORCE_LEVELS, tables
-from .forces.points import driver_rows, efforts, has_forces, solve_points, svd_solve
+from .forces.points import (by_blocks, driver_rows, efforts, has_forces, solve_points,
+                            svd_solve)
 from .quantity import _lookup
 
 # A reduction slot: [kind, index, order]; kind COORDINATE (index into the coordinates,
@@ -121,36 +122,6 @@ def reduce_chunk(module, slots, ts, P, Q, QD, QDD, done):
     return mn, mx, tmn, tmx
 
 
-def reduce_threads(module, slots, ts, P, Q, QD, QDD, done, workers=None):
-    """reduce_chunk over every design of a solved table (a GPU's, whose points came back
-    to the host for the multipliers), a few designs at a time on ``workers`` threads (None:
-    every core): the compiled force loop releases the GIL, and a chunk's points stay in
-    the cache while its multipliers are solved."""
-    import os
-    from concurrent.futures import ThreadPoolExecutor
-    from .chunks import FORCE_POINTS
-    D, N = Q.shape[0], ts.shape[0]
-    step = max(1, FORCE_POINTS // max(N, 1))
-    spans = [(a, min(D, a + step)) for a in range(0, D, step)]
-    workers = (os.cpu_count() or 1) if workers is None else workers
-    if getattr(module, "__mechgen_tier__", "compiled") == "python" or len(spans) < 2:
-        workers = 1
-
-    def job(span):
-        a, b = span
-        return reduce_chunk(module, slots, ts, P[a:b], Q[a:b],
-                            None if QD is None else QD[a:b],
-                            None if QDD is None else QDD[a:b], done[a:b])
-    if workers == 1:
-        parts = [job(span) for span in spans]
-    else:
-        with ThreadPoolExecutor(max_workers=min(workers, len(spans))) as pool:
-            parts = list(pool.map(job, spans))
-    if not parts:
-        return reduce_chunk(module, slots, ts, P, Q, QD, QDD, done)
-    return tuple(np.concatenate([part[i] for part in parts]) for i in range(4))
-
-
 def driver_efforts(module, ts, P, Q, QD, QDD, done, index, level) -> np.ndarray:
     """(designs, times): the effort of the driver CONSTRAINTS[index] at every point the
     designs solved, at force level ``level`` (NaN elsewhere)."""
@@ -162,7 +133,7 @@ def _forces(module, ts, P, Q, QD, QDD, done, level):
     """forces.points.solve_points for every design over the times it solved (None for a
     design that solved none); a module with force_rows_designs (a sorted build with mass
     or loads) solves the chunk in one compiled call instead (_forces_batch)."""
-    if has_forces(module) and hasattr(module, "force_rows_designs"):
+    if has_forces(module) and by_blocks(module) and hasattr(module, "force_rows_designs"):
         return _forces_batch(module, ts, P, np.ascontiguousarray(Q), QD, QDD,
                              np.ascontiguousarray(done, dtype=np.int64), level)
     return [solve_points(module, ts[:k], Q[d, :k], None if QD is None else QD[d, :k],

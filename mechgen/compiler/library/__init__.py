@@ -1,8 +1,10 @@
 """The numeric library of every generated module, kept as real Python files.
 
 linalg.py (elimination, rank-revealing solve, determinant), solve.py (Newton, velocity and
-acceleration solves, the solve entry points) and continuation.py (the sweep, evaluation
-along a sweep, a sweep per design) each have a head that imports what the code needs to
+acceleration solves, the solve entry points), continuation.py (the sweep, evaluation
+along a sweep, a sweep per design) and, for a model with mass or loads, forces.py (the
+multipliers block by block, forward dynamics and its integrator, the loops over points
+and designs) each have a head that imports what the code needs to
 run on its own, the marker line MARKER, and the body below it: the renderer copies the
 bodies verbatim into every generated module (library_text), after the module's own
 constants and model functions, so that a generated module runs where mechgen is not
@@ -19,6 +21,7 @@ import os
 
 MARKER = "# -- module body: below this line, the text as a generated module holds it --"
 FILES = ("linalg.py", "solve.py", "continuation.py")    # their order in a generated module
+FORCE_FILES = ("forces.py",)    # after those, in a module built with mass or loads
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -39,7 +42,8 @@ def body(name: str) -> str:
     return rest.strip("\n") + "\n"
 
 
-def library_text() -> str:
+def library_text(forces=False) -> str:
     """The library as every generated module holds it: the bodies of FILES in order,
-    two blank lines between them."""
-    return "\n\n".join(body(name) for name in FILES)
+    two blank lines between them; with ``forces`` (a model with mass or loads) then those
+    of FORCE_FILES."""
+    return "\n\n".join(body(name) for name in FILES + (FORCE_FILES if forces else ()))

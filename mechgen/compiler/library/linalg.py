@@ -188,49 +188,6 @@ def _consistent(b, rank, x):
     return True
 
 
-@njit(cache=True)
-def _cholesky(A, rtol):
-    """A = L Lᵀ in place (L in the lower triangle) for a symmetric A. False, with A
-    spoiled, where A is not positive definite to rtol: a pivot not above rtol times the
-    largest diagonal entry (a body without mass or inertia, a coordinate without either)."""
-    n = A.shape[0]
-    big = 0.0
-    for i in range(n):
-        big = max(big, abs(A[i, i]))
-    if not big > 0.0:
-        return False
-    for j in range(n):
-        d = A[j, j]
-        for k in range(j):
-            d -= A[j, k] * A[j, k]
-        if not d > rtol * big:
-            return False
-        d = math.sqrt(d)
-        A[j, j] = d
-        for i in range(j + 1, n):
-            s = A[i, j]
-            for k in range(j):
-                s -= A[i, k] * A[j, k]
-            A[i, j] = s / d
-    return True
-
-
-@njit(cache=True)
-def _cholesky_solve(L, x):
-    """x = (L Lᵀ)⁻¹ x in place, L from _cholesky."""
-    n = L.shape[0]
-    for i in range(n):
-        s = x[i]
-        for k in range(i):
-            s -= L[i, k] * x[k]
-        x[i] = s / L[i, i]
-    for i in range(n - 1, -1, -1):
-        s = x[i]
-        for k in range(i + 1, n):
-            s -= L[k, i] * x[k]
-        x[i] = s / L[i, i]
-
-
 @njit(cache=True, inline="always")
 def _turn(s, c, d, y):
     """sin and cos of y = (the angle whose sin and cos are s, c) − d: a rotation by d (a

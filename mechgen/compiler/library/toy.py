@@ -50,6 +50,13 @@ __all__ = [
     "position_sorted", "velocity_sorted", "acceleration_sorted", "derivatives_sorted",
     "jacobian_det", "sweep_fast",
 ]
+# what a module built with mass or loads defines besides (library/forces.py reads them)
+FORCE_NAMES = [
+    "FORCE_SORTED", "FORCE_POINT", "FORCE_BLOCK_START", "FORCE_BLOCK_ROWS",
+    "FORCE_BLOCK_COLS", "force_terms", "energies", "driver_factors", "mass_matrix",
+    "multipliers_point",
+]
+__all__ += FORCE_NAMES
 
 
 def njit(*args, **options):
@@ -262,3 +269,43 @@ def sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS):
         if STATUS.shape[1] > STATUS_SUBSTEPS:
             STATUS[k, STATUS_SUBSTEPS] = 0
     return ts.shape[0]
+
+
+# -- the force functions of a module built with mass or loads (library/forces.py): the toy
+# has neither, so every force is zero; its blocks in the solving order are th (row 2, the
+# driver), ph (row 1), x (row 0)
+FORCE_SORTED = True
+FORCE_POINT = False
+FORCE_BLOCK_START = np.array((0, 1, 2, 3), dtype=np.int64)
+FORCE_BLOCK_ROWS = np.array((2, 1, 0), dtype=np.int64)
+FORCE_BLOCK_COLS = np.array((0, 1, 2), dtype=np.int64)
+
+
+@njit(cache=True)
+def force_terms(q, qd, qdd, t, p, out):
+    for i in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            out[i, j] = 0.0
+
+
+@njit(cache=True)
+def energies(q, qd, t, p, out):
+    for i in range(out.shape[0]):
+        out[i] = 0.0
+
+
+@njit(cache=True)
+def driver_factors(q, t, p, out):
+    out[0] = -1.0
+
+
+@njit(cache=True)
+def mass_matrix(q, t, p, out):
+    for i in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            out[i, j] = 0.0
+
+
+@njit(cache=True)
+def multipliers_point(q, qd, qdd, t, p, lam):
+    return 0.0

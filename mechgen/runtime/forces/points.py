@@ -46,6 +46,19 @@ def has_forces(module) -> bool:
     return bool(getattr(module, "FORCES", False))
 
 
+def by_blocks(module) -> bool:
+    """Whether the module solves the multipliers block by block (a sorted square build;
+    a module of an earlier format has multipliers_sorted only then)."""
+    return bool(getattr(module, "FORCE_SORTED", hasattr(module, "multipliers_sorted")))
+
+
+def written_out(module):
+    """The module's multipliers_point where it writes the multipliers out, else None."""
+    if not getattr(module, "FORCE_POINT", True):
+        return None
+    return getattr(module, "multipliers_point", None)
+
+
 def svd_solve(J, rhs):
     """(λ, rank, dependent rows, consistent) for Φ_qᵀ λ = rhs by the SVD of J = Φ_q: its
     rank on the row-equilibrated J at SING_RTOL (as the kinematic solves read it), the
@@ -77,7 +90,7 @@ def solve_points(module, ts, Q, QD, QDD, p, level, extras=True) -> PointForces:
     solved here from them)."""
     N, n = Q.shape
     m = int(module.N_EQS)
-    blocks = hasattr(module, "multipliers_sorted")
+    blocks = by_blocks(module)
     extras = extras or not blocks
     out = PointForces(N, m, n, len(getattr(module, "DRIVER_ROWS", ())), extras)
     if not has_forces(module) or N == 0:

@@ -9,7 +9,7 @@ from ...protocol import SING_RTOL
 from ..results import Solution
 from .contact import contact_labels, contact_values
 from .lookup import _constraints_of, tables
-from .points import svd_solve
+from .points import by_blocks, svd_solve, written_out
 
 # -- one point ----------------------------------------------------------------------------
 def force_terms(mech, q, qd, qdd, t) -> np.ndarray:
@@ -217,7 +217,7 @@ def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -
     else:
         qd, qdd = s.qd, s.qdd
     mod = mech.module
-    point = getattr(mod, "multipliers_point", None)
+    point = written_out(mod)
     terms, dependent = None, ()
     if point is not None:
         lam = np.empty(mech.m)
@@ -226,7 +226,7 @@ def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -
         if not (piv >= SING_RTOL and x - x == 0.0):     # (x - x: NaN unless finite)
             terms = force_terms(mech, s.q, qd, qdd, s.t)
             lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
-    elif hasattr(mod, "multipliers_sorted"):    # one compiled call: terms and λ by blocks
+    elif by_blocks(mod):                        # one compiled call: terms and λ by blocks
         terms, lam, piv = np.zeros((1, 3, mech.n)), np.zeros((1, mech.m)), np.zeros(1)
         mod.force_rows(np.array([s.t]), s.q[None], qd[None], qdd[None], mech.p,
                        np.empty((1, mech.m, mech.n)), terms, np.zeros((1, mech.m)),
