@@ -24,12 +24,9 @@ names are the median warm and cold ``total`` of quick_return with ``--api file``
     python benchmarks/bench_startup.py quick_return --repeat 7 --baseline /work/main
 
 Python writes no bytecode where PYTHONDONTWRITEBYTECODE is set (this machine sets it):
-a mechgen without mechgen/bytecode.py (a baseline before it) then compiles its own
-modules from source in every process (40 to 90 ms of a warm start, 0.25 s of a cold
-one); with it they are kept under $MECHGEN_CACHE/bytecode, which a cold run here starts
-empty too (its MECHGEN_CACHE is the fresh module folder), so its figure is the worst
-case. ``--bytecode`` runs copies of the checkouts with Python's own bytecode compiled,
-as an installed mechgen has it.
+mechgen's own modules are then compiled from source by every process (about 30 ms of a
+warm start, 0.25 s of a cold one); ``--bytecode`` runs copies of the checkouts with their
+bytecode compiled, as an installed mechgen has it.
 
     python benchmarks/bench_startup.py                        # all four models
     python benchmarks/bench_startup.py quick_return chain10   # chosen ones
