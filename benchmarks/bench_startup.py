@@ -204,32 +204,26 @@ def median_run(runs) -> dict:
     return out
 
 
-def measure(name, codes, api, tier, keep=False, repeat=1) -> dict:
-    """Cold (empty cache and folder) then warm (the same again) for one model and each
-    checkout of ``codes`` ((label, root) pairs): {label: {"cold": ..., "warm": ...}}, the
-    median of ``repeat`` processes each (every cold one in a folder of its own). The
-    checkouts take turns, process by process, so that a busy machine slows them alike."""
+def measure(name, code_root, api, tier, keep=False, repeat=1) -> dict:
+    """Cold (empty cache and folder) then warm (the same again) for one model: the median
+    of ``repeat`` processes each (every cold one in a folder of its own)."""
     work = tempfile.mkdtemp(prefix=f"bench-startup-{name}-")
     try:
-        runs = {code: {"cold": [], "warm": []} for code, _ in codes}
-        last = {}
+        colds = []
         for k in range(repeat):
-            for code, root in codes:
-                folder = os.path.join(work, f"{code}-{k}")
-                os.makedirs(folder)
-                path = model_file(name, folder)
-                outdir, cache = os.path.join(folder, "modules"), os.path.join(folder, "numba")
-                os.makedirs(outdir)
-                runs[code]["cold"].append(run_once(root, api, path, outdir, cache, tier))
-                # the last cold run's cache is kept, for the warm runs
-                wait_for_workers(stop_in=None if k == repeat - 1 else folder)
-                last[code] = (path, outdir, cache)
+            folder = os.path.join(work, f"run{k}")
+            os.makedirs(folder)
+            path = model_file(name, folder)
+            outdir, cache = os.path.join(folder, "modules"), os.path.join(folder, "numba")
+            os.makedirs(outdir)
+            colds.append(run_once(code_root, api, path, outdir, cache, tier))
+            last = k == repeat - 1      # the last one's cache is kept, for the warm runs
+            wait_for_workers(stop_in=None if last else folder)
+        warms = []
         for _ in range(repeat):
-            for code, root in codes:
-                runs[code]["warm"].append(run_once(root, api, *last[code], tier))
-                wait_for_workers()
-        return {code: {run: median_run(got) for run, got in r.items()}
-                for code, r in runs.items()}
+            warms.append(run_once(code_root, api, path, outdir, cache, tier))
+            wait_for_workers()
+        return {"cold": median_run(colds), "warm": median_run(warms)}
     finally:
         if not keep:
             shutil.rmtree(work, ignore_errors=True)
@@ -302,9 +296,9 @@ def main(argv=None):
               (", checkouts with bytecode" if args.bytecode else "") + "\n" +
               "\n".join(table([]).splitlines()[:2]), flush=True)
     for name in args.models:
-        result[name] = measure(name, codes, args.api, args.tier, args.keep, args.repeat)
-        for code, _ in codes:
-            got = result[name][code]
+        for code, root in codes:
+            got = measure(name, root, args.api, args.tier, args.keep, args.repeat)
+            result.setdefault(name, {})[code] = got
             for run in ("cold", "warm"):
                 rows.append((name, code, run, got[run]))
                 if not args.json:        # each row as soon as it is measured
@@ -315,16 +309,14 @@ def main(argv=None):
                           "results": result}, indent=1))
         return
     if args.baseline:
-        print(f"\nratios baseline / this ({'CPU' if args.cpu else 'wall'}):")
+        print(f"\nratios baseline / this ({'CPU' if args.cpu else 'wall'}, total):")
         for name in args.models:
             r = result[name]
             for run in ("cold", "warm"):
-                for step in ("total", "process"):
-                    key = step + ("_cpu" if args.cpu else "")
-                    a, b = r["baseline"][run].get(key), r["this"][run].get(key)
-                    if a and b:
-                        print(f"  {name:14s} {run:5s} {step:8s} {a:7.3f} s / {b:7.3f} s = "
-                              f"{a / b:5.2f}x")
+                key = "total_cpu" if args.cpu else "total"
+                a, b = r["baseline"][run].get(key), r["this"][run].get(key)
+                if a and b:
+                    print(f"  {name:14s} {run:5s} {a:7.2f} s / {b:7.2f} s = {a / b:5.2f}x")
         for name in args.models:
             r = result[name]
             ca = r["baseline"]["cold"].get("check")

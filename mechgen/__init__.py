@@ -13,11 +13,6 @@ import os as _os
 # is imported, so it applies where sympy is not imported yet and the user has not set it.
 _os.environ.setdefault("SYMPY_CACHE_SIZE", "100000")
 
-# where Python keeps no bytecode (PYTHONDONTWRITEBYTECODE), mechgen keeps its own
-# modules' (mechgen.bytecode): first, so that every module below is loaded through it
-from .bytecode import install as _install_bytecode
-_install_bytecode()
-
 from .errors import (BranchJumpWarning, ConvergenceError, MechgenError, ModelError,
                      RedundancyWarning, SingularError, SolveError)
 

@@ -26,7 +26,7 @@ def layer(module):
     parts = module.split(".")
     if module in ("mechgen", "mechgen.__main__"):
         return "api"
-    if parts[1] in ("errors", "protocol", "turns", "bytecode"):
+    if parts[1] in ("errors", "protocol", "turns"):
         return "base"
     return parts[1]
 
