@@ -12,9 +12,21 @@ four-bar loops from chain_model.py), a new Python process with an empty numba ca
     acc      the first acceleration solve, mech.solve(0.15, level="acceleration")
     sweep    the first 101-point acceleration sweep, mech.sweep(0, 1, 101, ...)
     total    all of the above (what a user waits for from the edit to the first answers)
+    process  the whole process, measured from outside: the interpreter's own start
+             (site, .pth files) and exit too
 
 then the same again in a second process ("warm": the module and numba's cache from the
-first). Wall-clock seconds; ``--json`` prints every figure, CPU seconds included.
+first, and the background compile it started finished). Wall-clock seconds; ``--json``
+prints every figure, CPU seconds included. ``--repeat N`` runs N cold processes (each in
+an empty folder) and N warm ones and reports each step's median: the figures issue 24
+names are the median warm and cold ``total`` of quick_return with ``--api file``:
+
+    python benchmarks/bench_startup.py quick_return --repeat 7 --baseline /work/main
+
+Python writes no bytecode where PYTHONDONTWRITEBYTECODE is set (this machine sets it):
+mechgen's own modules are then compiled from source by every process (about 30 ms of a
+warm start, 0.25 s of a cold one); ``--bytecode`` runs copies of the checkouts with their
+bytecode compiled, as an installed mechgen has it.
 
     python benchmarks/bench_startup.py                        # all four models
     python benchmarks/bench_startup.py quick_return chain10   # chosen ones
@@ -23,6 +35,8 @@ first). Wall-clock seconds; ``--json`` prints every figure, CPU seconds included
     python benchmarks/bench_startup.py --api compile          # mechgen.compile(model)
     MECHGEN_TIER=... python benchmarks/bench_startup.py       # passed through, as is
     python benchmarks/bench_startup.py --tier python          # sets MECHGEN_TIER
+    python benchmarks/bench_startup.py --repeat 7             # medians of 7 processes each
+    python benchmarks/bench_startup.py --bytecode             # checkouts with .pyc files
 
 ``--api file`` (the default) calls ``mechgen.compile("MODEL.py")``, as ``mechgen solve
 MODEL.py`` does: the plain-Python tier answers at once while numba compiles in a background
@@ -37,13 +51,16 @@ import argparse
 import json
 import os
 import shutil
+import signal
+import statistics
 import subprocess
 import sys
 import tempfile
+import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
-STEPS = ("import", "model", "build", "load", "solve", "acc", "sweep", "total")
+STEPS = ("import", "model", "build", "load", "solve", "acc", "sweep", "total", "process")
 MODELS = ("quick_return", "strandbeest", "chain10", "chain50")
 
 # one process: the steps, each timed (wall and CPU), printed as one JSON line
@@ -121,51 +138,110 @@ def model_file(name: str, folder: str) -> str:
     return path
 
 
+def _children_cpu() -> float:
+    """CPU seconds of this process's children that have ended (and were waited for)."""
+    import resource
+    use = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return use.ru_utime + use.ru_stime
+
+
 def run_once(code_root, api, path, outdir, cache, tier=None, timeout=900) -> dict:
     """One fresh process: the steps' times (a dict), or {"error": text}."""
     env = dict(os.environ, NUMBA_CACHE_DIR=cache, MECHGEN_CACHE=outdir,
                PYTHONPATH=code_root + os.pathsep + os.environ.get("PYTHONPATH", ""))
     if tier is not None:
         env["MECHGEN_TIER"] = tier
+    start, used = time.perf_counter(), _children_cpu()
     try:
         done = subprocess.run([sys.executable, "-c", CHILD, api, path, outdir], env=env,
                               capture_output=True, text=True, timeout=timeout, cwd=outdir)
     except subprocess.TimeoutExpired:
         return {"error": f"timed out after {timeout} s"}
+    process = time.perf_counter() - start
     for line in done.stdout.splitlines()[::-1]:
         if line.startswith("BENCH "):
-            return json.loads(line[6:])
+            return dict(json.loads(line[6:]), process=process,
+                        process_cpu=_children_cpu() - used)
     return {"error": (done.stderr.strip().splitlines() or ["no output"])[-1]}
 
 
-def wait_for_workers(limit=600.0):
+def wait_for_workers(limit=600.0, stop_in=None):
     """Wait until no background compile worker (python -m mechgen.runtime.warmup, started
     by a cold run in the auto tier) is running, so that the next run is neither slowed by
-    it nor finds a half-written cache."""
-    import time
+    it nor finds a half-written cache. ``stop_in``: a folder of ours whose workers (their
+    module is in it) are stopped instead, by their process id (a cold run repeated: its
+    cache is thrown away)."""
     end = time.monotonic() + limit
     while time.monotonic() < end:
-        found = subprocess.run(["pgrep", "-f", "mechgen.runtime.warmup"], capture_output=True)
+        found = subprocess.run(["pgrep", "-f", "mechgen.runtime.warmup"], capture_output=True,
+                               text=True)
         if found.returncode != 0:
             return
+        if stop_in is not None:
+            for pid in found.stdout.split():
+                try:
+                    with open(f"/proc/{pid}/cmdline", "rb") as fh:
+                        ours = os.fsencode(stop_in) in fh.read()
+                    if ours:
+                        os.kill(int(pid), signal.SIGTERM)
+                except (OSError, ValueError):
+                    pass
         time.sleep(0.5)
 
 
-def measure(name, code_root, api, tier, keep=False) -> dict:
-    """Cold (empty cache and folder) then warm (the same again) for one model."""
+def median_run(runs) -> dict:
+    """Each figure's median over ``runs`` (the first error, if any run failed)."""
+    for r in runs:
+        if "error" in r:
+            return r
+    out = {}
+    for key, value in runs[0].items():
+        if isinstance(value, (int, float)):
+            out[key] = statistics.median(r[key] for r in runs)
+        else:
+            out[key] = value
+    out["runs"] = len(runs)
+    return out
+
+
+def measure(name, code_root, api, tier, keep=False, repeat=1) -> dict:
+    """Cold (empty cache and folder) then warm (the same again) for one model: the median
+    of ``repeat`` processes each (every cold one in a folder of its own)."""
     work = tempfile.mkdtemp(prefix=f"bench-startup-{name}-")
     try:
-        path = model_file(name, work)
-        outdir, cache = os.path.join(work, "modules"), os.path.join(work, "numba")
-        os.makedirs(outdir)
-        cold = run_once(code_root, api, path, outdir, cache, tier)
-        wait_for_workers()
-        warm = run_once(code_root, api, path, outdir, cache, tier)
-        wait_for_workers()
-        return {"cold": cold, "warm": warm}
+        colds = []
+        for k in range(repeat):
+            folder = os.path.join(work, f"run{k}")
+            os.makedirs(folder)
+            path = model_file(name, folder)
+            outdir, cache = os.path.join(folder, "modules"), os.path.join(folder, "numba")
+            os.makedirs(outdir)
+            colds.append(run_once(code_root, api, path, outdir, cache, tier))
+            last = k == repeat - 1      # the last one's cache is kept, for the warm runs
+            wait_for_workers(stop_in=None if last else folder)
+        warms = []
+        for _ in range(repeat):
+            warms.append(run_once(code_root, api, path, outdir, cache, tier))
+            wait_for_workers()
+        return {"cold": median_run(colds), "warm": median_run(warms)}
     finally:
         if not keep:
             shutil.rmtree(work, ignore_errors=True)
+
+
+def with_bytecode(root, work) -> str:
+    """A copy of the checkout at ``root`` (mechgen/ and templates/) in ``work``, its
+    modules compiled to bytecode: mechgen as installed (pip compiles what it installs)."""
+    dst = os.path.join(work, os.path.basename(os.path.normpath(root)) or "checkout")
+    for sub in ("mechgen", "templates"):
+        if os.path.isdir(os.path.join(root, sub)):
+            shutil.copytree(os.path.join(root, sub), os.path.join(dst, sub),
+                            ignore=shutil.ignore_patterns("__pycache__"))
+    env = dict(os.environ)
+    env.pop("PYTHONDONTWRITEBYTECODE", None)
+    subprocess.run([sys.executable, "-m", "compileall", "-q", os.path.join(dst, "mechgen")],
+                   env=env, check=True)
+    return dst
 
 
 def table(rows, cpu=False) -> str:
@@ -200,16 +276,28 @@ def main(argv=None):
                     help="the table in CPU seconds of each process (steadier than wall-clock "
                          "time on a busy machine; numba compiles in the process)")
     ap.add_argument("--keep", action="store_true", help="keep the temporary folders")
+    ap.add_argument("--repeat", type=int, default=1, metavar="N",
+                    help="N cold and N warm processes per model and checkout: the medians")
+    ap.add_argument("--bytecode", action="store_true",
+                    help="run copies of the checkouts with their modules compiled to "
+                         "bytecode (as installed), whatever PYTHONDONTWRITEBYTECODE says")
     args = ap.parse_args(argv)
+    if args.repeat < 1:
+        ap.error("--repeat must be at least 1")
     codes = [("this", ROOT)] + ([("baseline", os.path.abspath(args.baseline))]
                                 if args.baseline else [])
+    if args.bytecode:
+        copies = tempfile.mkdtemp(prefix="bench-startup-bytecode-")
+        codes = [(code, with_bytecode(root, os.path.join(copies, code))) for code, root in codes]
     rows, result = [], {}
     if not args.json:
-        print(("CPU seconds\n" if args.cpu else "wall-clock seconds\n") +
+        print(("CPU seconds" if args.cpu else "wall-clock seconds") +
+              (f", medians of {args.repeat} processes" if args.repeat > 1 else "") +
+              (", checkouts with bytecode" if args.bytecode else "") + "\n" +
               "\n".join(table([]).splitlines()[:2]), flush=True)
     for name in args.models:
         for code, root in codes:
-            got = measure(name, root, args.api, args.tier, args.keep)
+            got = measure(name, root, args.api, args.tier, args.keep, args.repeat)
             result.setdefault(name, {})[code] = got
             for run in ("cold", "warm"):
                 rows.append((name, code, run, got[run]))
@@ -217,6 +305,7 @@ def main(argv=None):
                     print(table(rows[-1:], args.cpu).splitlines()[-1], flush=True)
     if args.json:
         print(json.dumps({"api": args.api, "tier": args.tier or os.environ.get("MECHGEN_TIER"),
+                          "repeat": args.repeat, "bytecode": args.bytecode,
                           "results": result}, indent=1))
         return
     if args.baseline:

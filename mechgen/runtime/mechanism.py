@@ -17,24 +17,20 @@ import numpy as np
 from ..errors import RedundancyWarning
 from ..protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, LEVEL, LEVELS,
                         OK, POINT_INFO_SIZE, POINT_PIVOT, POINT_RESIDUAL, SING_RTOL, VELOCITY)
-from .assembly import angle_coordinates
-from .assembly import assemblies as find_assemblies
 from .entry import solve_acceleration, solve_point_derivatives, solve_velocity
-from .design import design_table
-from .forces import force_solve, force_sweep, is_force_level
 from .follow import follow
+from .forces.lookup import is_force_level
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
                      point_bytes, sweep_count, sweep_times)
 from .tiers import Tiers
-from .locks import convergence_error, singular_error
-from .locks import singularities as find_singularities
 from .quantity import symbolic_side
 from .results import Solution, Sweep
-from .singular import null_space
-from .stages import staged_singularities, staged_sweep
 from .sweeping import times as sweep_times_of
 from .sweeping import run as run_sweep
 
+# imported where used, so that a fresh process's first answer does not wait for them:
+# assembly, design (and its backends), forces' solvers, stages, singular and locks (the
+# errors of a failed solve, singularities)
 
 def load(path_or_module, tier=None, **kwargs) -> "Mechanism":
     """A :class:`Mechanism` from a generated module: a path or an imported module
@@ -204,6 +200,7 @@ class Mechanism:
         adds the multipliers, the driver efforts and the reactions
         (mechgen.runtime.forces)."""
         if is_force_level(level):
+            from .forces.solution import force_solve
             return force_solve(self, t, level, guess=guess, method=method, tol=tol,
                                maxit=maxit)
         t = finite(t, "t")
@@ -234,6 +231,7 @@ class Mechanism:
         d = q - start
         if float(d @ d) <= np.pi * np.pi or not np.any(np.abs(d) > np.pi):
             return False            # the common case (no coordinate moved π): nothing to do
+        from .assembly import angle_coordinates
         for j in angle_coordinates(self):
             k = round((q[j] - start[j]) / (2 * np.pi))
             if k:
@@ -303,6 +301,7 @@ class Mechanism:
         if self.m <= self.n or getattr(self.module, "_mechgen_redundancy_reported", False):
             return
         self.module._mechgen_redundancy_reported = True     # the runtime's own mark
+        from .singular import null_space
         null = null_space(self, q, t)
         extra = self.m - min(null.rank, self.n)
         warnings.warn(
@@ -327,6 +326,7 @@ class Mechanism:
         """(rank, labels of the constraint rows in the left null space) of the
         row-equilibrated Φ_q at (q, t): the equations that become dependent at a singular
         or redundant configuration (mechgen.runtime.singular.null_space says more)."""
+        from .singular import null_space
         null = null_space(self, q, t, rtol=rtol)
         return null.rank, null.constraints
 
@@ -340,8 +340,10 @@ class Mechanism:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
         ts = np.linspace(t0, t1, int(n))
         if getattr(self.module, "SWITCH_TIMES", ()):     # stage by stage (runtime.stages)
+            from .stages import staged_singularities
             return staged_singularities(self, ts, self._start(guess))
-        return find_singularities(self, ts, self._start(guess))
+        from .locks import singularities
+        return singularities(self, ts, self._start(guess))
 
     # -- sweeps -----------------------------------------------------------------------
     def sweep(self, t0, t1, n, level="position", guess=None, method=None, tol=None,
@@ -367,11 +369,13 @@ class Mechanism:
             if out is not None or backend != "cpu" or reduce is not None:
                 raise ValueError(f"level={level!r}: out=, backend= and reduce= are for a "
                                  "single kinematic sweep or a design table (params=)")
+            from .forces.sweep import force_sweep
             return force_sweep(self, t0, t1, n, level, guess=guess, method=method, tol=tol,
                                maxit=maxit, times=times)
         if params is not None:
             if out is not None:
                 raise ValueError("out= is for a single sweep, not a design table (params=)")
+            from .design import design_table
             return design_table(self, t0, t1, n, params, level=level, guess=guess,
                                 method=method, tol=tol, maxit=maxit, times=times,
                                 backend=backend, workers=workers, client=client,
@@ -383,6 +387,7 @@ class Mechanism:
                              "design tables (params={name: [values, ...]})")
         if getattr(self.module, "SWITCH_TIMES", ()):
             # a model with stages: a sweep across a switch runs stage by stage
+            from .stages import staged_sweep
             staged = staged_sweep(self, t0, t1, n, times, guess=guess, level=level,
                                   method=method, tol=tol, maxit=maxit)
             if staged is not None:
@@ -445,6 +450,7 @@ class Mechanism:
         ``progress(done, total)`` called as chunks of designs finish.
         on_fail: "warn" (default), "raise" or "ignore" for designs that fail to solve.
         """
+        from .design import design_table
         return design_table(self, t0, t1, n, params, level=level, guess=guess, method=method,
                             tol=tol, maxit=maxit, times=times, progress=progress,
                             on_fail=on_fail, backend=backend, workers=workers, client=client,
@@ -475,7 +481,8 @@ class Mechanism:
         t = finite(t, "t")
         if isinstance(starts, bool) or int(starts) != starts or starts < 0:
             raise ValueError(f"starts must be a non-negative integer, got {starts!r}")
-        return find_assemblies(self, t, self._start(guess), int(starts), level,
+        from .assembly import assemblies
+        return assemblies(self, t, self._start(guess), int(starts), level,
                                self._tol(None), self._method(None), flips=flips)
 
     # -- values at solved configurations ----------------------------------------------
@@ -497,6 +504,18 @@ class Mechanism:
         fn = (self.module.outputs, self.module.outputs_d, self.module.outputs_dd)[order]
         fn(q, z if qd is None else qd, z if qdd is None else qdd, float(t), self.p, out)
         return out
+
+
+def convergence_error(*args, **kwargs):
+    """mechgen.runtime.locks.convergence_error, imported when a solve first fails."""
+    from .locks import convergence_error as error
+    return error(*args, **kwargs)
+
+
+def singular_error(*args, **kwargs):
+    """mechgen.runtime.locks.singular_error, imported when a solve first fails."""
+    from .locks import singular_error as error
+    return error(*args, **kwargs)
 
 
 def _short(value) -> str:

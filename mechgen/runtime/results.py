@@ -10,8 +10,6 @@ import numpy as np
 from ..protocol import (INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP, INFO_STATUS, JUMP, LEVEL,
                         LEVELS, REPORT_JUMP, STATUS_CODE, STATUS_COLUMNS, STATUS_ITERATIONS,
                         STATUS_SUBSTEPS, INFO_SUBSTEPS)
-from .events import extrema as _extrema, roots as _roots
-from .interpolate import interpolate as _interpolate
 from .quantity import _lookup, column_names, level_of
 
 __all__ = ["Solution", "Sweep", "write_csv", "_lookup"]
@@ -263,12 +261,14 @@ class Sweep:
         out.simulation = self.simulation
         return out
 
-    # -- analysis (mechgen.runtime.interpolate, mechgen.runtime.events) ---------------------
+    # -- analysis (mechgen.runtime.interpolate, mechgen.runtime.events: imported when first
+    # used, not by a process that only solves) ----------------------------------------------
     def interpolate(self, name, method="auto", degree=3, extrapolate=False):
         """A callable of t (Mech's TimeInterpolate) using the derivatives the sweep holds:
         quintic Hermite with accelerations, cubic Hermite with velocities, a cubic spline
         on positions; method="lagrange" is Mathematica's default InterpolatingFunction."""
-        return _interpolate(self, name, method=method, degree=degree, extrapolate=extrapolate)
+        from .interpolate import interpolate
+        return interpolate(self, name, method=method, degree=degree, extrapolate=extrapolate)
 
     def extrema(self, name, method="auto", xtol=1e-12):
         """Maxima and minima of a quantity, bracketed by the sweep and refined on exact
@@ -276,12 +276,14 @@ class Sweep:
         sweep's ends are extremes too (``e.at`` "start"/"end"); a sweep over exactly one
         period is a closed cycle (``.periodic``), whose extremes through its ends are
         found once, as interior ones."""
-        return _extrema(self, name, method=method, xtol=xtol)
+        from .events import extrema
+        return extrema(self, name, method=method, xtol=xtol)
 
     def roots(self, name, method="auto", xtol=1e-12):
         """Times where a quantity crosses zero, refined on exact solves; a zero at an end
         of the sweep counts (``e.at``), except through the ends of a closed cycle."""
-        return _roots(self, name, method=method, xtol=xtol)
+        from .events import roots
+        return roots(self, name, method=method, xtol=xtol)
 
     def singularities(self):
         """Where Φ_q loses rank between the first and last time of this sweep, along its

@@ -20,9 +20,7 @@ from ..errors import BranchJumpWarning, MechgenError
 from ..protocol import (ACCELERATION, JUMP, LEVEL, METHOD_FULL, REPORT_FAILED, REPORT_JUMP,
                         REPORT_REACHED, REPORT_SIZE, REPORT_STATUS, STATUS_CODE,
                         STATUS_COLUMNS, THROUGH_SINGULAR, VELOCITY)
-from .locks import convergence_error, singular_error
 from .results import Sweep
-from .singular import solve_q
 
 _VEL, _ACC = LEVEL["velocity"], LEVEL["acceleration"]
 _KEYS = ("q", "qd", "qdd", "status")
@@ -281,6 +279,8 @@ def failure(mech, ts, done, Q, report, q0) -> MechgenError:
     are not determined, else ConvergenceError (with the lock the branch ran into, where
     there is one). The careful sweep left the last configuration it reached in Q[done],
     its time and the time that failed in the report."""
+    from .locks import convergence_error, singular_error    # an error path: imported here
+    from .singular import solve_q
     status = int(report[REPORT_STATUS])
     t = float(ts[done])
     t_last, t_try = float(report[REPORT_REACHED]), float(report[REPORT_FAILED])

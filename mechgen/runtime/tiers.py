@@ -48,12 +48,53 @@ def tier_choice(tier=None) -> str:
 @functools.lru_cache(maxsize=1)
 def numba_version() -> str:
     """The installed numba's version, read from its package metadata (importing numba
-    costs what the plain-Python tier is there to avoid); "" when it cannot be read."""
+    costs what the plain-Python tier is there to avoid); "" when it cannot be read.
+
+    The metadata beside the numba that would be imported (one ``numba-*.dist-info`` or
+    ``.egg-info`` in its folder) is read directly: importing importlib.metadata costs a
+    fresh process 15 to 30 ms, a tenth of its first answer. Anything else (none there,
+    several) asks importlib.metadata."""
+    import importlib.util
+    try:
+        spec = importlib.util.find_spec("numba")
+    except (ImportError, ValueError):
+        spec = None
+    if spec is None:
+        return ""
+    found = _version_beside(spec.origin)
+    if found:
+        return found
     try:
         from importlib.metadata import version
         return version("numba")
     except Exception:       # noqa: BLE001 - no metadata: the mark keys on the rest
         return ""
+
+
+def _version_beside(origin) -> str:
+    """The Version of the one numba distribution's metadata in the folder holding the
+    package at ``origin`` (its __init__.py), or "" when there is not exactly one."""
+    if not origin:
+        return ""
+    folder = os.path.dirname(os.path.dirname(origin))
+    try:
+        names = [n for n in os.listdir(folder) if n.startswith("numba-") and
+                 n.endswith((".dist-info", ".egg-info"))]
+    except OSError:
+        return ""
+    if len(names) != 1:
+        return ""
+    meta = "METADATA" if names[0].endswith(".dist-info") else "PKG-INFO"
+    try:
+        with open(os.path.join(folder, names[0], meta), encoding="utf-8") as fh:
+            for line in fh:
+                if line.startswith("Version:"):
+                    return line.split(":", 1)[1].strip()
+                if not line.strip():        # the end of the headers
+                    break
+    except OSError:
+        pass
+    return ""
 
 
 def state_paths(path: str) -> tuple[str, str]:

@@ -24,15 +24,29 @@ points from the module alone: sweeps, design tables' chunks on threads and dask 
 points the module lists), ``contact_loss`` (where a cam follower would need a pulling
 contact), ``solution`` (one point), ``sweep`` (a sweep's efforts, reactions, contact
 forces, power, shaking, flywheel) and ``table`` (design tables at the force levels,
-``reduce=`` on drivers).
+``reduce=`` on drivers). Each name below is imported from its submodule when first used.
 """
-from .contact import CONTACT_KINDS, contact_values
-from .contact_loss import ContactLoss
-from .lookup import FORCE_LEVELS, is_force_level, tables
-from .points import solve_points
-from .solution import ForceSolution, force_solve
-from .sweep import ForceSweep, attach, force_sweep
+from importlib import import_module
 
-__all__ = ["CONTACT_KINDS", "ContactLoss", "FORCE_LEVELS", "ForceSolution", "ForceSweep",
-           "attach", "contact_values", "force_solve", "force_sweep", "is_force_level",
-           "solve_points", "tables"]
+# name -> the submodule defining it, imported on first use (PEP 562): importing
+# ``forces.lookup`` (is_force_level, as every solve asks) does not load the rest
+_WHERE = {"CONTACT_KINDS": "contact", "contact_values": "contact",
+          "ContactLoss": "contact_loss", "FORCE_LEVELS": "lookup",
+          "is_force_level": "lookup", "tables": "lookup", "solve_points": "points",
+          "ForceSolution": "solution", "force_solve": "solution", "ForceSweep": "sweep",
+          "attach": "sweep", "force_sweep": "sweep"}
+
+__all__ = sorted(_WHERE)
+
+
+def __getattr__(name):
+    where = _WHERE.get(name)
+    if where is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(import_module(f"{__name__}.{where}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_WHERE))
