@@ -1,0 +1,118 @@
+"""The page's JavaScript (Bokeh CustomJS bodies): moving the glyphs to the time shown,
+playing, switching the plots' quantities, and, in a page without a server, picking the
+precomputed cycle nearest the sliders. Kept as text here so that the server page, the
+standalone page and the notebook share it."""
+
+# Moves every glyph to the time on the slider: a glyph's local vertices turned by its
+# frame's angle and moved to its origin (view.geometry). Runs on a time change and when
+# the cycle's columns change (a parameter moved): then it stamps window.mechgen_drawn
+# (performance.now()) for the latency benchmark and the tests.
+REDRAW = r"""
+const d = cycle.data;
+const n = d.t ? d.t.length : 0;
+const failed = n == 0;
+message.visible = failed;
+for (const r of renderers) { r.visible = !failed; }
+if (!failed) {
+  const t0 = d.t[0], t1 = d.t[n - 1];
+  let i = Math.round((slider.value - t0) / (t1 - t0) * (n - 1));
+  i = Math.max(0, Math.min(n - 1, i));
+  function pose(f) {
+    if (f == 0) { return [0.0, 0.0, 1.0, 0.0]; }
+    const a = d["f" + f + "a"][i];
+    return [d["f" + f + "x"][i], d["f" + f + "y"][i], Math.cos(a), Math.sin(a)];
+  }
+  for (const src of layers) {
+    const g = src.data;
+    const m = g.frame.length;
+    if (g.x !== undefined) {               // dots and labels: one point a row
+      const x = new Array(m), y = new Array(m);
+      for (let r = 0; r < m; r++) {
+        const [ox, oy, c, s] = pose(g.frame[r]);
+        x[r] = ox + c * g.lx[r] - s * g.ly[r];
+        y[r] = oy + s * g.lx[r] + c * g.ly[r];
+      }
+      g.x = x; g.y = y;
+    } else {                               // patches and lines: vertices a row
+      const xs = new Array(m), ys = new Array(m);
+      for (let r = 0; r < m; r++) {
+        const lx = g.lx[r], ly = g.ly[r], k = lx.length;
+        if (g.frame[r] == 0) { xs[r] = lx; ys[r] = ly; continue; }
+        const [ox, oy, c, s] = pose(g.frame[r]);
+        const X = new Float64Array(k), Y = new Float64Array(k);
+        for (let v = 0; v < k; v++) {
+          X[v] = ox + c * lx[v] - s * ly[v];
+          Y[v] = oy + s * lx[v] + c * ly[v];
+        }
+        xs[r] = X; ys[r] = Y;
+      }
+      g.xs = xs; g.ys = ys;
+    }
+    src.change.emit();
+  }
+  const tx = [], ty = [];
+  for (let j = 0; j < ntraces; j++) { tx.push(d["tr" + j + "x"][i]); ty.push(d["tr" + j + "y"][i]); }
+  marks.data = {x: tx, y: ty, color: marks.data.color};
+  for (let p = 0; p < plots.length; p++) {
+    const xf = plots[p].glyph.x.field, yf = plots[p].glyph.y.field;
+    dots[p].data = {x: [d[xf][i]], y: [d[yf][i]]};
+  }
+  clock.text = "T = " + d.t[i].toPrecision(4);
+}
+window.mechgen_drawn = performance.now();
+window.mechgen_redraws = (window.mechgen_redraws || 0) + 1;
+"""
+
+# The play button: steps the time slider around the cycle (about six seconds a turn).
+PLAY = r"""
+if (window.mechgen_timer) { clearInterval(window.mechgen_timer); window.mechgen_timer = null; }
+if (button.active) {
+  window.mechgen_timer = setInterval(function () {
+    const span = slider.end - slider.start;
+    let v = slider.value + span / 180;
+    if (v > slider.end) { v = slider.start; }
+    slider.value = v;
+  }, 33);
+}
+"""
+
+# A plot's quantity or the quantity along x chosen: the line's fields and the axes' labels.
+CHOOSE = r"""
+for (let p = 0; p < plots.length; p++) {
+  const y = selects[p].value, x = against.value;
+  plots[p].glyph.x = {field: x};
+  plots[p].glyph.y = {field: y};
+  yaxes[p].axis_label = y + (units[y] ? " (" + units[y] + ")" : "");
+  xaxes[p].axis_label = x + (units[x] ? " (" + units[x] + ")" : "");
+}
+cycle.change.emit();
+"""
+
+# A page without a server: the precomputed cycle nearest the sliders (view.standalone).
+PICK = r"""
+let index = 0;
+for (let k = 0; k < sliders.length; k++) {
+  const g = grids[k];
+  let best = 0;
+  for (let j = 1; j < g.length; j++) {
+    if (Math.abs(g[j] - sliders[k].value) < Math.abs(g[best] - sliders[k].value)) { best = j; }
+  }
+  index = index * g.length + best;
+}
+const start = table.data.start[index], count = table.data.count[index];
+const out = {};
+for (const name of names) { out[name] = cycles.data[name].slice(start, start + count); }
+for (let m = 0; m < layers.length; m++) {
+  const src = shapes[m].data, rows = [];
+  for (let r = 0; r < src.cycle.length; r++) { if (src.cycle[r] == index) { rows.push(r); } }
+  const g = {};
+  for (const key of Object.keys(layers[m].data)) {
+    const col = src[key];
+    if (col === undefined) { continue; }
+    g[key] = rows.map(r => col[r]);
+  }
+  layers[m].data = g;
+}
+message.text = table.data.message[index];
+cycle.data = out;
+"""
