@@ -5,6 +5,7 @@ and draws the glyphs again only when a body's shape changed (a length, not a spe
 from __future__ import annotations
 
 import math
+import textwrap
 
 import numpy as np
 
@@ -170,7 +171,8 @@ class Explorer:
         the parameter just changed over which it runs."""
         said = ", ".join(f"{k} = {v:.4g}" for k, v in values.items() if k in changed) or \
             ", ".join(f"{k} = {v:.4g}" for k, v in values.items())
-        text = f"Cannot assemble over the cycle for {said}: {why}"
+        text = f"Cannot assemble over the cycle for {said}:\n" + \
+            "\n".join(textwrap.wrap(why, 72))
         for name in changed:
             lo, hi = self.ranges[name]
             span = assembling_range(mech, name, min(lo, values[name]), max(hi, values[name]),

@@ -85,6 +85,29 @@ def layer_data(kind, pieces) -> dict:
     return cols
 
 
+def placed(cols, data, i=0) -> dict:
+    """A layer's columns with its drawn vertices at time index i of the cycle's columns
+    (what the page's script does in the browser, done once in Python for the first paint)."""
+    def pose(f):
+        if f == 0 or f"f{f}x" not in data or not len(data[f"f{f}x"]):
+            return 0.0, 0.0, 1.0, 0.0
+        a = float(data[f"f{f}a"][i])
+        return float(data[f"f{f}x"][i]), float(data[f"f{f}y"][i]), np.cos(a), np.sin(a)
+    out = dict(cols)
+    if "x" in cols:
+        xy = [pose(f) for f in cols["frame"]]
+        out["x"] = [ox + c * x - s * y for (ox, oy, c, s), x, y in zip(xy, cols["lx"], cols["ly"])]
+        out["y"] = [oy + s * x + c * y for (ox, oy, c, s), x, y in zip(xy, cols["lx"], cols["ly"])]
+    else:
+        xs, ys = [], []
+        for f, x, y in zip(cols["frame"], cols["lx"], cols["ly"]):
+            ox, oy, c, s = pose(f)
+            xs.append(ox + c * x - s * y)
+            ys.append(oy + s * x + c * y)
+        out["xs"], out["ys"] = xs, ys
+    return out
+
+
 def label_data(picture) -> dict:
     labels = picture.labels
     return {"lx": [0.0] * len(labels), "ly": [0.0] * len(labels),
@@ -129,7 +152,7 @@ class Page:
         for m, (kind, pieces) in enumerate(layers):
             if m == cut:
                 self._traces(fig)
-            src = ColumnDataSource(layer_data(kind, pieces), name=f"layer{m}")
+            src = ColumnDataSource(placed(layer_data(kind, pieces), ex.data), name=f"layer{m}")
             if kind == "patches":
                 r = fig.patches("xs", "ys", source=src, fill_color="fill_color",
                                 fill_alpha="fill_alpha", line_color="line_color",
@@ -143,7 +166,7 @@ class Page:
             self.renderers.append(r)
         if cut >= len(layers):
             self._traces(fig)
-        self.labels = ColumnDataSource(label_data(pic), name="labels")
+        self.labels = ColumnDataSource(placed(label_data(pic), ex.data), name="labels")
         self.renderers.append(fig.text(
             "x", "y", text="text", source=self.labels, x_offset="dx", y_offset="dy",
             text_color="color", text_font_size="11px", text_align="center",
@@ -155,7 +178,8 @@ class Page:
                              background_fill_color="white", background_fill_alpha=0.9,
                              visible=bool(ex.message), name="message")
         fig.add_layout(self.message)
-        self.clock = Label(x=extent[0], y=extent[3], x_offset=6, y_offset=-22, text="T",
+        self.clock = Label(x=extent[0], y=extent[3], x_offset=6, y_offset=-22,
+                           text=f"T = {ex.t0:.4g}",
                            text_font_size="13px", text_color=INK, name="clock")
         fig.add_layout(self.clock)
 
@@ -178,7 +202,7 @@ class Page:
             sp.js_link("value", s, "value")
             self.sliders[name], self.spinners[name] = s, sp
         self.note = Div(text="", width=420, name="note",
-                        styles={"color": "#a01010", "white-space": "pre-wrap"})
+                        styles={"color": "#444444", "white-space": "pre-wrap"})
 
         # the plots
         units = {q: unit_of(q) for q in ex.quantities}
@@ -192,7 +216,8 @@ class Page:
             f = figure(width=PLOT_WIDTH, height=PLOT_HEIGHT, tools="pan,wheel_zoom,reset,save",
                        toolbar_location="right", name=f"plot{p}")
             line = f.line("t", quantity, source=self.cycle, line_width=1.8, color=colors[p % 2])
-            dot = ColumnDataSource({"x": [0.0], "y": [0.0]})
+            dot = ColumnDataSource({"x": [float(ex.data["t"][0])],
+                                    "y": [float(ex.data[quantity][0])]})
             f.scatter("x", "y", source=dot, size=8, color=colors[p % 2])
             f.xaxis.axis_label = "t (" + units["t"] + ")"
             f.yaxis.axis_label = quantity + (f" ({units[quantity]})" if units[quantity] else "")
@@ -204,7 +229,8 @@ class Page:
             yaxes.append(f.yaxis[0])
             xaxes.append(f.xaxis[0])
             plots.append(f)
-        self.marks = ColumnDataSource({"x": [0.0] * len(ex.traces), "y": [0.0] * len(ex.traces),
+        self.marks = ColumnDataSource({"x": [float(ex.data[f"tr{j}x"][0]) for j in range(len(ex.traces))],
+                                       "y": [float(ex.data[f"tr{j}y"][0]) for j in range(len(ex.traces))],
                                        "color": [b.edge for b, _ in ex.traces]}, name="marks")
         self.renderers.append(fig.scatter("x", "y", source=self.marks, size=7, color="color"))
         redraw = CustomJS(args=dict(cycle=self.cycle, layers=self.layers, slider=self.time,
@@ -259,10 +285,10 @@ class Page:
         if picture is not None:
             layers, _ = layers_of(picture)
             for src, (kind, pieces) in zip(self.layers, layers):
-                src.data = layer_data(kind, pieces)
-            self.labels.data = label_data(picture)
+                src.data = placed(layer_data(kind, pieces), data)
+            self.labels.data = placed(label_data(picture), data)
         self.message.text = message
-        self.note.text = message
+        self.note.text = "" if not message else "The drawing cannot be shown: see above."
         self.cycle.data = data
 
 

@@ -100,11 +100,12 @@ for (let k = 0; k < sliders.length; k++) {
   index = index * g.length + best;
 }
 const start = table.data.start[index], count = table.data.count[index];
+const shape = table.data.shape[index];
 const out = {};
 for (const name of names) { out[name] = cycles.data[name].slice(start, start + count); }
 for (let m = 0; m < layers.length; m++) {
   const src = shapes[m].data, rows = [];
-  for (let r = 0; r < src.cycle.length; r++) { if (src.cycle[r] == index) { rows.push(r); } }
+  for (let r = 0; r < src.cycle.length; r++) { if (src.cycle[r] == shape) { rows.push(r); } }
   const g = {};
   for (const key of Object.keys(layers[m].data)) {
     const col = src[key];

@@ -1,0 +1,141 @@
+"""``mechgen view MODEL.py --html out.html``: the view as one self-contained file (no
+server, no Python): a table of cycles precomputed over a grid of the parameters' ranges,
+from which the page shows the cycle nearest the sliders (view.scripts.PICK). The same
+page is what ``mech.explore()`` shows in a notebook.
+
+Size: a cycle is stored as float32 columns of the frames' poses, the traced paths and
+the quantities the plots may show (the outputs with their derivatives, the drivers'
+efforts and the quantities the plots start with); ``max_cycles`` bounds the grid."""
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+from bokeh.models import ColumnDataSource, CustomJS
+
+from .cycle import DRIVER
+from .page import Page, layer_data, layers_of
+from .scripts import PICK
+
+MAX_CYCLES = 125
+
+
+def grid_of(ex, vary, steps, max_cycles):
+    """{parameter: values} of the table: ``steps`` values over each varied parameter's
+    range (its current value among them), as many as keep the grid within max_cycles."""
+    vary = list(ex.params) if vary is None else list(vary)
+    unknown = [v for v in vary if v not in ex.params]
+    if unknown:
+        raise ValueError(f"vary: '{ex.mech.name}' has no parameter "
+                         f"{', '.join(map(repr, unknown))} (parameters: {', '.join(ex.params)})")
+    if steps is None:
+        steps = max(2, int(math.floor(max_cycles ** (1.0 / max(1, len(vary))) + 1e-9)))
+    out = {}
+    for name in ex.params:
+        if name in vary:
+            lo, hi = ex.ranges[name]
+            values = np.unique(np.append(np.linspace(lo, hi, steps), ex.params[name]))
+            out[name] = values
+        else:
+            out[name] = np.array([ex.params[name]])
+    total = int(np.prod([len(v) for v in out.values()]))
+    if total > 4 * max_cycles:
+        raise ValueError(f"the table would hold {total} cycles; vary fewer parameters or "
+                         f"take fewer steps (at most {4 * max_cycles})")
+    return out
+
+
+def kept_columns(ex) -> list:
+    """The columns a standalone cycle keeps (see the module's docstring)."""
+    keep = {"t"} | set(ex.plots)
+    for o in ex.mech.outputs:
+        keep |= {o, o + "d", o + "dd"}
+    keep |= {c for c in ex.names if c.startswith(DRIVER)}
+    keep |= {c for c in ex.names if c[:1] == "f" and c[1:-1].isdigit()}
+    keep |= {c for c in ex.names if c.startswith("tr") and c[2:-1].isdigit()}
+    return [c for c in ex.names if c in keep]
+
+
+def standalone_page(ex, vary=None, steps=None, max_cycles=MAX_CYCLES):
+    """The page (a Bokeh layout) with its table of precomputed cycles."""
+    grid = grid_of(ex, vary, steps, max_cycles)
+    names = kept_columns(ex)
+    ex.quantities = [q for q in ex.quantities if q in names]
+    page = Page(ex, server=False)
+    page.cycle.data = {name: np.asarray(ex.data[name], dtype=np.float32) for name in names}
+    base = dict(ex.params)
+    layers0, _ = layers_of(ex.picture)
+    kinds = [k for k, _ in layers0]
+    cols = {name: [] for name in names}
+    shapes = [{key: [] for key in list(layer_data(k, p)) + ["cycle"]} for k, p in layers0]
+    start, count, message, shape_of, seen = [], [], [], [], {}
+    at = 0
+    initial = None
+    for index, values in enumerate(itertools.product(*grid.values())):
+        params = dict(zip(grid, (float(v) for v in values)))
+        data, _, said = ex.compute(params)
+        if all(params[k] == base[k] for k in base):
+            initial = index
+        n = len(data["t"])
+        start.append(at)
+        count.append(n)
+        message.append(said)
+        at += n
+        for name in names:
+            cols[name].append(np.asarray(data[name], dtype=np.float32))
+        if id(ex.picture) in seen:       # the same glyphs as a cycle before
+            shape_of.append(seen[id(ex.picture)])
+            continue
+        seen[id(ex.picture)] = len(seen)
+        shape_of.append(seen[id(ex.picture)])
+        layers, _ = layers_of(ex.picture)
+        if [k for k, _ in layers] != kinds:      # drawn otherwise: the first drawing's
+            layers = layers0
+        for m, (kind, pieces) in enumerate(layers):
+            rows = layer_data(kind, pieces)
+            for key, col in rows.items():
+                shapes[m][key] += [np.asarray(c, np.float32) if isinstance(c, np.ndarray)
+                                   else c for c in col]
+            shapes[m]["cycle"] += [seen[id(ex.picture)]] * len(rows["frame"])
+    cycles = ColumnDataSource({k: np.concatenate(v) if v else np.zeros(0, np.float32)
+                               for k, v in cols.items()}, name="table_cycles")
+    table = ColumnDataSource({"start": start, "count": count, "message": message,
+                              "shape": shape_of},
+                             name="table")
+    shape_sources = [ColumnDataSource(s, name=f"table_layer{m}") for m, s in enumerate(shapes)]
+    sliders = [page.sliders[name] for name in grid]
+    for name in grid:
+        if len(grid[name]) == 1:
+            page.sliders[name].disabled = True
+            page.spinners[name].disabled = True
+    pick = CustomJS(args=dict(sliders=sliders, grids=[list(map(float, g)) for g in grid.values()],
+                              table=table, cycles=cycles, names=names,
+                              layers=page.layers[:len(kinds)], shapes=shape_sources,
+                              message=page.message, cycle=page.cycle), code=PICK)
+    for s in sliders:
+        s.js_on_change("value", pick)
+    page.note.text = ("A page without a server: the cycles were computed beforehand for " +
+                      ", ".join(f"{k} in {len(v)} values" for k, v in grid.items()
+                                if len(v) > 1) + "; the nearest is shown.")
+    first = initial if initial is not None else 0     # the cycle the page opens on
+    page.cycle.data = {name: cols[name][first] for name in names}
+    page.message.text = message[first]
+    page.message.visible = bool(message[first])
+    page.table = (grid, table, cycles)
+    return page
+
+
+def write_html(ex, path, vary=None, steps=None, max_cycles=MAX_CYCLES):
+    """Write the standalone page to ``path``; returns the page."""
+    from bokeh.embed import file_html
+    from bokeh.resources import INLINE
+    from bokeh.document import Document
+    page = standalone_page(ex, vary, steps, max_cycles)
+    doc = Document()
+    doc.add_root(page.layout)
+    doc.js_on_event("document_ready", page.redraw)
+    html = file_html(doc, INLINE, title=f"mechgen view: {ex.mech.name}")
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(html)
+    return page
