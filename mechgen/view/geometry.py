@@ -178,6 +178,7 @@ class Picture:
                 else:
                     piece["xy"] = _to_local(piece["xy"], pose)
                 piece["frame"] = j
+                piece["owner"] = group        # a body's name, or "joints"
                 self.pieces.append(piece)
         for text, art in d.labels:
             k = _label_point(art, P0)

@@ -48,7 +48,7 @@ def layers_of(picture):
 
 def layer_data(kind, pieces) -> dict:
     """A layer's columns: local vertices, frame and style a row (view.geometry)."""
-    cols = {"lx": [], "ly": [], "frame": []}
+    cols = {"lx": [], "ly": [], "frame": [], "owner": []}
     style = {"patches": ("fill_color", "fill_alpha", "line_color", "line_width"),
              "lines": ("line_color", "line_alpha", "line_width"),
              "dots": ("color", "size")}[kind]
@@ -66,6 +66,7 @@ def layer_data(kind, pieces) -> dict:
                 cols["lx"].append(xy[:, 0].copy())
                 cols["ly"].append(xy[:, 1].copy())
             cols["frame"].append(p["frame"])
+            cols["owner"].append(p.get("owner", ""))
             if kind == "patches":
                 cols["fill_color"].append(p["fill"] or "#ffffff")
                 cols["fill_alpha"].append(p["fill_alpha"] if p["fill"] else 0.0)
