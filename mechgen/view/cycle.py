@@ -3,9 +3,9 @@ computed by the compiled module, turned into the columns the page reads (the fra
 poses, the traced paths, every quantity a plot may show), or, where the mechanism cannot
 assemble, the message that replaces the drawing and the range over which it can.
 
-Columns: ``t``; ``f<j>x``, ``f<j>y``, ``f<j>a`` (frame j's pose, see view.geometry);
-``tr<j>x``, ``tr<j>y`` (traced point j); and one column per quantity, named as the user
-names it: coordinates, their velocities (``X4d``) and accelerations (``X4dd``), the
+Columns: ``t``; ``f<j>x``, ``f<j>y``, ``f<j>a`` (frame j's pose, see view.geometry; a
+point's frame, which never turns, has no angle column); ``tr<j>x``, ``tr<j>y`` (traced
+point j); and one column per quantity, named as the user names it: coordinates, their velocities (``X4d``) and accelerations (``X4dd``), the
 declared outputs (``stroke_x``, ``stroke_xd``, ``stroke_xdd``) and, for a model with
 masses or loads, each driver's effort (``driver: crank driver``).
 """
@@ -85,7 +85,9 @@ def columns(mech, sw, frames, traces) -> dict:
     for j in range(len(frames)):
         if frames[j][0] == "fixed":
             continue
-        data[f"f{j}x"], data[f"f{j}y"], data[f"f{j}a"] = pose[:, j, 0], pose[:, j, 1], pose[:, j, 2]
+        data[f"f{j}x"], data[f"f{j}y"] = pose[:, j, 0], pose[:, j, 1]
+        if frames[j][0] != "point":        # a point's frame never turns: no angle column
+            data[f"f{j}a"] = pose[:, j, 2]
     for j, (_, where) in enumerate(traces):
         xy = where(P, sw.Q)
         data[f"tr{j}x"], data[f"tr{j}y"] = xy[:, 0], xy[:, 1]

@@ -120,8 +120,12 @@ def _data_xy(artist, ax):
 
 
 def blank_axes():
-    """An off-screen Axes to draw on (never shown)."""
-    return Figure(figsize=(8.0, 6.0), dpi=72).add_subplot()
+    """An off-screen Axes to draw on (never shown). draw() sets its limits itself, so the
+    data limits matplotlib updates at every patch added (half of draw()'s time on a
+    redraw) are not kept up: the view redraws its glyphs at a slider's move."""
+    ax = Figure(figsize=(8.0, 6.0), dpi=72).add_subplot()
+    ax._update_patch_limits = lambda patch: None
+    return ax
 
 
 class Picture:

@@ -46,14 +46,23 @@ def layers_of(picture):
     return layers, cut
 
 
-def layer_data(kind, pieces) -> dict:
-    """A layer's columns: local vertices, frame and style a row (view.geometry)."""
-    cols = {"lx": [], "ly": [], "frame": [], "owner": []}
+def layer_data(kind, pieces):
+    """A layer's columns: (rows, vertices). ``rows``: frame, owner (a body's name or
+    "joints") and style a row, and where its local vertices lie in ``vertices``
+    (start, count); ``vertices``: vx, vy, every row's in a row (two flat arrays are one
+    message each: far quicker to send than a list of short arrays). Dots carry their
+    one point in the row (lx, ly) and have no vertices."""
+    cols = {"frame": [], "owner": []}
     style = {"patches": ("fill_color", "fill_alpha", "line_color", "line_width"),
              "lines": ("line_color", "line_alpha", "line_width"),
              "dots": ("color", "size")}[kind]
     for s in style:
         cols[s] = []
+    flat, at = [], 0
+    if kind == "dots":
+        cols["lx"], cols["ly"] = [], []
+    else:
+        cols["start"], cols["count"] = [], []
     for p in pieces:
         rows = p["segs"] if p["kind"] == "segs" else \
             (list(p["xy"]) if p["kind"] == "dots" else [p["xy"]])
@@ -63,8 +72,10 @@ def layer_data(kind, pieces) -> dict:
                 cols["lx"].append(float(xy[0]))
                 cols["ly"].append(float(xy[1]))
             else:
-                cols["lx"].append(xy[:, 0].copy())
-                cols["ly"].append(xy[:, 1].copy())
+                flat.append(xy)
+                cols["start"].append(at)
+                cols["count"].append(len(xy))
+                at += len(xy)
             cols["frame"].append(p["frame"])
             cols["owner"].append(p.get("owner", ""))
             if kind == "patches":
@@ -81,31 +92,52 @@ def layer_data(kind, pieces) -> dict:
                 cols["size"].append(p["size"])
     if kind == "dots":
         cols["x"], cols["y"] = list(cols["lx"]), list(cols["ly"])
-    else:
-        cols["xs"], cols["ys"] = list(cols["lx"]), list(cols["ly"])
-    return cols
+        return cols, {"vx": np.zeros(0), "vy": np.zeros(0)}
+    V = np.concatenate(flat) if flat else np.zeros((0, 2))
+    # the drawn vertices: the page's script fills them (empty lists cost nothing to send)
+    cols["xs"], cols["ys"] = [[] for _ in cols["frame"]], [[] for _ in cols["frame"]]
+    return cols, {"vx": V[:, 0].copy(), "vy": V[:, 1].copy()}
 
 
-def placed(cols, data, i=0) -> dict:
-    """A layer's columns with its drawn vertices at time index i of the cycle's columns
+def drawing_columns(picture):
+    """Every layer's columns with one vertex table for all of them (one message when a
+    body's shape changes): (layers, cut, [rows], vertices); see layers_of, layer_data."""
+    layers, cut = layers_of(picture)
+    out, xs, ys, at = [], [], [], 0
+    for kind, pieces in layers:
+        rows, v = layer_data(kind, pieces)
+        if "start" in rows:
+            rows["start"] = [a + at for a in rows["start"]]
+            at += len(v["vx"])
+            xs.append(v["vx"])
+            ys.append(v["vy"])
+        out.append(rows)
+    verts = {"vx": np.concatenate(xs) if xs else np.zeros(0),
+             "vy": np.concatenate(ys) if ys else np.zeros(0)}
+    return layers, cut, out, verts
+
+
+def placed(cols, verts, data, i=0) -> dict:
+    """A layer's rows with their drawn vertices at time index i of the cycle's columns
     (what the page's script does in the browser, done once in Python for the first paint)."""
     def pose(f):
         if f == 0 or f"f{f}x" not in data or not len(data[f"f{f}x"]):
             return 0.0, 0.0, 1.0, 0.0
-        a = float(data[f"f{f}a"][i])
+        a = float(data[f"f{f}a"][i]) if f"f{f}a" in data else 0.0
         return float(data[f"f{f}x"][i]), float(data[f"f{f}y"][i]), np.cos(a), np.sin(a)
     out = dict(cols)
     if "x" in cols:
         xy = [pose(f) for f in cols["frame"]]
         out["x"] = [ox + c * x - s * y for (ox, oy, c, s), x, y in zip(xy, cols["lx"], cols["ly"])]
         out["y"] = [oy + s * x + c * y for (ox, oy, c, s), x, y in zip(xy, cols["lx"], cols["ly"])]
-    else:
-        xs, ys = [], []
-        for f, x, y in zip(cols["frame"], cols["lx"], cols["ly"]):
-            ox, oy, c, s = pose(f)
-            xs.append(ox + c * x - s * y)
-            ys.append(oy + s * x + c * y)
-        out["xs"], out["ys"] = xs, ys
+        return out
+    xs, ys = [], []
+    for f, a, k in zip(cols["frame"], cols["start"], cols["count"]):
+        ox, oy, c, s = pose(f)
+        x, y = verts["vx"][a:a + k], verts["vy"][a:a + k]
+        xs.append(ox + c * x - s * y)
+        ys.append(oy + s * x + c * y)
+    out["xs"], out["ys"] = xs, ys
     return out
 
 
@@ -147,13 +179,14 @@ class Page:
         fig.grid.grid_line_color = "#e4e4e4"
         self.figure = fig
         self.cycle = ColumnDataSource(ex.data, name="cycle")
-        layers, cut = layers_of(pic)
+        layers, cut, all_rows, verts = drawing_columns(pic)
         self.kinds = [k for k, _ in layers]
+        self.verts = ColumnDataSource(verts, name="verts")
         self.layers, self.renderers = [], []
-        for m, (kind, pieces) in enumerate(layers):
+        for m, ((kind, _), rows) in enumerate(zip(layers, all_rows)):
             if m == cut:
                 self._traces(fig)
-            src = ColumnDataSource(placed(layer_data(kind, pieces), ex.data), name=f"layer{m}")
+            src = ColumnDataSource(placed(rows, verts, ex.data), name=f"layer{m}")
             if kind == "patches":
                 r = fig.patches("xs", "ys", source=src, fill_color="fill_color",
                                 fill_alpha="fill_alpha", line_color="line_color",
@@ -167,7 +200,7 @@ class Page:
             self.renderers.append(r)
         if cut >= len(layers):
             self._traces(fig)
-        self.labels = ColumnDataSource(placed(label_data(pic), ex.data), name="labels")
+        self.labels = ColumnDataSource(placed(label_data(pic), None, ex.data), name="labels")
         self.renderers.append(fig.text(
             "x", "y", text="text", source=self.labels, x_offset="dx", y_offset="dy",
             text_color="color", text_font_size="11px", text_align="center",
@@ -234,7 +267,8 @@ class Page:
                                        "y": [float(ex.data[f"tr{j}y"][0]) for j in range(len(ex.traces))],
                                        "color": [b.edge for b, _ in ex.traces]}, name="marks")
         self.renderers.append(fig.scatter("x", "y", source=self.marks, size=7, color="color"))
-        redraw = CustomJS(args=dict(cycle=self.cycle, layers=self.layers, slider=self.time,
+        redraw = CustomJS(args=dict(cycle=self.cycle, layers=self.layers, verts=self.verts,
+                                    slider=self.time,
                                     renderers=self.renderers, message=self.message,
                                     marks=self.marks, ntraces=len(ex.traces),
                                     plots=self.plot_lines, dots=self.dots, clock=self.clock),
@@ -284,13 +318,24 @@ class Page:
     def show(self, data, picture=None, message=""):
         """Put a newly solved cycle in (and new glyphs, when they were drawn again)."""
         if picture is not None:
-            layers, _ = layers_of(picture)
-            for src, (kind, pieces) in zip(self.layers, layers):
-                src.data = placed(layer_data(kind, pieces), data)
-            self.labels.data = placed(label_data(picture), data)
+            _, _, all_rows, verts = drawing_columns(picture)
+            self.verts.data = verts                       # placed by the page's script
+            for src, rows in zip(self.layers, all_rows):
+                if not _same_rows(src.data, rows):        # usually only the vertices move
+                    src.data = rows
+            labels = label_data(picture)
+            if not _same_rows(self.labels.data, labels):
+                self.labels.data = labels
         self.message.text = message
         self.note.text = "" if not message else "The drawing cannot be shown: see above."
         self.cycle.data = data
+
+
+def _same_rows(old, new) -> bool:
+    """Whether a layer's rows are unchanged but for the drawn vertices (which the page's
+    script recomputes): then only its vertices are sent."""
+    keys = [k for k in new if k not in ("xs", "ys", "x", "y")]
+    return set(old) == set(new) and all(list(old[k]) == list(new[k]) for k in keys)
 
 
 def _hex(color):

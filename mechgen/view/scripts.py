@@ -8,6 +8,7 @@ standalone page and the notebook share it."""
 # the cycle's columns change (a parameter moved): then it stamps window.mechgen_drawn
 # (performance.now()) for the latency benchmark and the tests.
 REDRAW = r"""
+window.mechgen_arrived = performance.now();
 const d = cycle.data;
 const n = d.t ? d.t.length : 0;
 const failed = n == 0;
@@ -19,30 +20,29 @@ if (!failed) {
   i = Math.max(0, Math.min(n - 1, i));
   function pose(f) {
     if (f == 0) { return [0.0, 0.0, 1.0, 0.0]; }
-    const a = d["f" + f + "a"][i];
+    const col = d["f" + f + "a"], a = col === undefined ? 0.0 : col[i];
     return [d["f" + f + "x"][i], d["f" + f + "y"][i], Math.cos(a), Math.sin(a)];
   }
-  for (const src of layers) {
-    const g = src.data;
-    const m = g.frame.length;
+  for (let m = 0; m < layers.length; m++) {
+    const src = layers[m], g = src.data, vx = verts.data.vx, vy = verts.data.vy;
+    const rows = g.frame.length;
     if (g.x !== undefined) {               // dots and labels: one point a row
-      const x = new Array(m), y = new Array(m);
-      for (let r = 0; r < m; r++) {
+      const x = new Array(rows), y = new Array(rows);
+      for (let r = 0; r < rows; r++) {
         const [ox, oy, c, s] = pose(g.frame[r]);
         x[r] = ox + c * g.lx[r] - s * g.ly[r];
         y[r] = oy + s * g.lx[r] + c * g.ly[r];
       }
       g.x = x; g.y = y;
     } else {                               // patches and lines: vertices a row
-      const xs = new Array(m), ys = new Array(m);
-      for (let r = 0; r < m; r++) {
-        const lx = g.lx[r], ly = g.ly[r], k = lx.length;
-        if (g.frame[r] == 0) { xs[r] = lx; ys[r] = ly; continue; }
+      const xs = new Array(rows), ys = new Array(rows);
+      for (let r = 0; r < rows; r++) {
+        const a = g.start[r], k = g.count[r];
         const [ox, oy, c, s] = pose(g.frame[r]);
         const X = new Float64Array(k), Y = new Float64Array(k);
         for (let v = 0; v < k; v++) {
-          X[v] = ox + c * lx[v] - s * ly[v];
-          Y[v] = oy + s * lx[v] + c * ly[v];
+          X[v] = ox + c * vx[a + v] - s * vy[a + v];
+          Y[v] = oy + s * vx[a + v] + c * vy[a + v];
         }
         xs[r] = X; ys[r] = Y;
       }
@@ -101,6 +101,8 @@ for (let k = 0; k < sliders.length; k++) {
 }
 const start = table.data.start[index], count = table.data.count[index];
 const shape = table.data.shape[index];
+const base = table.data.vbase[index], vend = table.data.vend[index];
+verts.data = {vx: points.data.vx.slice(base, vend), vy: points.data.vy.slice(base, vend)};
 const out = {};
 for (const name of names) { out[name] = cycles.data[name].slice(start, start + count); }
 for (let m = 0; m < layers.length; m++) {
@@ -111,6 +113,10 @@ for (let m = 0; m < layers.length; m++) {
     const col = src[key];
     if (col === undefined) { continue; }
     g[key] = rows.map(r => col[r]);
+  }
+  if (g.start !== undefined) {        // into this drawing's vertices
+    g.start = g.start.map(a => a - base);
+    g.xs = rows.map(r => []); g.ys = rows.map(r => []);
   }
   layers[m].data = g;
 }

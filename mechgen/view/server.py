@@ -49,7 +49,15 @@ class Session:
 
     def moved(self, name, value):
         data, again, message = self.ex.compute({name: float(value)})
-        self.page.show(data, self.ex.picture if again else None, message)
+        self.send(data, again, message)
+
+    def send(self, data, again, message):
+        """The new cycle to the page in one message (one redraw in the browser)."""
+        self.doc.hold("combine")
+        try:
+            self.page.show(data, self.ex.picture if again else None, message)
+        finally:
+            self.doc.unhold()
 
     def find_modes(self):
         t = self.page.time.value
@@ -72,7 +80,7 @@ class Session:
             self.page.note.text = f"{label} cannot be followed back to the cycle's start: {exc}"
             return
         data, again, message = self.ex.compute(guess=start)
-        self.page.show(data, self.ex.picture if again else None, message)
+        self.send(data, again, message)
 
     def look(self):
         """Rebuild the view when the model file changed on disk."""

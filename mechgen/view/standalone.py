@@ -15,7 +15,7 @@ import numpy as np
 from bokeh.models import ColumnDataSource, CustomJS
 
 from .cycle import DRIVER
-from .page import Page, layer_data, layers_of
+from .page import Page, drawing_columns, layer_data, layers_of
 from .scripts import PICK
 
 MAX_CYCLES = 125
@@ -65,12 +65,16 @@ def standalone_page(ex, vary=None, steps=None, max_cycles=MAX_CYCLES):
     page = Page(ex, server=False)
     page.cycle.data = {name: np.asarray(ex.data[name], dtype=np.float32) for name in names}
     base = dict(ex.params)
-    layers0, _ = layers_of(ex.picture)
+    picture0 = ex.picture
+    layers0, _ = layers_of(picture0)
     kinds = [k for k, _ in layers0]
     cols = {name: [] for name in names}
-    shapes = [{key: [] for key in list(layer_data(k, p)) + ["cycle"]} for k, p in layers0]
-    start, count, message, shape_of, seen = [], [], [], [], {}
+    shapes = [{key: [] for key in list(layer_data(k, p)[0]) + ["cycle"]} for k, p in layers0]
+    points = {"vx": [], "vy": []}          # every drawing's vertices, one after another
+    spans = {}                             # drawing -> (its first vertex, past its last)
     at = 0
+    start, count, message, shape_of, seen = [], [], [], [], {}
+    first_at = 0
     initial = None
     for index, values in enumerate(itertools.product(*grid.values())):
         params = dict(zip(grid, (float(v) for v in values)))
@@ -78,10 +82,10 @@ def standalone_page(ex, vary=None, steps=None, max_cycles=MAX_CYCLES):
         if all(params[k] == base[k] for k in base):
             initial = index
         n = len(data["t"])
-        start.append(at)
+        start.append(first_at)
         count.append(n)
         message.append(said)
-        at += n
+        first_at += n
         for name in names:
             cols[name].append(np.asarray(data[name], dtype=np.float32))
         if id(ex.picture) in seen:       # the same glyphs as a cycle before
@@ -89,21 +93,28 @@ def standalone_page(ex, vary=None, steps=None, max_cycles=MAX_CYCLES):
             continue
         seen[id(ex.picture)] = len(seen)
         shape_of.append(seen[id(ex.picture)])
-        layers, _ = layers_of(ex.picture)
+        layers, _, all_rows, verts = drawing_columns(ex.picture)
         if [k for k, _ in layers] != kinds:      # drawn otherwise: the first drawing's
-            layers = layers0
-        for m, (kind, pieces) in enumerate(layers):
-            rows = layer_data(kind, pieces)
+            _, _, all_rows, verts = drawing_columns(picture0)
+        spans[seen[id(ex.picture)]] = (at, at + len(verts["vx"]))
+        points["vx"].append(verts["vx"])
+        points["vy"].append(verts["vy"])
+        for m, rows in enumerate(all_rows):
+            if "start" in rows:            # into the table's vertices
+                rows["start"] = [a + at for a in rows["start"]]
             for key, col in rows.items():
-                shapes[m][key] += [np.asarray(c, np.float32) if isinstance(c, np.ndarray)
-                                   else c for c in col]
+                shapes[m][key] += list(col)
             shapes[m]["cycle"] += [seen[id(ex.picture)]] * len(rows["frame"])
+        at += len(verts["vx"])
     cycles = ColumnDataSource({k: np.concatenate(v) if v else np.zeros(0, np.float32)
                                for k, v in cols.items()}, name="table_cycles")
     table = ColumnDataSource({"start": start, "count": count, "message": message,
-                              "shape": shape_of},
+                              "shape": shape_of, "vbase": [spans[k][0] for k in shape_of],
+                              "vend": [spans[k][1] for k in shape_of]},
                              name="table")
     shape_sources = [ColumnDataSource(s, name=f"table_layer{m}") for m, s in enumerate(shapes)]
+    vert_source = ColumnDataSource({k: np.concatenate(v) if v else np.zeros(0)
+                                    for k, v in points.items()}, name="table_verts")
     sliders = [page.sliders[name] for name in grid]
     for name in grid:
         if len(grid[name]) == 1:
@@ -112,6 +123,7 @@ def standalone_page(ex, vary=None, steps=None, max_cycles=MAX_CYCLES):
     pick = CustomJS(args=dict(sliders=sliders, grids=[list(map(float, g)) for g in grid.values()],
                               table=table, cycles=cycles, names=names,
                               layers=page.layers[:len(kinds)], shapes=shape_sources,
+                              verts=page.verts, points=vert_source,
                               message=page.message, cycle=page.cycle), code=PICK)
     for s in sliders:
         s.js_on_change("value", pick)
