@@ -17,7 +17,7 @@ from bokeh.models import (Button, ColumnDataSource, CustomJS, Div, Label, Range1
 from bokeh.plotting import figure
 
 from .cycle import unit_of
-from .scripts import CHOOSE, PLAY, REDRAW
+from .scripts import CHOOSE, PLAY, REDRAW, UNPACK
 
 TRACE_Z = 4.4            # traced paths: over the bodies, under the pins (as in draw())
 WIDTH = 620              # the drawing's width in pixels
@@ -276,11 +276,22 @@ class Page:
         self.redraw = redraw
         self.time.js_on_change("value", redraw)
         self.cycle.js_on_change("data", redraw)
-        choose = CustomJS(args=dict(plots=self.plot_lines, selects=self.selects,
-                                    against=self.against, units=units, yaxes=yaxes,
-                                    xaxes=xaxes, cycle=self.cycle), code=CHOOSE)
-        for sel in self.selects + [self.against]:
-            sel.js_on_change("value", choose)
+        self.packed = ColumnDataSource({"values": [np.zeros(0)], "names": [[]], "n": [0],
+                                        "vx": [np.zeros(0)], "vy": [np.zeros(0)]},
+                                       name="packed")
+        self.packed.js_on_change("data", CustomJS(args=dict(redraw.args, packed=self.packed),
+                                                  code=UNPACK))
+        redraw.args = dict(redraw.args, packed=self.packed)   # reachable from the page
+        self.units, self.yaxes, self.xaxes = units, yaxes, xaxes
+        self.server = server
+        if server:        # the page holds only the columns shown: see show() and choose()
+            self.cycle.data = self.shown(ex.data)
+        else:
+            choose = CustomJS(args=dict(plots=self.plot_lines, selects=self.selects,
+                                        against=self.against, units=units, yaxes=yaxes,
+                                        xaxes=xaxes, cycle=self.cycle), code=CHOOSE)
+            for sel in self.selects + [self.against]:
+                sel.js_on_change("value", choose)
 
         # assembly modes (a server answers them)
         self.mode_button = Button(label="assembly modes at T", width=180, name="modes",
@@ -319,7 +330,8 @@ class Page:
         """Put a newly solved cycle in (and new glyphs, when they were drawn again)."""
         if picture is not None:
             _, _, all_rows, verts = drawing_columns(picture)
-            self.verts.data = verts                       # placed by the page's script
+            if not self.server:
+                self.verts.data = verts                   # placed by the page's script
             for src, rows in zip(self.layers, all_rows):
                 if not _same_rows(src.data, rows):        # usually only the vertices move
                     src.data = rows
@@ -328,7 +340,44 @@ class Page:
                 self.labels.data = labels
         self.message.text = message
         self.note.text = "" if not message else "The drawing cannot be shown: see above."
-        self.cycle.data = data
+        if self.server:
+            self.pack(self.shown(data), verts if picture is not None else None)
+        else:
+            self.cycle.data = data
+
+    def pack(self, data, verts=None):
+        """Send a cycle's columns (and the drawing's vertices) as one array (UNPACK)."""
+        names = list(data)
+        n = len(data["t"])
+        values = np.concatenate([np.asarray(data[k], dtype=float) for k in names]) \
+            if n else np.zeros(0)
+        none = np.zeros(0)
+        self.packed.data = {"values": [values], "names": [names], "n": [n],
+                            "vx": [verts["vx"] if verts else none],
+                            "vy": [verts["vy"] if verts else none]}
+
+    def shown(self, data) -> dict:
+        """The columns a server page needs now: time, the frames' poses, the traced paths
+        and the quantities the plots show (a thousand times each: sending all of them
+        would double a slider's round trip)."""
+        keep = {self.against.value} | {s.value for s in self.selects}
+        return {k: v for k, v in data.items()
+                if k in keep or k == "t" or k not in self.ex.quantities}
+
+    def choose(self, data):
+        """A plot's quantity (or the one along x) chosen on a server page: the lines'
+        fields, the axes' labels and the columns, in Python (the column is sent then)."""
+        x = self.against.value
+        for line, sel, yaxis, xaxis in zip(self.plot_lines, self.selects, self.yaxes, self.xaxes):
+            line.glyph.x, line.glyph.y = x, sel.value
+            yaxis.axis_label = _label(sel.value, self.units)
+            xaxis.axis_label = _label(x, self.units)
+        self.pack(self.shown(data))
+
+
+def _label(name, units) -> str:
+    unit = units.get(name, "")
+    return f"{name} ({unit})" if unit else name
 
 
 def _same_rows(old, new) -> bool:

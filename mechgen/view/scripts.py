@@ -52,16 +52,35 @@ if (!failed) {
   }
   const tx = [], ty = [];
   for (let j = 0; j < ntraces; j++) { tx.push(d["tr" + j + "x"][i]); ty.push(d["tr" + j + "y"][i]); }
-  marks.data = {x: tx, y: ty, color: marks.data.color};
+  // in place, then change.emit(): nothing of this goes back to a server
+  marks.data.x = tx; marks.data.y = ty; marks.change.emit();
   for (let p = 0; p < plots.length; p++) {
     const xf = plots[p].glyph.x.field, yf = plots[p].glyph.y.field;
-    dots[p].data = {x: [d[xf][i]], y: [d[yf][i]]};
+    if (d[xf] === undefined || d[yf] === undefined) { continue; }
+    dots[p].data.x = [d[xf][i]]; dots[p].data.y = [d[yf][i]]; dots[p].change.emit();
   }
   clock.text = "T = " + d.t[i].toPrecision(4);
 }
 window.mechgen_drawn = performance.now();
 window.mechgen_redraws = (window.mechgen_redraws || 0) + 1;
 """
+
+# A server page's new cycle arrives packed: every column one after another in one array
+# (and the drawing's vertices when a shape changed), so that it is one websocket message
+# of three buffers, not two frames a column; unpacked into the cycle's columns in place
+# (views into the array: no copy, and nothing sent back to the server), then REDRAW.
+UNPACK = r"""
+{
+  const p = packed.data, v = p.values[0], names = p.names[0], n = p.n[0];
+  const cols = cycle.data;
+  for (const k of Object.keys(cols)) { delete cols[k]; }
+  for (let k = 0; k < names.length; k++) {   // plain views (an NDArray's subarray is not)
+    cols[names[k]] = new Float64Array(v.buffer, v.byteOffset + 8 * k * n, n);
+  }
+  if (p.vx[0].length) { verts.data.vx = p.vx[0]; verts.data.vy = p.vy[0]; }
+  cycle.change.emit();
+}
+""" + REDRAW
 
 # The play button: steps the time slider around the cycle (about six seconds a turn).
 PLAY = r"""

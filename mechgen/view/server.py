@@ -45,7 +45,17 @@ class Session:
             slider.on_change("value", lambda attr, old, new, name=name: self.moved(name, new))
         self.page.mode_button.on_click(self.find_modes)
         self.page.modes.on_change("value", lambda attr, old, new: self.choose_mode(new))
+        for sel in self.page.selects + [self.page.against]:
+            sel.on_change("value", lambda attr, old, new: self.choose())
         self._modes = {}
+        self.data = ex.data            # every column of the cycle shown
+
+    def choose(self):
+        self.doc.hold("combine")
+        try:
+            self.page.choose(self.data)
+        finally:
+            self.doc.unhold()
 
     def moved(self, name, value):
         data, again, message = self.ex.compute({name: float(value)})
@@ -53,6 +63,7 @@ class Session:
 
     def send(self, data, again, message):
         """The new cycle to the page in one message (one redraw in the browser)."""
+        self.data = data
         self.doc.hold("combine")
         try:
             self.page.show(data, self.ex.picture if again else None, message)
