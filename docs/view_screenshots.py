@@ -68,7 +68,7 @@ def main():
     shoot(qr, os.path.join(HERE, "view_quick_return.png"), [("time", 0.3)],
           trace=["deslizadera[1]", "manivela[2]", "colisa[2]"], plots=["stroke_x", "Th3d"])
     shoot(os.path.join(ROOT, "benchmarks", "strandbeest_view.py"),
-          os.path.join(HERE, "view_strandbeest.png"), [("time", 0.6)], size=(1340, 940),
+          os.path.join(HERE, "view_strandbeest.png"), [("time", 0.6)], size=(1340, 1010),
           trace=["foot[3]", "crank[2]"], plots=["X8", "Th2"])
     shoot(qr, os.path.join(HERE, "view_cannot_assemble.png"), [("param_longitud", 4.4)])
 

@@ -115,6 +115,7 @@ class Explorer:
         self.plots = plots
         self.guess = None          # the start of the cycle in the assembly mode chosen
         self.message = ""
+        self.detail = ""           # the solver's whole account of a failure
         self.extent = self._extent(sw)
 
     @staticmethod
@@ -171,8 +172,9 @@ class Explorer:
         the parameter just changed over which it runs."""
         said = ", ".join(f"{k} = {v:.4g}" for k, v in values.items() if k in changed) or \
             ", ".join(f"{k} = {v:.4g}" for k, v in values.items())
+        self.detail = why
         text = f"Cannot assemble over the cycle for {said}:\n" + \
-            "\n".join(textwrap.wrap(why, 72))
+            "\n".join(textwrap.wrap(_gist(why), 72))
         for name in changed:
             lo, hi = self.ranges[name]
             span = assembling_range(mech, name, min(lo, values[name]), max(hi, values[name]),
@@ -206,6 +208,14 @@ class Explorer:
         steps = max(2, int(abs(float(t) - self.t0) / (self.t1 - self.t0) * self.n) + 1)
         sw = mech.sweep(float(t), self.t0, steps, guess=q)
         return sw.Q[-1].copy()
+
+
+def _gist(why) -> str:
+    """The first sentence of a solver's account of a failure, and the one that names a
+    lock (a toggle position) if any: what fits in place of the drawing."""
+    sentences = [x.strip() for x in why.replace("\n", " ").split(". ") if x.strip()]
+    keep = sentences[:1] + [x.split(", where")[0] for x in sentences[1:] if "lock" in x][:1]
+    return ". ".join(k.rstrip(".") for k in keep) + "."
 
 
 def _compiled(mech):

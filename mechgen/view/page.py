@@ -271,6 +271,7 @@ class Page:
                                     slider=self.time,
                                     renderers=self.renderers, message=self.message,
                                     marks=self.marks, ntraces=len(ex.traces),
+                                    colors=list(self.marks.data["color"]),
                                     plots=self.plot_lines, dots=self.dots, clock=self.clock),
                           code=REDRAW)
         self.redraw = redraw
@@ -339,7 +340,8 @@ class Page:
             if not _same_rows(self.labels.data, labels):
                 self.labels.data = labels
         self.message.text = message
-        self.note.text = "" if not message else "The drawing cannot be shown: see above."
+        self.note.text = "" if not message else "Why (the solver's account): " + \
+            (getattr(self.ex, "detail", "") or message)
         if self.server:
             self.pack(self.shown(data), verts if picture is not None else None)
         else:

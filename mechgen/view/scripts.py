@@ -53,13 +53,17 @@ if (!failed) {
   const tx = [], ty = [];
   for (let j = 0; j < ntraces; j++) { tx.push(d["tr" + j + "x"][i]); ty.push(d["tr" + j + "y"][i]); }
   // in place, then change.emit(): nothing of this goes back to a server
-  marks.data.x = tx; marks.data.y = ty; marks.change.emit();
+  marks.data.x = tx; marks.data.y = ty; marks.data.color = colors; marks.change.emit();
   for (let p = 0; p < plots.length; p++) {
     const xf = plots[p].glyph.x.field, yf = plots[p].glyph.y.field;
     if (d[xf] === undefined || d[yf] === undefined) { continue; }
     dots[p].data.x = [d[xf][i]]; dots[p].data.y = [d[yf][i]]; dots[p].change.emit();
   }
   clock.text = "T = " + d.t[i].toPrecision(4);
+}
+if (failed) {            // no configuration to mark
+  marks.data.x = []; marks.data.y = []; marks.data.color = []; marks.change.emit();
+  for (const dot of dots) { dot.data.x = []; dot.data.y = []; dot.change.emit(); }
 }
 window.mechgen_drawn = performance.now();
 window.mechgen_redraws = (window.mechgen_redraws || 0) + 1;
