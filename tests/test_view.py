@@ -206,6 +206,42 @@ def test_the_standalone_page_works_without_a_server(browser, tmp_path, capsys):
     assert "Cannot assemble" in text
 
 
+@need_browser
+def test_an_edit_of_the_model_file_redraws_the_page(browser, tmp_path):
+    from mechgen.view.explorer import Explorer
+    from mechgen.view.server import ViewServer
+    model = tmp_path / "guide.py"
+    model.write_text(open(MODEL, encoding="utf-8").read(), encoding="utf-8")
+    out = str(tmp_path / "generated")
+    # the plain-Python tier and a short cycle: nothing to compile for the edited model
+    srv = ViewServer(lambda: Explorer(mechgen.compile(str(model), outdir=out, tier="python"),
+                                      n=40, compiled=False), watch=str(model)).start()
+    try:
+        browser.get(srv.url)
+        wait(browser, "return window.mechgen_redraws || 0")
+        box = browser.execute_script(ROWS, "deslizadera")[0]
+        assert abs(min(box[1]) - 10) < 1e-9
+        text = model.read_text(encoding="utf-8")
+        edited = text.replace("(-5, 10), (12, 10)", "(-5, 10.5), (12, 10.5)")
+        assert edited != text
+        model.write_text(edited.replace("guess=(6, 10, 0)", "guess=(6, 10.5, 0)"),
+                         encoding="utf-8")
+        # the slider's guide raised by half a unit: the page redraws it there
+        from selenium.common.exceptions import JavascriptException
+        end = time.monotonic() + 90
+        while True:
+            try:       # the page reloads itself: Bokeh is briefly not there
+                boxes = browser.execute_script(ROWS, "deslizadera")
+            except JavascriptException:
+                boxes = None
+            if boxes and abs(min(boxes[0][1]) - 10.5) < 1e-9:
+                break
+            assert time.monotonic() < end, "the page was not redrawn after the edit"
+            time.sleep(0.2)
+    finally:
+        srv.stop()
+
+
 def test_explore_runs_in_a_notebook(tmp_path):
     nbformat = pytest.importorskip("nbformat")
     nbclient = pytest.importorskip("nbclient")

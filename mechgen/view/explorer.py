@@ -67,11 +67,13 @@ class Explorer:
     """A mechanism explored over one cycle [t0, t1] of n times. ``trace``: points whose
     paths are drawn (names as draw(trace=...) takes them; default the longest paths);
     ``plots``: the quantities of the two plots (default the outputs, else the last
-    coordinates); ``ranges``: {parameter: (low, high)} of the sliders."""
+    coordinates); ``ranges``: {parameter: (low, high)} of the sliders. ``compiled``:
+    solve on the module's compiled tier (the default: a slider's move solves a whole
+    cycle), else on the tier ``mech`` answers on now."""
 
     def __init__(self, mech, t0=0.0, t1=1.0, n=1000, trace=None, plots=None, ranges=None,
-                 path=None):
-        if mech.tier != "compiled":
+                 path=None, compiled=True):
+        if compiled and mech.tier != "compiled":
             mech = _compiled(mech)
         self.mech, self.path = mech, path
         self.t0, self.t1, self.n = float(t0), float(t1), int(n)

@@ -303,6 +303,10 @@ class Page:
         legend = Div(text=self._legend(), width=420)
         controls = column(row(self.time, self.play), *params, self.note,
                           row(self.mode_button, self.modes), legend)
+        # a server page reloads itself when the model file changed (view.server)
+        self.reloader = Div(text="", visible=False, name="reloader")
+        self.reloader.js_on_change("text", CustomJS(code="window.location.reload();"))
+        controls.children.append(self.reloader)
         self.layout = row(column(fig, controls),
                           column(row(*self.selects, self.against), *plots),
                           name="mechgen_view")

@@ -94,19 +94,20 @@ class Session:
         self.send(data, again, message)
 
     def look(self):
-        """Rebuild the view when the model file changed on disk."""
+        """When the model file changed on disk: build it, then reload the page (a fresh
+        session builds the view anew, from the module now up to date)."""
         stamp = _stamp(self.watch)
         if stamp == self.stamp:
             return
         self.stamp = stamp
         try:
-            ex = self.make()
+            self.make()
         except Exception as exc:          # a model being edited may be broken: say so
             self.page.note.text = f"{os.path.basename(self.watch)} changed but does not " \
                                   f"build: {type(exc).__name__}: {exc}"
             traceback.print_exc()
             return
-        self.build(ex)
+        self.page.reloader.text = repr(stamp)
 
 
 def _stamp(path):
