@@ -260,6 +260,36 @@ def test_explore_runs_in_a_notebook(tmp_path):
     assert "3 cycles" in printed
 
 
+def test_the_other_assembly_mode_is_followed_over_the_cycle(mech):
+    from mechgen.view.explorer import Explorer
+    ex = Explorer(mech, n=200, trace=["deslizadera[1]"])
+    modes = ex.modes(0.85)
+    assert len(modes) == 2
+    # the slider left of the lever's end (closed form side=-1), followed back to T = 0
+    other = [q for label, q in modes if q[6] < 5]
+    assert len(other) == 1
+    data, _, message = ex.compute(guess=ex.follow_back(other[0], 0.85))
+    assert message == ""
+    for k in (0, 50, 170, 199):
+        want = float(quick_return(data["t"][k], side=-1)[6])
+        assert abs(data["X4"][k] - want) < 1e-9 and abs(data["tr0x"][k] - want) < 1e-9
+    # a parameter change keeps to that mode
+    data, _, _ = ex.compute({"longitud": 2.5})
+    assert abs(data["X4"][100] - float(quick_return(data["t"][100], longitud=2.5, side=-1)[6])) < 1e-9
+
+
+def test_a_model_with_masses_offers_its_driver_torque(tmp_path):
+    from mechgen.view.explorer import Explorer
+    # the plain-Python tier and a short cycle: nothing to compile
+    mech = mechgen.compile(os.path.join(EXAMPLES, "quick_return_forces.py"), tier="python")
+    ex = Explorer(mech, n=101, compiled=False)
+    assert "driver: crank driver" in ex.quantities and ex.plots[1] == "driver: crank driver"
+    # the column is the runtime's dynamic solve at the cycle's times (the torque itself is
+    # checked against independent computations in tests/test_forces.py)
+    s = mech.solve(0.2, level="dynamic")
+    assert abs(ex.data["driver: crank driver"][20] - s.driver("crank driver")) < 1e-9
+
+
 def test_view_refuses_bad_options_clearly(capsys):
     assert main(["view", MODEL, "--range", "longitud=1", "--no-browser"]) == 1
     assert "NAME=LOW:HIGH" in capsys.readouterr().err

@@ -11,7 +11,8 @@ import numpy as np
 
 from ..errors import MechgenError
 from ..plot.scene import Scene
-from .cycle import Failure, assembling_range, columns, empty_columns, solve_cycle
+from .cycle import (DRIVER, Failure, assembling_range, columns, empty_columns, quantity_names,
+                    solve_cycle)
 from .geometry import Picture, blank_axes
 
 FRAMING = 61             # configurations of the cycle the glyphs are sized and framed by
@@ -104,11 +105,11 @@ class Explorer:
         self.shape = self._shape(mech, sw)
         self.data = columns(mech, sw, self.picture.frames, self.traces)
         self.names = list(self.data)
-        from .cycle import quantity_names
         self.quantities = quantity_names(mech)
         if plots is None:
             first = mech.outputs[0] if mech.outputs else mech.coordinates[-1]
-            plots = [first, first + "d"]
+            efforts = [q for q in self.quantities if q.startswith(DRIVER)]
+            plots = [first, efforts[0] if efforts else first + "d"]
         plots = [plots] if isinstance(plots, str) else list(plots)
         unknown = [p for p in plots if p not in self.quantities]
         if unknown:
