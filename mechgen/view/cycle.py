@@ -110,7 +110,7 @@ def empty_columns(names) -> dict:
     return {name: np.zeros(0) for name in names}
 
 
-def assembling_range(mech, name, lo, hi, t0, t1, n=60, designs=41):
+def assembling_range(mech, name, lo, hi, t0, t1, n=40, designs=25):
     """The interval of parameter ``name`` within [lo, hi] over which the mechanism
     assembles over the whole cycle (the others as in ``mech``), from a quick design
     table; the run of good designs nearest the current value. None if none assembles."""
@@ -118,7 +118,8 @@ def assembling_range(mech, name, lo, hi, t0, t1, n=60, designs=41):
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            tab = mech.sweep(float(t0), float(t1), n, params={name: values}, on_fail="ignore")
+            tab = mech.sweep(float(t0), float(t1), n, params={name: values}, on_fail="ignore",
+                             workers=1)     # a small table: threads would cost more
         ok = np.asarray(tab.ok).ravel()
     except (MechgenError, TypeError, ValueError):
         ok = np.array([_assembles(mech, name, v, t0, t1, n) for v in values])

@@ -312,6 +312,11 @@ class Page:
                           name="mechgen_view")
         self.plots = plots
 
+    def __repr__(self):
+        table = getattr(self, "table", None)
+        said = f", {len(table[1].data['start'])} cycles precomputed" if table else ""
+        return f"<mechgen view of '{self.ex.mech.name}'{said}>"
+
     def _traces(self, fig):
         """The traced paths, straight from the cycle's columns, in their bodies' colours."""
         for j, (body, _) in enumerate(self.ex.traces):

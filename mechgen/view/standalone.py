@@ -46,6 +46,23 @@ def grid_of(ex, vary, steps, max_cycles):
     return out
 
 
+def _failing(ex, grid) -> dict:
+    """{parameter values: time it stops} of the grid's designs that cannot run the cycle,
+    from one design table (the compiled module's, all cores): a failing sweep of its own
+    would explain its failure at length, a quarter of a second each."""
+    varied = {k: v for k, v in grid.items() if len(v) > 1}
+    if not varied:
+        return {}
+    fixed = {k: float(v[0]) for k, v in grid.items() if len(v) == 1}
+    mech = ex.mech.with_params(**fixed)
+    tab = mech.sweep(ex.t0, ex.t1, ex.n, params=varied, on_fail="ignore")
+    out = {}
+    for values, t, _ in tab.failures:
+        key = tuple(float(values[k]) if k in values else fixed[k] for k in grid)
+        out[key] = float(t)
+    return out
+
+
 def kept_columns(ex) -> list:
     """The columns a standalone cycle keeps (see the module's docstring)."""
     keep = {"t"} | set(ex.plots)
@@ -76,9 +93,17 @@ def standalone_page(ex, vary=None, steps=None, max_cycles=MAX_CYCLES):
     start, count, message, shape_of, seen = [], [], [], [], {}
     first_at = 0
     initial = None
+    failing = _failing(ex, grid)
     for index, values in enumerate(itertools.product(*grid.values())):
         params = dict(zip(grid, (float(v) for v in values)))
-        data, _, said = ex.compute(params)
+        stop = failing.get(tuple(params.values()))
+        if stop is None:
+            data, _, said = ex.compute(params)
+        else:            # a cycle the table says cannot be solved: its message alone
+            varied = [k for k in grid if len(grid[k]) > 1]
+            said = ex._cannot(ex.mech.with_params(**params), params, varied,
+                              f"the cycle stops at T = {stop:.6g}")
+            data = {name: np.zeros(0) for name in names}
         if all(params[k] == base[k] for k in base):
             initial = index
         n = len(data["t"])
