@@ -150,6 +150,12 @@ def test_the_server_page_moves_with_the_time_and_longitud_sliders(browser, serve
     s = mech.with_params(longitud=2.2).solve(t)
     box = np.array(browser.execute_script(ROWS, "deslizadera")[0][0])
     assert abs(box.min() - s["X4"]) < 1e-9
+    # the play button steps the time slider around the cycle
+    browser.execute_script("Bokeh.documents[0].get_model_by_name('play').active = true")
+    time.sleep(0.4)
+    browser.execute_script("Bokeh.documents[0].get_model_by_name('play').active = false")
+    assert browser.execute_script("return Bokeh.documents[0].get_model_by_name('time').value") != t
+    set_value(browser, "time", t)
     # the plots show the cycle's quantities at the time shown
     _, stroke, _ = browser.execute_script(CYCLE, "stroke_x", "stroke_x")
     assert abs(stroke[round(t * 999)] - s["X4"]) < 1e-9

@@ -50,6 +50,8 @@ def explorer_factory(args):
 
 
 def cmd_view(args):
+    from ..view import need_bokeh
+    need_bokeh()
     make = explorer_factory(args)
     if args.html:
         from ..view.standalone import write_html

@@ -13,12 +13,22 @@ from __future__ import annotations
 NOTEBOOK_TIMES = 200     # times in each precomputed cycle of a notebook's view
 
 
+def need_bokeh():
+    """A clear error where Bokeh, which draws the page, is not installed."""
+    import importlib.util
+    if importlib.util.find_spec("bokeh") is None:
+        from ..errors import MechgenError
+        raise MechgenError("the live view needs Bokeh: pip install 'mechgen[view]' "
+                           "(or pip install bokeh)")
+
+
 def explore(mech, t0=0.0, t1=1.0, n=NOTEBOOK_TIMES, trace=None, plots=None, ranges=None,
             vary=None, steps=None, show=True):
     """Show the view of ``mech`` in a Jupyter notebook (``mech.explore()``): the page of
     ``mechgen view --html`` (cycles precomputed over the parameters' ranges, so that the
     sliders answer without a kernel round trip). Returns the Page (``page.layout`` is
     the Bokeh layout); ``show=False`` only builds it."""
+    need_bokeh()
     from .explorer import Explorer
     from .standalone import standalone_page
     ex = Explorer(mech, t0=t0, t1=t1, n=n, trace=trace, plots=plots, ranges=ranges)
