@@ -5,8 +5,8 @@
 A layer above the runtime and the pictures (it draws what plot.draw draws, in Bokeh)
 and below the command line: geometry (the drawing's glyphs in the frames they move with),
 cycle (a cycle's columns, or why it cannot assemble), explorer (the state: parameters,
-assembly mode, when to draw again), page (the Bokeh page), scripts (its JavaScript),
-server, standalone.
+assembly mode, when to draw again), layers (the glyphs as Bokeh columns), page (the
+Bokeh page), scripts (its JavaScript), server, standalone.
 """
 from __future__ import annotations
 

@@ -15,7 +15,8 @@ import numpy as np
 from bokeh.models import ColumnDataSource, CustomJS
 
 from .cycle import DRIVER
-from .page import Page, drawing_columns, layer_data, layers_of
+from .layers import drawing_columns, layer_data, layers_of
+from .page import Page
 from .scripts import PICK
 
 MAX_CYCLES = 125
