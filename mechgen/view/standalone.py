@@ -20,6 +20,7 @@ from .page import Page
 from .scripts import PICK
 
 MAX_CYCLES = 125
+MAX_STEPS = 41           # values of one parameter, when it is the only one varied
 
 
 def grid_of(ex, vary, steps, max_cycles):
@@ -31,7 +32,8 @@ def grid_of(ex, vary, steps, max_cycles):
         raise ValueError(f"vary: '{ex.mech.name}' has no parameter "
                          f"{', '.join(map(repr, unknown))} (parameters: {', '.join(ex.params)})")
     if steps is None:
-        steps = max(2, int(math.floor(max_cycles ** (1.0 / max(1, len(vary))) + 1e-9)))
+        steps = max(2, min(MAX_STEPS, int(math.floor(max_cycles ** (1.0 / max(1, len(vary)))
+                                                    + 1e-9))))
     out = {}
     for name in ex.params:
         if name in vary:
