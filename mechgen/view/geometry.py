@@ -178,7 +178,10 @@ class Picture:
                 j = frame_of(spec)
                 pose = poses([spec], P0[None], sol.q[None])[0, 0]
                 if piece["kind"] == "segs":
-                    piece["segs"] = [_to_local(seg, pose) for seg in piece["segs"]]
+                    segs = piece["segs"]           # all at once, then split again
+                    cut = np.cumsum([len(seg) for seg in segs])[:-1]
+                    flat = np.concatenate(segs) if segs else np.zeros((0, 2))
+                    piece["segs"] = np.split(_to_local(flat, pose), cut)
                 else:
                     piece["xy"] = _to_local(piece["xy"], pose)
                 piece["frame"] = j
