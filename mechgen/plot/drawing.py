@@ -207,7 +207,7 @@ def _set_frame(ax, frame, width=None, aside=0.0):
 
 def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=False,
          artists=None, colors=None, title=None, legend=False, grid=True, fontsize=9,
-         width=8.0, trace=(), forces=None):
+         width=8.0, trace=(), forces=None, builder=None):
     """Draw the mechanism at one instant; returns a :class:`Drawing`.
 
     ``solution``: a Solution (``mech.solve(t)``) or a time. The frame covers the motion:
@@ -226,7 +226,8 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
     loads; a body name (or a list) its free body diagram; ``solution`` is then a solve at
     level "dynamic" or "static" (a time is solved at "dynamic"). The arrows are
     ``d.forces`` (plot.arrows.ForceArrows), drawn for this configuration only: update()
-    hides them.
+    hides them. ``builder``: a subclass of plot.glyphs.Builder to put the glyphs (the live
+    view, mechgen.view, records with one which frame each glyph moves with).
     """
     solution = _as_solution(mech, solution, "dynamic" if forces is not None and
                             forces is not False else "position")
@@ -249,7 +250,7 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
         guess = frame if isinstance(frame, (tuple, list)) else \
             (lo[0] - pad, hi[0] + pad, lo[1] - pad, hi[1] + pad)
         ax = _new_axes(guess, width)
-    bld = Builder(Drawing(ax, mech, st), P0, q0, solution.t, P, Q)
+    bld = (builder or Builder)(Drawing(ax, mech, st), P0, q0, solution.t, P, Q)
     custom = dict(artists or {})
     unknown = [k for k in custom if k not in st.by_name]
     if unknown:

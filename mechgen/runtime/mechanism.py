@@ -485,6 +485,15 @@ class Mechanism:
         return assemblies(self, t, self._start(guess), int(starts), level,
                                self._tol(None), self._method(None), flips=flips)
 
+    def explore(self, **options):
+        """Show this mechanism live in a Jupyter notebook (Mech's Manipulate; API.md §7):
+        the page of ``mechgen view``, its cycles precomputed over the parameters' ranges.
+        Options and the return value: mechgen.view.explore. The view is a layer above
+        the runtime (it needs Bokeh); it is reached by name, so that the runtime imports
+        nothing above it."""
+        from importlib import import_module
+        return import_module("mechgen.view").explore(self, **options)
+
     # -- values at solved configurations ----------------------------------------------
     def evaluate(self, expr, solution_or_sweep):
         """Evaluate a symbolic quantity on a Solution or a Sweep (needs the symbolic side:

@@ -1,0 +1,41 @@
+"""Exploring a mechanism live (API.md section 7): ``mechgen view MODEL.py`` serves a page
+(view.server), ``mechgen view MODEL.py --html FILE`` writes one that needs no server
+(view.standalone), ``mech.explore()`` shows that page in a notebook.
+
+A layer above the runtime and the pictures (it draws what plot.draw draws, in Bokeh)
+and below the command line: geometry (the drawing's glyphs in the frames they move with),
+cycle (a cycle's columns, or why it cannot assemble), explorer (the state: parameters,
+assembly mode, when to draw again), layers (the glyphs as Bokeh columns), page (the
+Bokeh page), scripts (its JavaScript), server, standalone.
+"""
+from __future__ import annotations
+
+NOTEBOOK_TIMES = 200     # times in each precomputed cycle of a notebook's view
+
+
+def need_bokeh():
+    """A clear error where Bokeh, which draws the page, is not installed."""
+    import importlib.util
+    if importlib.util.find_spec("bokeh") is None:
+        from ..errors import MechgenError
+        raise MechgenError("the live view needs Bokeh: pip install 'mechgen[view]' "
+                           "(or pip install bokeh)")
+
+
+def explore(mech, t0=0.0, t1=1.0, n=NOTEBOOK_TIMES, trace=None, plots=None, ranges=None,
+            vary=None, steps=None, show=True):
+    """Show the view of ``mech`` in a Jupyter notebook (``mech.explore()``): the page of
+    ``mechgen view --html`` (cycles precomputed over the parameters' ranges, so that the
+    sliders answer without a kernel round trip). Returns the Page (``page.layout`` is
+    the Bokeh layout); ``show=False`` only builds it."""
+    need_bokeh()
+    from .explorer import Explorer
+    from .standalone import standalone_page
+    ex = Explorer(mech, t0=t0, t1=t1, n=n, trace=trace, plots=plots, ranges=ranges)
+    page = standalone_page(ex, vary=vary, steps=steps)
+    if show:
+        from bokeh.io import output_notebook
+        from bokeh.io import show as bokeh_show
+        output_notebook(hide_banner=True)
+        bokeh_show(page.layout)
+    return page

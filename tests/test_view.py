@@ -1,0 +1,303 @@
+"""The live view (mechgen view, API.md §7) driven in a real headless browser (Debian's
+chromium through Selenium) on the quick-return: the time and `longitud` sliders move, and
+the drawn slider block, crank pin and traced path are checked against the mechanism's
+closed form (tests/closed_forms.py) and against mech.solve; the same for the standalone
+page (--html, no server); a design that cannot assemble shows its message and the range
+where it can (closed form: the lever's end must stay within 5 of the slider's guide);
+mech.explore() runs in a notebook (nbclient). One server and one browser for the module."""
+import math
+import os
+import re
+import shutil
+import time
+
+import numpy as np
+import pytest
+
+from closed_forms import quick_return
+from conftest import EXAMPLES
+
+bokeh = pytest.importorskip("bokeh", reason="the view needs bokeh (pip install bokeh)")
+webdriver = pytest.importorskip("selenium.webdriver",
+                                reason="the browser tests need selenium (pip install selenium)")
+
+import mechgen  # noqa: E402
+from mechgen.cli import main  # noqa: E402
+
+MODEL = os.path.join(EXAMPLES, "quick_return.py")
+CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
+DRIVER = shutil.which("chromedriver")
+need_browser = pytest.mark.skipif(
+    CHROMIUM is None or DRIVER is None,
+    reason="no headless browser: apt-get install chromium chromium-driver (.ci/run does)")
+
+# the page's models, gathered in the browser: every layer's rows of one owner (a body's
+# name, or "joints"), their drawn vertices; a traced path; the message
+ROWS = """
+const doc = Bokeh.documents[0], out = [];
+for (let m = 0; m < 40; m++) {
+  const src = doc.get_model_by_name('layer' + m);
+  if (src === null) { continue; }
+  const g = src.data;
+  for (let r = 0; r < g.frame.length; r++) {
+    if (g.owner[r] != arguments[0] || g.xs === undefined) { continue; }
+    out.push([Array.from(g.xs[r]), Array.from(g.ys[r])]);
+  }
+}
+return out;
+"""
+SET = """
+const doc = Bokeh.documents[0];
+window.mechgen_before = window.mechgen_redraws || 0;
+doc.get_model_by_name(arguments[0]).value = arguments[1];
+"""
+CYCLE = """
+const d = Bokeh.documents[0].get_model_by_name('cycle').data;
+return [Array.from(d.t), Array.from(d[arguments[0]]), Array.from(d[arguments[1]])];
+"""
+
+
+def x4(t, longitud):
+    return float(quick_return(t, longitud=longitud)[6])
+
+
+def crank_pin(t, longitud):
+    th = 2 * math.pi * t
+    return longitud * math.cos(th), 5 + longitud * math.sin(th)
+
+
+@pytest.fixture(scope="module")
+def browser():
+    from selenium.webdriver.chrome.options import Options
+    from selenium.webdriver.chrome.service import Service
+    opts = Options()
+    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1400,1000"):
+        opts.add_argument(arg)
+    opts.binary_location = CHROMIUM
+    drv = webdriver.Chrome(options=opts, service=Service(DRIVER))
+    yield drv
+    drv.quit()
+
+
+@pytest.fixture(scope="module")
+def mech():
+    return mechgen.compile(MODEL, tier="compiled")
+
+
+@pytest.fixture(scope="module")
+def server(mech):
+    from mechgen.view.explorer import Explorer
+    from mechgen.view.server import ViewServer
+    srv = ViewServer(lambda: Explorer(mechgen.compile(MODEL, tier="compiled"), n=1000,
+                                      trace=["deslizadera[1]", "manivela[2]"]))
+    srv.start()
+    yield srv
+    srv.stop()
+
+
+def wait(drv, script, timeout=30.0):
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        value = drv.execute_script(script)
+        if value:
+            return value
+        time.sleep(0.05)
+    raise AssertionError(f"the page never answered {script!r}")
+
+
+def set_value(drv, name, value):
+    drv.execute_script(SET, name, value)
+    wait(drv, "return (window.mechgen_redraws || 0) > window.mechgen_before")
+
+
+def check_drawing(drv, t, longitud, tol=1e-9):
+    """The slider block, the crank's pin and the traced paths as drawn, against the
+    closed form at (t, longitud)."""
+    # the slider block: the box from deslizadera[1] to [2] (2 long), sitting on y = 10
+    boxes = drv.execute_script(ROWS, "deslizadera")
+    assert boxes, "no slider block drawn"
+    xs, ys = np.array(boxes[0][0]), np.array(boxes[0][1])
+    want = x4(t, longitud)
+    assert abs(xs.min() - want) < tol and abs(xs.max() - (want + 2)) < tol
+    assert abs(ys.min() - 10) < tol
+    # the crank's pin at its end: a circle about the closed form's crank pin
+    pins = [np.array(p) for p in drv.execute_script(ROWS, "joints")]
+    px, py = crank_pin(t, longitud)
+    centres = [(p[0].mean(), p[1].mean()) for p in pins if len(p[0]) == 20]
+    assert min(math.hypot(cx - px, cy - py) for cx, cy in centres) < 1e-6
+    # the traced paths: the slider's along y = 10, the crank pin's circle
+    tt, trx, tr_y = drv.execute_script(CYCLE, "tr0x", "tr0y")
+    tt = np.array(tt)
+    assert len(tt) == 1000
+    for k in (0, 137, 500, 999):
+        assert abs(trx[k] - x4(tt[k], longitud)) < tol and abs(tr_y[k] - 10) < tol
+    _, cx, cy = drv.execute_script(CYCLE, "tr1x", "tr1y")
+    r = np.hypot(np.array(cx), np.array(cy) - 5)
+    assert np.abs(r - longitud).max() < tol
+
+
+@need_browser
+def test_the_server_page_moves_with_the_time_and_longitud_sliders(browser, server, mech):
+    browser.get(server.url)
+    wait(browser, "return window.mechgen_redraws || 0")
+    check_drawing(browser, 0.0, 3.0)
+    set_value(browser, "time", 0.3)
+    t = round(0.3 * 999) / 999            # the slider's step: 1/999
+    check_drawing(browser, t, 3.0)
+    set_value(browser, "param_longitud", 2.2)
+    check_drawing(browser, t, 2.2)
+    # and as mech.solve says, at the same values
+    s = mech.with_params(longitud=2.2).solve(t)
+    box = np.array(browser.execute_script(ROWS, "deslizadera")[0][0])
+    assert abs(box.min() - s["X4"]) < 1e-9
+    # the play button steps the time slider around the cycle
+    browser.execute_script("Bokeh.documents[0].get_model_by_name('play').active = true")
+    time.sleep(0.4)
+    browser.execute_script("Bokeh.documents[0].get_model_by_name('play').active = false")
+    assert browser.execute_script("return Bokeh.documents[0].get_model_by_name('time').value") != t
+    set_value(browser, "time", t)
+    # the plots show the cycle's quantities at the time shown
+    _, stroke, _ = browser.execute_script(CYCLE, "stroke_x", "stroke_x")
+    assert abs(stroke[round(t * 999)] - s["X4"]) < 1e-9
+
+
+@need_browser
+def test_a_design_that_cannot_assemble_says_so_and_where_it_can(browser, server):
+    browser.get(server.url)
+    wait(browser, "return window.mechgen_redraws || 0")
+    set_value(browser, "param_longitud", 4.5)
+    text = browser.execute_script(
+        "const m = Bokeh.documents[0].get_model_by_name('message');"
+        "return m.visible ? m.text : '';")
+    assert "Cannot assemble" in text and "longitud = 4.5" in text, text
+    # the lever's end reaches 9 cos(asin(L/5)) high at its widest; the slider's rod (5)
+    # reaches it from y = 10 while that is >= 5: L <= 5 sin(acos(5/9))
+    limit = 5 * math.sin(math.acos(5 / 9))
+    lo, hi = (float(v) for v in text.split("assembles for longitud from ")[1].rstrip(".").split(" to "))
+    assert lo == pytest.approx(1.5) and abs(hi - limit) < (4.5 - 1.5) / 24     # 25 designs
+    hidden = browser.execute_script("return Bokeh.documents[0].get_model_by_name('trace0')"
+                                    ".visible")
+    assert hidden is False
+    set_value(browser, "param_longitud", 3.0)
+    check_drawing(browser, 0.0, 3.0)
+
+
+@need_browser
+def test_the_standalone_page_works_without_a_server(browser, tmp_path, capsys):
+    out = str(tmp_path / "view.html")
+    assert main(["view", MODEL, "--html", out, "--vary", "longitud", "--steps", "7",
+                 "--trace", "deslizadera[1],manivela[2]"]) == 0
+    assert "wrote" in capsys.readouterr().out
+    text = open(out, encoding="utf-8").read()
+    # everything inline: no script or stylesheet fetched from elsewhere
+    assert "<script" in text and not re.search(r"<script[^>]*\ssrc=", text)
+    assert not re.search(r"<link[^>]*\shref=", text)
+    browser.get("file://" + out)
+    wait(browser, "return window.mechgen_redraws || 0")
+    grid = np.linspace(1.5, 4.5, 7)          # the default range, 7 steps
+    set_value(browser, "param_longitud", grid[2])
+    set_value(browser, "time", 0.25)
+    tt, _, _ = browser.execute_script(CYCLE, "t", "t")
+    assert len(tt) == 200
+    t = tt[round(0.25 * 199)]
+    boxes = browser.execute_script(ROWS, "deslizadera")
+    xs = np.array(boxes[0][0])
+    # float32 columns: to single precision
+    assert abs(xs.min() - x4(t, grid[2])) < 1e-5
+    _, cx, cy = browser.execute_script(CYCLE, "tr1x", "tr1y")
+    assert np.abs(np.hypot(np.array(cx), np.array(cy) - 5) - grid[2]).max() < 1e-5
+    # past the limit the page says why (the message precomputed with the cycle)
+    set_value(browser, "param_longitud", 4.5)
+    text = browser.execute_script("return Bokeh.documents[0].get_model_by_name('message').text")
+    assert "Cannot assemble" in text
+
+
+@need_browser
+def test_an_edit_of_the_model_file_redraws_the_page(browser, tmp_path):
+    from mechgen.view.explorer import Explorer
+    from mechgen.view.server import ViewServer
+    model = tmp_path / "guide.py"
+    model.write_text(open(MODEL, encoding="utf-8").read(), encoding="utf-8")
+    out = str(tmp_path / "generated")
+    # the plain-Python tier and a short cycle: nothing to compile for the edited model
+    srv = ViewServer(lambda: Explorer(mechgen.compile(str(model), outdir=out, tier="python"),
+                                      n=40, compiled=False), watch=str(model)).start()
+    try:
+        browser.get(srv.url)
+        wait(browser, "return window.mechgen_redraws || 0")
+        box = browser.execute_script(ROWS, "deslizadera")[0]
+        assert abs(min(box[1]) - 10) < 1e-9
+        text = model.read_text(encoding="utf-8")
+        edited = text.replace("(-5, 10), (12, 10)", "(-5, 10.5), (12, 10.5)")
+        assert edited != text
+        model.write_text(edited.replace("guess=(6, 10, 0)", "guess=(6, 10.5, 0)"),
+                         encoding="utf-8")
+        # the slider's guide raised by half a unit: the page redraws it there
+        from selenium.common.exceptions import JavascriptException
+        end = time.monotonic() + 90
+        while True:
+            try:       # the page reloads itself: Bokeh is briefly not there
+                boxes = browser.execute_script(ROWS, "deslizadera")
+            except JavascriptException:
+                boxes = None
+            if boxes and abs(min(boxes[0][1]) - 10.5) < 1e-9:
+                break
+            assert time.monotonic() < end, "the page was not redrawn after the edit"
+            time.sleep(0.2)
+    finally:
+        srv.stop()
+
+
+def test_explore_runs_in_a_notebook(tmp_path):
+    nbformat = pytest.importorskip("nbformat")
+    nbclient = pytest.importorskip("nbclient")
+    nb = nbformat.v4.new_notebook()
+    nb.cells = [nbformat.v4.new_code_cell(
+        "import mechgen\n"
+        f"mech = mechgen.compile({MODEL!r}, tier='compiled')\n"
+        "page = mech.explore(vary=['longitud'], steps=3, n=50)\n"
+        "print(len(page.table[1].data['start']), 'cycles')")]
+    nbclient.NotebookClient(nb, timeout=300, kernel_name="python3",
+                            resources={"metadata": {"path": str(tmp_path)}}).execute()
+    outputs = nb.cells[0].outputs
+    kinds = {k for o in outputs for k in o.get("data", {})}
+    assert "application/vnd.bokehjs_exec.v0+json" in kinds, kinds
+    printed = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
+    assert "3 cycles" in printed
+
+
+def test_the_other_assembly_mode_is_followed_over_the_cycle(mech):
+    from mechgen.view.explorer import Explorer
+    ex = Explorer(mech, n=200, trace=["deslizadera[1]"])
+    modes = ex.modes(0.85)
+    assert len(modes) == 2
+    # the slider left of the lever's end (closed form side=-1), followed back to T = 0
+    other = [q for label, q in modes if q[6] < 5]
+    assert len(other) == 1
+    data, _, message = ex.compute(guess=ex.follow_back(other[0], 0.85))
+    assert message == ""
+    for k in (0, 50, 170, 199):
+        want = float(quick_return(data["t"][k], side=-1)[6])
+        assert abs(data["X4"][k] - want) < 1e-9 and abs(data["tr0x"][k] - want) < 1e-9
+    # a parameter change keeps to that mode
+    data, _, _ = ex.compute({"longitud": 2.5})
+    assert abs(data["X4"][100] - float(quick_return(data["t"][100], longitud=2.5, side=-1)[6])) < 1e-9
+
+
+def test_a_model_with_masses_offers_its_driver_torque(tmp_path):
+    from mechgen.view.explorer import Explorer
+    # the plain-Python tier and a short cycle: nothing to compile
+    mech = mechgen.compile(os.path.join(EXAMPLES, "quick_return_forces.py"), tier="python")
+    ex = Explorer(mech, n=101, compiled=False)
+    assert "driver: crank driver" in ex.quantities and ex.plots[1] == "driver: crank driver"
+    # the column is the runtime's dynamic solve at the cycle's times (the torque itself is
+    # checked against independent computations in tests/test_forces.py)
+    s = mech.solve(0.2, level="dynamic")
+    assert abs(ex.data["driver: crank driver"][20] - s.driver("crank driver")) < 1e-9
+
+
+def test_view_refuses_bad_options_clearly(capsys):
+    assert main(["view", MODEL, "--range", "longitud=1", "--no-browser"]) == 1
+    assert "NAME=LOW:HIGH" in capsys.readouterr().err
+    assert main(["view", MODEL, "--range", "nope=1:2", "--no-browser"]) == 1
+    assert "no parameter 'nope'" in capsys.readouterr().err
