@@ -24,6 +24,7 @@ from .ir import Options, code_words, render, symbols
 from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
 from .names import Names, emitter_symbols, identifiers, module_words
 from .plan import SHARE_MAX, make_plan, summary
+from .printer import Derived
 from .position import position_body, trig_pair
 from .profiles_code import profile_helpers
 from .sweep import options as sweep_options
@@ -39,6 +40,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
                      closed_forms=closed_forms)
     points = point_list(model)
     helpers, bodies = profile_helpers(model, eq, cse), {}    # cam profiles' functions
+    profiles = bool(helpers)
 
     def put(key, made):
         body, parts = made
@@ -78,10 +80,14 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     inline = plan.sorted and not helpers and len(eq.q) <= SHARE_MAX
     if plan.sorted and plan.level >= 2:
         step = None
-        if inline and plan.share and not plan.position_parts and derivatives is not None:
+        # the solvers written out in the fast sweep's loop: a small model's, whether or
+        # not long functions it does not call there (Φ_q, Φ) are split into parts
+        written = plan.sorted and not profiles and len(eq.q) <= SHARE_MAX
+        if written and plan.share and not plan.position_parts and derivatives is not None:
             step = written_step(plan, eq, bodies["position_sorted"], derivatives)
         pairs = [trig_pair(y) for y in plan.position.trig_pairs]
-        bodies["sweep_fast"] = sweep_fast_body(step, pairs)
+        signs = [Derived("_sg_", y) for y in plan.position.signs]
+        bodies["sweep_fast"] = sweep_fast_body(step, pairs, signs)
 
     names = name_map(model, eq, list(bodies.values()) + [h.body for h in helpers],
                      [h.args for h in helpers])

@@ -139,11 +139,15 @@ def _position_det():
         Code("_sw_tk = t")))
 
 
-def sweep_fast_body(step=None, pairs=()):
+def sweep_fast_body(step=None, pairs=(), signs=()):
     """The statements of sweep_fast's body: with ``step`` (written_step: the position and
     the derivative statements) the solvers written out, else calls of position_sorted and
-    derivatives_sorted. ``pairs``: the TrigPairs the step turns."""
+    derivatives_sorted. ``pairs``: the TrigPairs the step turns; ``signs``: the assembly
+    signs of its dyads, taken at the first point and kept (ir.Variant)."""
     init, keep = _memory(pairs) if step is not None else ([], [])
+    if step is not None:
+        init += [Code("{0} = 1.0  # a dyad's assembly sign, from the first point", (s,))
+                 for s in signs]
     if step is not None:
         position, derivatives = step
         solve = [Comment("position_sorted() and derivatives_sorted() written out here, the "
