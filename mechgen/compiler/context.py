@@ -17,6 +17,7 @@ from ..model.stages import constraint_table, stages_context
 from ..model.symbolic import check_square
 from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
+from .blocks import EXPLICIT, NEWTON
 from .equations_code import (gamma_body, mesh_turns_body, nu_body, outputs_bodies, phi_body,
                              phi_q_body, point_list, points_body)
 from .forces_code import force_blocks, forces_bodies, multipliers_point_body
@@ -87,7 +88,11 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
             step = written_step(plan, eq, bodies["position_sorted"], derivatives)
         pairs = [trig_pair(y) for y in plan.position.trig_pairs]
         signs = [Derived("_sg_", y) for y in plan.position.signs]
-        bodies["sweep_fast"] = sweep_fast_body(step, pairs, signs)
+        # the coordinates whose guess the position solve reads; Newton blocks need a
+        # tangent at a position sweep's first point to predict its second
+        guessed = sorted({v for b in plan.blocks if b.method != EXPLICIT for v in b.tears})
+        tangent = any(b.method == NEWTON for b in plan.blocks)
+        bodies["sweep_fast"] = sweep_fast_body(step, pairs, signs, guessed, tangent)
 
     names = name_map(model, eq, list(bodies.values()) + [h.body for h in helpers],
                      [h.args for h in helpers])
