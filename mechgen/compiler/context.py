@@ -17,7 +17,8 @@ from ..model.stages import constraint_table, stages_context
 from ..model.symbolic import check_square
 from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
-from .blocks import EXPLICIT, NEWTON
+from .blocks import CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, NEWTON
+from .dyads import signed
 from .equations_code import (gamma_body, mesh_turns_body, nu_body, outputs_bodies, phi_body,
                              phi_q_body, point_list, points_body)
 from .forces_code import force_blocks, forces_bodies, multipliers_point_body
@@ -88,9 +89,13 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
             step = written_step(plan, eq, bodies["position_sorted"], derivatives)
         pairs = [trig_pair(y) for y in plan.position.trig_pairs]
         signs = [Derived("_sg_", y) for y in plan.position.signs]
-        # the coordinates whose guess the position solve reads; Newton blocks need a
-        # tangent at a position sweep's first point to predict its second
-        guessed = sorted({v for b in plan.blocks if b.method != EXPLICIT for v in b.tears})
+        # the coordinates whose solution depends on their guess (Newton's tears, the root
+        # nearest the guess of a constant closed form; a dyad's or a signed form's sign is
+        # kept, its angle's turns the last point's); Newton blocks need a tangent at a
+        # position sweep's first point to predict its second
+        guessed = sorted({v for b in plan.blocks for v in b.tears
+                          if b.method == NEWTON or b.method in (CLOSED_FORM_TRIG, CLOSED_FORM_QUADRATIC)
+                          and not signed(b.method, b.form)})
         tangent = any(b.method == NEWTON for b in plan.blocks)
         bodies["sweep_fast"] = sweep_fast_body(step, pairs, signs, guessed, tangent)
 

@@ -24,6 +24,7 @@ import math
 import sympy as sp
 
 from ..protocol import GAVE_UP, PIVOT_RTOL, TINY
+from .blocks import CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG
 from .inputs import sym
 from .ir import Assign, Code, Comment, Guard, If, Return, Variant
 from .printer import Derived
@@ -160,4 +161,71 @@ def _angle_turned(th, s, c, memory):
                _angle(th, s, c)))
 
 
-__all__ = ["rrr_form", "rrr_statements", "sign_at"]
+def signed(method, form):
+    """Whether a one-tear closed form (plan.form) picks its root by a sign: a quadratic
+    (a slider's x on a guide at a distance from a known point: circle-line), or
+    a sin y + b cos y + c with coefficients that vary (a lever through a moving point).
+    A form with constant a and b (a body kept parallel to a guide) keeps the root nearest
+    the guess instead, its two roots a fixed half turn apart."""
+    if method == CLOSED_FORM_QUADRATIC:
+        return True
+    return method == CLOSED_FORM_TRIG and not (form[0].is_number and form[1].is_number)
+
+
+def _sign(sg, value, bound, what):
+    """The assembly sign ``sg`` from ``value`` at the guess (GAVE_UP where it is within
+    ``bound`` of zero: a guess at a toggle), kept from a fast sweep's first point."""
+    body = (Code("_o = {0}", (value,)),
+            If(Code("not abs(_o) > {0}", (bound,)), (Return(GAVE_UP),),
+               tail=f"  # the guess at a toggle: no mode to keep ({what})"),
+            Code("{0} = 1.0 if _o > 0.0 else -1.0", (sg,)))
+    return Variant(body, (If(Code("k == 0"), body, tail="  # kept from the first point"),))
+
+
+def trig_statements(y, form, pair):
+    """a sin y + b cos y + c = 0 by the sign of the block's derivative a cos y − b sin y
+    (w |(a, b)| at the root (sin, cos) = ((u a − w b), (w a + u b)) / |(a, b)|, u = −c /
+    |(a, b)|, w = ±√(1 − u²)): the root whose derivative has the guess's sign; sin and
+    cos of y into ``pair``, y itself as an RRR dyad's angles."""
+    ka, kb, kc = form
+    a, bb, rad, u, w = (sym(x) for x in ("_ka", "_kb", "_rad", "_u", "_w"))
+    sg = Derived("_sg_", y)
+    st = [Comment(f"closed form: a sin({y}) + b cos({y}) + c = 0, the root of the guess's "
+                  f"sign of a cos({y}) - b sin({y})"),
+          Assign(a, ka), Assign(bb, kb), Assign(rad, sp.sqrt(a ** 2 + bb ** 2)),
+          Guard(rad, sp.Float(TINY), GAVE_UP), Assign(u, -kc / rad),
+          If(Code("not abs({0}) <= 1.0 + 1e-12", (u,)), (Return(GAVE_UP),),
+             tail="  # no assembly here"),
+          Code("{0} = min(1.0, max(-1.0, {0}))", (u,)),
+          _sign(sg, a * sp.cos(y) - bb * sp.sin(y), sp.Float(PIVOT_RTOL) * rad, "a lock"),
+          Code("{0} = {1} * math.sqrt(1.0 - {2} * {2})", (w, sg, u)),
+          Assign(pair.sin, (u * a - w * bb) / rad), Assign(pair.cos, (w * a + u * bb) / rad),
+          Variant(_angle(y, pair.sin, pair.cos),
+                  _angle_turned(y, pair.sin, pair.cos, pair.memory))]
+    return st
+
+
+def quadratic_statements(y, form):
+    """A y² + B y + C = 0 by the sign of its derivative 2 A y + B (±√disc at the roots):
+    the root whose derivative has the guess's sign (q / A has −sign(B), C / q has
+    sign(B), q = −(B + sign(B) √disc) / 2)."""
+    qa, qb, qc = form
+    sg = Derived("_sg_", y)
+    A, B, C = sym("_qa"), sym("_qb"), sym("_qc")
+    return [Comment(f"closed form: A {y}^2 + B {y} + C = 0, the root of the guess's sign "
+                    f"of 2 A {y} + B"),
+            Assign(A, qa), Assign(B, qb), Assign(C, qc),
+            Code("_disc = _qb * _qb - 4.0 * _qa * _qc"),
+            If(Code("_disc < 0.0"),
+               (If(Code("_disc < -1e-12 * _qb * _qb"), (Return(GAVE_UP),),
+                   tail="  # no assembly here"), Code("_disc = 0.0  # a toggle"))),
+            _sign(sg, 2 * A * y + B, sp.Float(PIVOT_RTOL) * (sp.Abs(2 * A * y) + sp.Abs(B)),
+                  "a lock"),
+            Code("_qq = -0.5 * (_qb + math.copysign(math.sqrt(_disc), _qb))"),
+            If(Code("not abs(_qa) > 1e-300 or not abs(_qq) > 1e-300"), (Return(GAVE_UP),)),
+            Code("{0} = _qq / _qa if {1} * math.copysign(1.0, _qb) < 0.0 else _qc / _qq",
+                 (y, sg))]
+
+
+__all__ = ["rrr_form", "rrr_statements", "sign_at", "signed", "trig_statements",
+           "quadratic_statements"]

@@ -19,7 +19,7 @@ from ..errors import ModelError
 from ..protocol import LEVEL, LEVELS
 from .blocks import (CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, METHODS,
                      NEWTON, incidence, linear_in, sort_blocks)
-from .dyads import rrr_form, sign_at
+from .dyads import rrr_form, sign_at, signed
 from .position import Rows, position_code
 
 CHUNK_STORES = 48      # straight-line functions longer than this are split into parts
@@ -85,9 +85,9 @@ class SolverPlan:
 def make_plan(model, eq, sort=True, level="acceleration", outputs=None, cse=True,
               closed_forms="cheap") -> SolverPlan:
     """The plan of ``model`` (its expanded equations ``eq``) for the given build options."""
-    # "all": every block of a standard form is solved in closed form; "cheap": only where
-    # that removes all run-time trigonometry (a warm-started Newton is faster than atan2
-    # or a square root); "none": Newton everywhere
+    # "all" and "cheap" (the default): every block of a standard form is solved in closed
+    # form (since the forms whose root a sign picks cost a sweep no call, "cheap" leaves
+    # none out any more); "none": Newton everywhere
     if closed_forms is True:
         closed_forms = "all"
     if closed_forms not in ("all", "cheap", "none", False):
@@ -213,8 +213,9 @@ def _closed_form(b, eq, phi, closed_forms):
     """A block with one tear whose residual, once the explicit unknowns are substituted,
     has a standard form solved without iterating: a sin y + b cos y + c (a crank or lever
     angle) or A y² + B y + C (a two-circle intersection). (method, coefficients), or None
-    when the residual has neither form (or, with "cheap", when the form would cost
-    run-time trigonometry or a square root)."""
+    when the residual has neither form. A form whose root is picked by a sign
+    (mechgen.compiler.dyads.signed) costs no more than a warm Newton: the sweep keeps the
+    sign and takes y from the last point without calls."""
     q = eq.q
     y = q[b.tears[0]]
     subs = {}
@@ -235,12 +236,10 @@ def _closed_form(b, eq, phi, closed_forms):
     if trig and (sp.sin(y) in trig or sp.cos(y) in trig):
         ka, kb, kc = (sp.sympify(trig.get(sp.sin(y), 0)), sp.sympify(trig.get(sp.cos(y), 0)),
                       sp.sympify(trig.get(1, 0)))
-        if closed_forms == "cheap" and not (ka.is_number and kb.is_number):
-            return None
         if ka.is_number and kb.is_number and sp.sqrt(ka ** 2 + kb ** 2) == 0:
             return None
         return CLOSED_FORM_TRIG, (ka, kb, kc)
-    if quad and y ** 2 in quad and closed_forms != "cheap":
+    if quad and y ** 2 in quad:
         return CLOSED_FORM_QUADRATIC, (quad[y ** 2], quad.get(y, 0), quad.get(1, 0))
     return None
 
@@ -266,12 +265,13 @@ def summary(block: BlockPlan, q) -> str:
         return "explicit"
     if block.method == DYAD_RRR:
         return f"RRR dyad at {block.where}, sign {block.sign:+d}"
+    sign = ", the guess's sign" if signed(block.method, block.form) else ""
     if block.method == CLOSED_FORM_TRIG:
         y = names[0]
-        return f"closed form: a sin({y}) + b cos({y}) + c = 0{tail}"
+        return f"closed form: a sin({y}) + b cos({y}) + c = 0{sign}{tail}"
     if block.method == CLOSED_FORM_QUADRATIC:
         y = names[0]
-        return f"closed form: A {y}^2 + B {y} + C = 0{tail}"
+        return f"closed form: A {y}^2 + B {y} + C = 0{sign}{tail}"
     if block.size == 1:
         return "Newton"
     return f"Newton on {', '.join(names)}{tail}"

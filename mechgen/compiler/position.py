@@ -16,7 +16,7 @@ import sympy as sp
 from ..model.geometry import T
 from ..protocol import PIVOT_RTOL, TINY
 from .blocks import CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, NEWTON, linear_in
-from .dyads import rrr_statements
+from .dyads import quadratic_statements, rrr_statements, signed, trig_statements
 from .inputs import free, sym, time_local, unpack
 from .ir import (Assign, Break, Code, Comment, Guard, Helper, If, Loop, Return, Store,
                  TrigPair, count_lines, replaced)
@@ -220,8 +220,18 @@ class _Writer:
     # -- closed forms -----------------------------------------------------------------------
     def closed_form(self, b):
         """The block's tear from its closed form (plan.form): of the two roots, the one
-        nearest the current value of y is kept, so the assembly mode is kept."""
+        nearest the current value of y is kept, so the assembly mode is kept; where the
+        form picks its root by a sign (dyads.signed), the root of the guess's sign."""
         y = self.q[b.tears[0]]
+        if signed(b.method, b.form):
+            self.signs.append(y)
+            if b.method == CLOSED_FORM_TRIG:
+                pair = self.share_trig(y)
+                self.trig_pairs.append(y)
+                st = trig_statements(y, b.form, pair)
+            else:
+                st = quadratic_statements(y, b.form)
+            return self.shared_emit(st + self.explicit(b.explicit))
         name = str(y)
         st = []
 
