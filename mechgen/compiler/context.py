@@ -17,8 +17,7 @@ from ..model.stages import constraint_table, stages_context
 from ..model.symbolic import check_square
 from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
-from .blocks import CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, NEWTON
-from .dyads import signed
+from .blocks import EXPLICIT
 from .equations_code import (gamma_body, mesh_turns_body, nu_body, outputs_bodies, phi_body,
                              phi_q_body, point_list, points_body)
 from .forces_code import force_blocks, forces_bodies, multipliers_point_body
@@ -89,14 +88,13 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
             step = written_step(plan, eq, bodies["position_sorted"], derivatives)
         pairs = [trig_pair(y) for y in plan.position.trig_pairs]
         signs = [Derived("_sg_", y) for y in plan.position.signs]
-        # the coordinates whose solution depends on their guess (Newton's tears, the root
-        # nearest the guess of a constant closed form; a dyad's or a signed form's sign is
-        # kept, its angle's turns the last point's); Newton blocks need a tangent at a
-        # position sweep's first point to predict its second
-        guessed = sorted({v for b in plan.blocks for v in b.tears
-                          if b.method == NEWTON or b.method in (CLOSED_FORM_TRIG, CLOSED_FORM_QUADRATIC)
-                          and not signed(b.method, b.form)})
-        tangent = any(b.method == NEWTON for b in plan.blocks)
+        # the coordinates a block solves other than explicitly (Newton's tears, closed
+        # forms', dyads'): predicted, and their corrections watched: a dyad's or a signed
+        # form's result does not depend on its guess, but a coarse step over a window where
+        # it does not assemble shows as a correction its sign alone cannot see; the
+        # tangent at a position sweep's first point predicts its second
+        guessed = sorted({v for b in plan.blocks if b.method != EXPLICIT for v in b.tears})
+        tangent = bool(guessed)
         bodies["sweep_fast"] = sweep_fast_body(step, pairs, signs, guessed, tangent)
 
     names = name_map(model, eq, list(bodies.values()) + [h.body for h in helpers],
