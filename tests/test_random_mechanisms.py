@@ -149,6 +149,32 @@ def test_long_profile_inverted_table_design_past_a_lock():
             what=f"inverted 7 points {level}")])
 
 
+def test_long_profile_sixbar_first_step_over_a_window():
+    """A six-bar whose second dyad cannot assemble for t in about [0.02, 0.11], swept in
+    position at 5 points: its first step turns the crank 1.2 rad straight over the window.
+    A solver that always finds the far side (a dyad in closed form) landed there in the
+    same mode with a determinant of the same size, status OK (long profile, seed 300).
+    The sweep must stop at the lock, not pass it; and so must a one-design table."""
+    fam = FAMILIES["sixbar"]
+    p = dict(d=2.9841376775231647, a=1.390057334701142, b=2.2632701173270853,
+             c=2.9474170129120187, th0=1.5817111548201597, w=-7.793372914128042,
+             p=0.5983992670255278, q=1.8847723519396546, gx=2.4312773624481396,
+             gy=3.5291428618909, f=4.368141471040536, h=1.438935592207744)
+    spec = rc.Spec("sixbar", "random", p, (1.0, 1.0), 0.0, 0.6206273122916859, 5,
+                   "position", "sorted")
+    verdict = rc.run_sweep(fam, spec)
+    _no_wrong("long/sixbar window", [verdict])
+    assert verdict.outcome == "refused"
+    mech = fam.mech().with_params(**p)
+    q0 = fam.exact(p, (1.0, 1.0), np.array([0.0]), 0)[0][0]
+    tab = mech.sweep(0.0, spec.t1, 5, params={"f": [p["f"]], "q": [p["q"]]}, guess=q0,
+                     level="position", on_fail="ignore")
+    done = int(tab.done[0])
+    _no_wrong("long/sixbar window table", [rc.judge(
+        fam, p, tab.t[:done], tab.Q.reshape(-1, len(tab.t), mech.n)[0, :done],
+        sigma=(1.0, 1.0), what="sixbar window table")])
+
+
 # -- every family, level and method: sweeps, single solves, design tables -------------------------
 CASES = [(f, meth) for f in FAMILIES for meth in rc.METHODS]
 
