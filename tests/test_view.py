@@ -173,7 +173,8 @@ def test_a_design_that_cannot_assemble_says_so_and_where_it_can(browser, server)
     # the lever's end reaches 9 cos(asin(L/5)) high at its widest; the slider's rod (5)
     # reaches it from y = 10 while that is >= 5: L <= 5 sin(acos(5/9))
     limit = 5 * math.sin(math.acos(5 / 9))
-    lo, hi = (float(v) for v in text.split("assembles for longitud from ")[1].rstrip(".").split(" to "))
+    said = text.split("assembles for longitud from ")[1].split("\n")[0]
+    lo, hi = (float(v) for v in said.rstrip(".").split(" to "))
     assert lo == pytest.approx(1.5) and abs(hi - limit) < (4.5 - 1.5) / 24     # 25 designs
     hidden = browser.execute_script("return Bokeh.documents[0].get_model_by_name('trace0')"
                                     ".visible")

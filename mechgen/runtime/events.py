@@ -19,6 +19,7 @@ evaluated by the symbolic side that mechgen.compile attaches to the mechanism.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
@@ -62,7 +63,6 @@ def _integrated(sw, k, t):
     """The state of a simulated sweep at t, integrated from its output k as it was."""
     if t == sw.t[k]:
         return sw[k]
-    import warnings
     run = sw.simulation
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")     # its outputs lie on the constraints already

@@ -14,7 +14,7 @@ import numpy as np
 from ..protocol import JUMP, OK, SING_RTOL, STATUS_CODE, STATUS_NAMES, THROUGH_SINGULAR
 from .forces.lookup import FORCE_LEVELS, tables
 from .forces.points import (by_blocks, driver_rows, efforts, has_forces, solve_points,
-                            svd_solve)
+                            svd_point)
 from .quantity import _lookup
 
 # A reduction slot: [kind, index, order]; kind COORDINATE (index into the coordinates,
@@ -161,10 +161,8 @@ def _forces_batch(module, ts, P, Q, QD, QDD, done, level):
     if weak.any():
         J, terms = np.empty((m, n)), np.empty((3, n))
         for d, k in zip(*np.nonzero(weak)):
-            t = float(ts[k])
-            module.phi_q(Q[d, k], t, P[d], J)
-            module.force_terms(Q[d, k], QD[d, k], QDD[d, k], t, P[d], terms)
-            lam, _, _, consistent = svd_solve(J, terms[0] + terms[1] - terms[2])
+            lam, _, consistent = svd_point(module, Q[d, k], QD[d, k], QDD[d, k], ts[k],
+                                           P[d], J, terms)
             LAM[d, k] = lam if consistent else np.nan
     return LAM, FACTORS
 

@@ -123,16 +123,9 @@ def solve_points(module, ts, Q, QD, QDD, p, level, extras=True) -> PointForces:
     J = np.empty((m, n))
     terms = np.empty((3, n))
     for k in np.flatnonzero(~direct):
-        if blocks:
-            module.phi_q(Q[k], float(ts[k]), p, J)
-        else:
-            J = JAC[k]
-        if extras:
-            right = rhs[k]
-        else:
-            module.force_terms(Q[k], QD[k], QDD[k], float(ts[k]), p, terms)
-            right = terms[0] + terms[1] - terms[2]
-        lam, _, dependent, consistent = svd_solve(J, right)
+        lam, dependent, consistent = svd_point(module, Q[k], QD[k], QDD[k], ts[k], p, J,
+                                               terms, None if blocks else JAC[k],
+                                               rhs[k] if extras else None)
         if consistent:
             out.LAM[k] = lam
             out.dependent.update(dependent)
@@ -140,6 +133,20 @@ def solve_points(module, ts, Q, QD, QDD, p, level, extras=True) -> PointForces:
             out.LAM[k] = np.nan
             out.singular[k] = True
     return out
+
+
+def svd_point(module, q, qd, qdd, t, p, J, terms, jac=None, right=None):
+    """(λ, dependent rows, consistent) at one point by the SVD, where the block pivots
+    fell too small: Φ_q (into J) and the right side (by force_terms, into terms) made here
+    unless given as ``jac`` and ``right``."""
+    if jac is None:
+        module.phi_q(q, float(t), p, J)
+        jac = J
+    if right is None:
+        module.force_terms(q, qd, qdd, float(t), p, terms)
+        right = terms[0] + terms[1] - terms[2]
+    lam, _, dependent, consistent = svd_solve(jac, right)
+    return lam, dependent, consistent
 
 
 def driver_rows(module) -> dict:

@@ -82,12 +82,15 @@ class _System:
         qdd, lam = np.empty(self.n), np.empty(self.m)
         rank = self.mod.free_accelerations(q, qd, float(t), self.p, self.keep, qdd, lam)
         if rank < self.n + self.c:
-            constraints, why = self.why(q, t)
-            raise SingularError(
-                f"simulate: model '{self.mech.name}' at t={t:.9g}: the equations of motion "
-                f"lose rank ({rank} of {self.n + self.c}): {why}", t=float(t),
-                constraints=constraints, level="dynamic", q=np.array(q))
+            raise self.singular(q, t, f" ({rank} of {self.n + self.c})")
         return qdd, lam
+
+    def singular(self, q, t, rank=""):
+        """The SingularError of a rank loss at (q, t), its cause named (why)."""
+        constraints, why = self.why(q, t)
+        return SingularError(f"simulate: model '{self.mech.name}' at t={t:.9g}: the "
+                             f"equations of motion lose rank{rank}: {why}", t=float(t),
+                             constraints=constraints, level="dynamic", q=np.array(q))
 
     def why(self, q, t):
         """(constraints, text) of a rank loss of the equations of motion at (q, t): the
@@ -195,10 +198,7 @@ def _compiled_span(system, rtol, atol, max_step):
                                   float(atol), float(max_step), INTERVAL_EVALUATIONS, stats)
         t = float(stats[3])
         if code == 1:
-            constraints, why = system.why(y[:system.n], t)
-            raise SingularError(f"simulate: model '{system.mech.name}' at t={t:.9g}: the "
-                                f"equations of motion lose rank: {why}", t=t,
-                                constraints=constraints, level="dynamic", q=y[:system.n])
+            raise system.singular(y[:system.n], t)
         if code == 2:
             raise _stalled(system.mech, t, t_a, t_b)
         if code == 3:
