@@ -176,9 +176,8 @@ class Explorer:
         said = ", ".join(f"{k} = {v:.4g}" for k, v in values.items() if k in changed) or \
             ", ".join(f"{k} = {v:.4g}" for k, v in values.items())
         self.detail = why
-        text = f"Cannot assemble over the cycle for {said}:\n" + \
-            "\n".join(textwrap.wrap(_gist(why), 72))
-        for name in changed:
+        text = f"Cannot assemble over the cycle for {said}."
+        for name in changed:        # what to do first: the range that runs
             lo, hi = self.ranges[name]
             span = assembling_range(mech, name, min(lo, values[name]), max(hi, values[name]),
                                     self.t0, self.t1)
@@ -186,7 +185,7 @@ class Explorer:
                 text += f"\nNo value of {name} in [{lo:.4g}, {hi:.4g}] assembles."
             else:
                 text += f"\nIt assembles for {name} from {span[0]:.4g} to {span[1]:.4g}."
-        return text
+        return text + "\n\n" + "\n".join(textwrap.wrap(_gist(why), 72))
 
     def modes(self, t):
         """The assembly modes at time t (mech.assemblies): [(label, q)]."""
