@@ -20,6 +20,7 @@ from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
 from .equations_code import (gamma_body, mesh_turns_body, nu_body, outputs_bodies, phi_body,
                              phi_q_body, point_list, points_body)
+from .dynamics_code import FUSED, dynamics_sorted_body, written_forces
 from .forces_code import force_blocks, force_functions, forces_bodies, multipliers_point_body
 from .ir import Options, code_words, render, symbols
 from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
@@ -84,6 +85,13 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
             step = written_step(plan, eq, bodies["position_sorted"], derivatives)
         pairs = [trig_pair(y) for y in plan.position.trig_pairs]
         bodies["sweep_fast"] = sweep_fast_body(step, pairs)
+        # a dynamic solve's derivatives and multipliers in one pass, and the dynamic
+        # sweep's quick path with the multipliers in its step (dynamics_code)
+        made = dynamics_sorted_body(plan, eq, model, derivatives) if force_parts else None
+        if made is not None:
+            put("dynamics_sorted", made)
+            forces = written_forces(plan, eq, model) if step is not None else True
+            bodies["sweep_fast_forces"] = sweep_fast_body(step, pairs, forces)
 
     names = name_map(model, eq, list(bodies.values()) + [h.body for h in helpers],
                      [h.args for h in helpers])
@@ -93,7 +101,8 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         body = bodies.get(key)
         if body is None:
             return None
-        return render(body, sweep_options(names) if key == "sweep_fast" else plain)
+        fast = key in ("sweep_fast", "sweep_fast_forces")
+        return render(body, sweep_options(names) if fast else plain)
 
     ctx = dict(
         name=model.name,
@@ -127,7 +136,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         helpers=[dict(name=h.name, args=h.args, doc=h.doc, lines=render(h.body, plain))
                  for h in helpers],
         inline=inline,
-        forces=dict(functions=force_functions(text), driver_rows=driver_rows,
+        forces=dict(functions=force_functions(text, FUSED), driver_rows=driver_rows,
                     point=text("multipliers_point") is not None,
                     blocks=force_blocks(plan, eq))
         if force_parts else None,

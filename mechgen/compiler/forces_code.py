@@ -14,6 +14,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ..model.dynamics import dynamics
+from ..protocol import SING_RTOL
 from .equations_code import TITLES, straight_line
 from .inputs import prologue
 from .ir import Assign, Code, If, Store
@@ -92,6 +93,23 @@ def multipliers_point_body(plan, eq, model):
     SING_RTOL the function returns it at once and the runtime solves λ by the SVD.
     Returns the smallest pivot. None where a block is larger than POINT_BLOCK_MAX, or the
     model's multipliers do not go block by block."""
+    made = multiplier_statements(plan, eq, model)
+    if made is None:
+        return None
+    st, lam = made
+    st += [Store(f"lam[{i}]", x) for i, x in enumerate(lam)]
+    exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
+    body = prologue(eq, exprs, with_qd=True, with_qdd=True) + emit(st, cse=plan.cse)
+    return body + [Code("return _w")], []
+
+
+def multiplier_statements(plan, eq, model, prefix="_", stop=True):
+    """(statements, λ symbols) of the written-out multipliers (multipliers_point_body),
+    before CSE; their locals start with ``prefix``. ``stop``: a pivot below SING_RTOL (or
+    a row of Φ_q all zero) returns at once; else the statements go on to the end (the
+    divisions then give inf or NaN: a caller compiled with numpy's error model) and
+    ``<prefix>w`` holds the smallest pivot, 0.0 where one fell below SING_RTOL. None where
+    the multipliers are not written out."""
     blocks = force_blocks(plan, eq)
     if blocks is None or not model.has_dynamics:
         return None
@@ -102,7 +120,8 @@ def multipliers_point_body(plan, eq, model):
     dyn = dynamics(model, eq)
     J = eq.nonzeros
     rhs = [dyn.applied[j] + dyn.conservative[j] - dyn.inertial[j] for j in range(len(eq.q))]
-    lam = [Local(f"_l{i}", real=True) for i in range(eq.phi.rows)]
+    lam = [Local(f"{prefix}l{i}", real=True) for i in range(eq.phi.rows)]
+    w = f"{prefix}w"
 
     def scale(i):           # the row's largest entry (multipliers_sorted's row scaling)
         entries = [sp.Abs(x) for (r, _), x in J.items() if r == i]
@@ -111,19 +130,32 @@ def multipliers_point_body(plan, eq, model):
     def right(c, rows):     # r_c less what the blocks solved already carry
         return rhs[c] - sp.Add(*[J[(i, c)] * lam[i] for (i, cc) in J if cc == c and i not in rows])
 
-    st = [Code("_w = 1.0")]
+    st = [Code(f"{w} = 1.0")]
 
     def pivot(value, tag):
-        p = Local(f"_p{tag}", real=True)
-        st.extend([Assign(p, value), Code("_w = min(_w, {0})", (p,)),
-                   If(Code("not {0} >= SING_RTOL", (p,)), (Code("return {0}", (p,)),))])
+        if value.is_number and value >= SING_RTOL:     # a constant pivot: nothing to test
+            return value
+        p = Local(f"{prefix}p{tag}", real=True)
+        st.append(Assign(p, value))
+        if stop:
+            st.extend([Code(f"{w} = min({w}, {{0}})", (p,)),
+                       If(Code("not {0} >= SING_RTOL", (p,)), (Code("return {0}", (p,)),))])
+        else:
+            st.append(If(Code("{0} >= SING_RTOL", (p,)), (Code(f"{w} = min({w}, {{0}})", (p,)),),
+                         orelse=(Code(f"{w} = 0.0"),)))
         return p
 
     for rows, cols in reversed(spans):
-        s = [Local(f"_s{i}", real=True) for i in rows]
-        for si, i in zip(s, rows):
-            st += [Assign(si, scale(i), eq.labels[i]),
-                   If(Code("not {0} > 0.0", (si,)), (Code("return 0.0"),))]
+        s = []
+        for i in rows:
+            value = scale(i)
+            if value.is_number and value > 0:           # a constant row: its own scale
+                s.append(value)
+                continue
+            s.append(Local(f"{prefix}s{i}", real=True))
+            st += [Assign(s[-1], value, eq.labels[i]),
+                   If(Code("not {0} > 0.0", (s[-1],)),
+                      (Code("return 0.0") if stop else Code(f"{w} = 0.0"),))]
         if len(rows) == 1:
             (i,), (c,) = rows, cols
             pivot(sp.Abs(J[(i, c)]) / s[0], i)
@@ -133,16 +165,13 @@ def multipliers_point_body(plan, eq, model):
         m = {(a, e): J.get((i, c), sp.Integer(0)) for a, c in enumerate(cols)
              for e, i in enumerate(rows)}
         first = pivot(sp.Max(sp.Abs(m[0, 0]) / s[0], sp.Abs(m[1, 0]) / s[0]), f"{i0}a")
-        det = Local(f"_d{i0}", real=True)
+        det = Local(f"{prefix}d{i0}", real=True)
         st.append(Assign(det, m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]))
         pivot(sp.Abs(det) / (s[0] * s[1] * first), f"{i0}b")
         y0, y1 = right(c0, rows), right(c1, rows)
         st.append(Assign(lam[i0], (y0 * m[1, 1] - m[0, 1] * y1) / det))
         st.append(Assign(lam[i1], (m[0, 0] * y1 - m[1, 0] * y0) / det))
-    st += [Store(f"lam[{i}]", lam[i]) for i in range(eq.phi.rows)]
-    exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
-    body = prologue(eq, exprs, with_qd=True, with_qdd=True) + emit(st, cse=plan.cse)
-    return body + [Code("return _w")], []
+    return st, lam
 
 
 # the force functions the template lays out, in order: (name, arguments, docstring lines,
@@ -172,15 +201,21 @@ POINT_STUB = ("Not written out for this model (a block of three or more rows, or
               "build): FORCE_POINT is False and force_rows solves the multipliers otherwise.")
 
 
-def force_functions(text) -> list:
-    """The template's force functions: dict(name, args, doc, zero, lines), the lines of
-    each from ``text(name)`` (multipliers_point a stub that returns 0.0 where it is not
-    written out)."""
+def force_functions(text, fused=()) -> list:
+    """The template's force functions: dict(name, args, doc, zero, lines, options), the
+    lines of each from ``text(name)`` (multipliers_point a stub that returns 0.0 where it
+    is not written out); then ``fused``: (name, args, doc lines) of the functions of
+    dynamics_code that the model has (numpy's error model)."""
     out = []
     for name, args, doc, zero in FUNCTIONS:
         lines = text(name)
         if lines is None:
             doc, lines = POINT_STUB, ["return 0.0"]
         out.append(dict(name=name, args=args, doc="\n    ".join(doc), zero=zero,
-                        lines=lines))
+                        lines=lines, options=""))
+    for name, args, doc in fused:
+        lines = text(name)
+        if lines is not None:
+            out.append(dict(name=name, args=args, doc="\n    ".join(doc), zero=False,
+                            lines=lines, options=', error_model="numpy"'))
     return out

@@ -139,13 +139,17 @@ def _position_det():
         Code("_sw_tk = t")))
 
 
-def sweep_fast_body(step=None, pairs=()):
+def sweep_fast_body(step=None, pairs=(), forces=None):
     """The statements of sweep_fast's body: with ``step`` (written_step: the position and
     the derivative statements) the solvers written out, else calls of position_sorted and
-    derivatives_sorted. ``pairs``: the TrigPairs the step turns."""
+    derivatives_sorted. ``pairs``: the TrigPairs the step turns. ``forces``: the body of
+    sweep_fast_forces instead, the multipliers after the derivatives at every point (with
+    ``step``: the statements of dynamics_code.written_forces; else True: a call of
+    dynamics_sorted)."""
     init, keep = _memory(pairs) if step is not None else ([], [])
     if step is not None:
         position, derivatives = step
+        derivatives = list(derivatives) + list(forces or ())
         solve = [Comment("position_sorted() and derivatives_sorted() written out here, the "
                          "sin and cos"),
                  Comment("of solved coordinates computed once for both; a failure ends the "
@@ -158,6 +162,10 @@ def sweep_fast_body(step=None, pairs=()):
                     (Code("return _sw_good"),))]
         derivatives = [If(Code("derivatives_sorted(q, t, p, qd, qdd, piv) != 0"),
                           (Code("return _sw_good"),))]
+        if forces:
+            derivatives = [If(Code("dynamics_sorted(q, t, p, qd, qdd, piv, LAM[k], FACTORS[k]) "
+                                   "!= 0"), (Code("return _sw_good"),)),
+                           Code("FPIV[k] = piv[2]")]
         warm = []
     solve.append(If(Code("_sw_all or k < 2"), tuple(derivatives)))
     checks = [
@@ -207,6 +215,8 @@ def sweep_fast_body(step=None, pairs=()):
              "next"),
         Code("qd = np.zeros(N_COORDS)"),
         Code("qdd = np.zeros(N_COORDS)"),
+        Code("piv = np.zeros(3)         # det Φ_q, the pattern of its blocks' signs, the "
+             "multipliers' pivot") if forces else
         Code("piv = np.zeros(2)         # det Φ_q and the pattern of its blocks' signs"),
         Code("info = np.zeros(POSITION_INFO_SIZE)"),
         Code("_sw_qp = q0.copy()"),

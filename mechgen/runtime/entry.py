@@ -50,10 +50,14 @@ def solve_acceleration(mod, q, qd, t, p, meth, out) -> int:
     return mod.acceleration_full(q, qd, t, p, out)
 
 
-def solve_point_derivatives(mod, q, t, p, tol, xtol, maxit, meth, level, qd, qdd, info) -> int:
+def solve_point_derivatives(mod, q, t, p, tol, xtol, maxit, meth, level, qd, qdd, info,
+                            fused=None) -> int:
     """The module's solve_point_derivatives(): solve_point, then the velocities (not at a
     singular position) and, with level >= 2, the accelerations. Returns the position
-    status, or VELOCITY + the velocity status, or ACCELERATION + the acceleration one."""
+    status, or VELOCITY + the velocity status, or ACCELERATION + the acceleration one.
+    ``fused`` (piv, lam, factors), a module with dynamics_sorted: the multipliers too, in
+    the derivatives' pass (piv[2] their smallest pivot; left 0.0 where that pass did not
+    run: the caller solves them)."""
     status = solve_point(mod, q, t, p, tol, xtol, maxit, meth, info)
     if status != OK:
         return status
@@ -62,6 +66,13 @@ def solve_point_derivatives(mod, q, t, p, tol, xtol, maxit, meth, level, qd, qdd
             return VELOCITY + SINGULAR
         both = getattr(mod, "solve_derivatives_sorted", None)
         if level >= 2 and both is not None and mod.SORTED and mod.LEVEL >= 2 and meth != FULL:
+            if fused is not None:
+                try:
+                    if mod.dynamics_sorted(q, t, p, qd, qdd, *fused) == OK:
+                        return OK
+                except ZeroDivisionError:   # the plain tier, where numba's numpy error
+                    pass                    # model gives inf
+                fused[0][2] = 0.0           # (its multipliers are not to be used)
             return _derivatives(mod, both, q, t, p, meth, qd, qdd)
         status = solve_velocity(mod, q, t, p, meth, qd)
         if status != OK:

@@ -200,9 +200,11 @@ class Mechanism:
         adds the multipliers, the driver efforts and the reactions
         (mechgen.runtime.forces)."""
         if is_force_level(level):
-            from .forces.solution import force_solve
-            return force_solve(self, t, level, guess=guess, method=method, tol=tol,
-                               maxit=maxit)
+            return _force_solve()(self, t, level, guess, method, tol, maxit)
+        return self._solve(t, guess, level, method, tol, maxit)
+
+    def _solve(self, t, guess, level, method, tol, maxit, fused=None) -> Solution:
+        """solve() at a kinematic level; ``fused``: see entry.solve_point_derivatives."""
         t = finite(t, "t")
         lev = self._level(level)
         meth = self._method(method)
@@ -210,12 +212,13 @@ class Mechanism:
         maxit = self._maxit(maxit)
         q = follow(self, t, tol, maxit, meth) if guess is None else self._start(guess)
         start = None if guess is None else q.copy()
-        qd, qdd, residual, singular = self._solve_point(t, q, lev, meth, tol, maxit)
+        qd, qdd, residual, singular = self._solve_point(t, q, lev, meth, tol, maxit, fused)
         if start is not None and self._turned_home(q, start):
             # Newton from a poor guess may throw an angle whole turns away (1e8 rad, where
             # a float keeps only 1e-8 of it): the same configuration nearer the guess,
             # solved again to full precision
-            qd, qdd, residual, singular = self._solve_point(t, q, lev, meth, tol, maxit)
+            qd, qdd, residual, singular = self._solve_point(t, q, lev, meth, tol, maxit,
+                                                            fused)
         self._report_redundancy(q, t)
         info = self._info
         sol = Solution(self, t, q, qd, qdd, iterations=int(info[INFO_ITERATIONS]),
@@ -239,10 +242,10 @@ class Mechanism:
                 turned = True
         return turned
 
-    def _solve_point(self, t, q, lev, meth, tol, maxit):
+    def _solve_point(self, t, q, lev, meth, tol, maxit, fused=None):
         """The position (in place), its checks and the derivatives asked for, as the
         module's solve_point_derivatives makes them, one compiled call per step
-        (mechgen.runtime.entry): (qd, qdd, residual, singular)."""
+        (mechgen.runtime.entry): (qd, qdd, residual, singular). ``fused``: see there."""
         info, mod = self._info, self.module
         vel, acc = LEVEL["velocity"], LEVEL["acceleration"]
         qd = np.empty(self.n) if lev >= vel else self._none
@@ -251,7 +254,7 @@ class Mechanism:
         # compiles neither the full Newton (unless the sorted solver gives up) nor the
         # derivative passes
         status = solve_point_derivatives(mod, q, t, self.p, tol, self.xtol, maxit,
-                                               meth, lev, qd, qdd, info)
+                                         meth, lev, qd, qdd, info, fused)
         if OK < status < VELOCITY:
             raise convergence_error(self, status, t, q, info)
         if status >= ACCELERATION:
@@ -385,6 +388,13 @@ class Mechanism:
             raise ValueError("backend=, workers=, client=, reduce= and "
                              f"{', '.join(table_options) or 'the table options'} are for "
                              "design tables (params={name: [values, ...]})")
+        return self._sweep_once(t0, t1, n, level, guess, method, tol, maxit, times, out)
+
+    def _sweep_once(self, t0, t1, n, level, guess, method, tol, maxit, times, out,
+                    forces=None):
+        """One kinematic sweep (sweep() without params); ``forces``: a dict that a
+        dynamic sweep's quick path fills with the multipliers it solved on the way
+        (sweeping.compiled), where the module has it."""
         if getattr(self.module, "SWITCH_TIMES", ()):
             # a model with stages: a sweep across a switch runs stage by stage
             from .stages import staged_sweep
@@ -408,7 +418,7 @@ class Mechanism:
         maxit = self.maxit if maxit is None else positive_count(maxit, "maxit")
         q0 = self.guess.copy() if guess is None else self._start(guess)
         self._tiers.expect(self, ts.shape[0])
-        return run_sweep(self, ts, q0, lev, tol, maxit, meth, out, shared)
+        return run_sweep(self, ts, q0, lev, tol, maxit, meth, out, shared, forces)
 
     def simulate(self, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
                  method="dopri5", max_step=float("inf"), progress=None):
@@ -513,6 +523,18 @@ class Mechanism:
         fn = (self.module.outputs, self.module.outputs_d, self.module.outputs_dd)[order]
         fn(q, z if qd is None else qd, z if qdd is None else qdd, float(t), self.p, out)
         return out
+
+
+_FORCE_SOLVE = []
+
+
+def _force_solve():
+    """mechgen.runtime.forces.solution.force_solve, imported at the first force solve
+    (and kept: an import statement costs a solve a microsecond)."""
+    if not _FORCE_SOLVE:
+        from .forces.solution import force_solve
+        _FORCE_SOLVE.append(force_solve)
+    return _FORCE_SOLVE[0]
 
 
 def convergence_error(*args, **kwargs):

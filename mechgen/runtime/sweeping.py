@@ -11,6 +11,7 @@ branch jump. A position sweep touches no memory for velocities or accelerations.
 """
 from __future__ import annotations
 
+import os
 import sys
 import warnings
 
@@ -186,19 +187,36 @@ def out_arrays(out, N, n, lev):
     return Q, QD, QDD, S
 
 
-def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report):
+def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=None):
     """The module's quick path (sweep_fast) while nothing is hard, then its careful
     continuation (sweep) from the last point the quick path accepted: (count solved, the
     first point the careful sweep solved: len(ts) when it did not run). Only the careful
-    sweep writes the report and marks points JUMP or THROUGH_SINGULAR."""
+    sweep writes the report and marks points JUMP or THROUGH_SINGULAR. ``forces`` (a
+    dict, an acceleration sweep of a module with sweep_fast_forces): the quick path
+    solves the multipliers too, and the dict receives "LAM", "FACTORS", "FPIV" and
+    "count", the points before which they hold (the careful sweep's are not solved)."""
     mod = mech.module
     N = ts.shape[0]
     start = 0
     unwrap = getattr(mod, "unwrap_turns", None)
     if unwrap is not None and N:
         unwrap(q0, ts[0], mech.p)       # the guess's angles as its drivers ask (q0 is ours)
+    fused = forces is not None and lev == _ACC and hasattr(mod, "sweep_fast_forces")
     if meth != METHOD_FULL and mod.SORTED and mod.LEVEL >= 2:
-        start = mod.sweep_fast(ts, q0, mech.p, tol, mech.xtol, maxit, Q, QD, QDD, S)
+        start = -1
+        if fused:
+            LAM, FACTORS = np.empty((N, mod.N_EQS)), np.empty((N, len(mod.DRIVER_ROWS)))
+            FPIV = np.empty(N)
+            try:
+                start = mod.sweep_fast_forces(ts, q0, mech.p, tol, mech.xtol, maxit, Q, QD,
+                                              QDD, S, LAM, FACTORS, FPIV)
+            except ZeroDivisionError:   # the plain tier, where numba's numpy error model
+                pass                    # gives inf: the multipliers are solved afterwards
+            else:
+                forces.update(LAM=LAM, FACTORS=FACTORS, FPIV=FPIV,
+                              count=start if start == N else max(start - 1, 0))
+        if start < 0:
+            start = mod.sweep_fast(ts, q0, mech.p, tol, mech.xtol, maxit, Q, QD, QDD, S)
         if start == N:
             return N, N
         start = max(start - 1, 0)         # resume from the last accepted point
@@ -213,10 +231,11 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report):
                      report), 0
 
 
-def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False) -> Sweep:
+def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False, forces=None) -> Sweep:
     """A checked sweep: the compiled loops, the result, its warnings, or the error of the
     point where it stopped (carrying the points solved before it as ``.sweep``).
-    ``shared``: ts is times()'s, copied before the result holds it."""
+    ``shared``: ts is times()'s, copied before the result holds it. ``forces``: see
+    compiled()."""
     N, n = ts.shape[0], mech.n
     if out is None:
         ts, Q, QD, QDD, S = fresh_arrays(ts, n, lev, shared, mech)
@@ -225,7 +244,8 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False) -> Sweep:
             ts = ts.copy()
         Q, QD, QDD, S = out_arrays(out, N, n, lev)
     report = np.zeros(REPORT_SIZE)
-    done, careful = compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report)
+    done, careful = compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report,
+                             forces)
     if done == N:
         sw = Sweep(mech, ts, Q, QD if lev >= _VEL else None, QDD if lev >= _ACC else None,
                    S, report)
@@ -251,10 +271,23 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False) -> Sweep:
     return sw
 
 
+_PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+def _outside() -> int:
+    """The stacklevel, seen from its caller, of the first frame outside mechgen: a
+    warning then names the user's line, whichever way into the sweep it came."""
+    frame, level = sys._getframe(1), 1
+    while frame is not None and frame.f_code.co_filename.startswith(_PACKAGE):
+        frame, level = frame.f_back, level + 1
+    return level
+
+
 def _flag(mech, sw, report):
     """sw.jumps, sw.crossings and a BranchJumpWarning for each kind."""
     status = sw._status[:, STATUS_CODE]
     jumped, crossed = status == JUMP, status == THROUGH_SINGULAR
+    level = _outside()
     sw.jumps, sw.crossings = sw.t[jumped], sw.t[crossed]
     if np.any(jumped):
         k = int(np.argmax(jumped))
@@ -262,7 +295,7 @@ def _flag(mech, sw, report):
             f"sweep of '{mech.name}': the step control could not keep the assembly mode at "
             f"{int(jumped.sum())} point(s) (first at t={sw.t[k]:.10g}, a jump of "
             f"{report[REPORT_JUMP]:.3g}): the solutions after it may lie on another branch "
-            "(sw.jumps lists the times)", BranchJumpWarning, stacklevel=4)
+            "(sw.jumps lists the times)", BranchJumpWarning, stacklevel=level)
     if np.any(crossed):
         k = int(np.argmax(crossed))
         more = "" if crossed.sum() == 1 else f" ({int(crossed.sum())} such points)"
@@ -271,7 +304,7 @@ def _flag(mech, sw, report):
             f"configuration (dead centre, lock or branch point){more}: "
             "there the mechanism may continue in another assembly mode "
             "(sw.crossings lists the times; mech.singularities locates them)",
-            BranchJumpWarning, stacklevel=4)
+            BranchJumpWarning, stacklevel=level)
 
 
 def failure(mech, ts, done, Q, report, q0) -> MechgenError:

@@ -211,15 +211,20 @@ def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -
     """``mech.solve(t, level="static"|"dynamic")``: the kinematic solve, then λ (one
     compiled call where the module writes the multipliers out: multipliers_point)."""
     kin = "acceleration" if level == "dynamic" else "position"
-    s = mech.solve(t, guess=guess, level=kin, method=method, tol=tol, maxit=maxit)
+    mod = mech.module
+    fused = None
+    if level == "dynamic" and hasattr(mod, "dynamics_sorted"):    # λ in the same pass
+        fused = (np.zeros(3), np.empty(mech.m), np.empty(len(mod.DRIVER_ROWS)))
+    s = mech._solve(t, guess, kin, method, tol, maxit, fused)
     if level == "static":
         qd = qdd = np.zeros(mech.n)
     else:
         qd, qdd = s.qd, s.qdd
-    mod = mech.module
     point = written_out(mod)
     terms, dependent = None, ()
-    if point is not None:
+    if fused is not None and fused[0][2] >= SING_RTOL:   # (0.0 where a λ is not finite)
+        lam = fused[1]
+    elif point is not None:
         lam = np.empty(mech.m)
         piv = point(s.q, qd, qdd, s.t, mech.p, lam)
         x = float(lam @ lam)

@@ -7,11 +7,12 @@ import warnings
 
 import numpy as np
 
+from ...protocol import SING_RTOL
 from ..results import Sweep
 from .contact import CAM_KINDS, contact_labels, contact_values
 from .contact_loss import contact_loss, pulling
 from .lookup import _constraints_of, _name_of, tables
-from .points import solve_points
+from .points import PointForces, solve_points
 from .solution import ForceSolution, _effort, _point_xy, _reaction
 
 # -- a sweep -------------------------------------------------------------------------------
@@ -199,16 +200,21 @@ class ForceSweep(Sweep):
         return out
 
 
-def attach(sw, level) -> "ForceSweep":
+def attach(sw, level, fused=None) -> "ForceSweep":
     """The kinematic sweep ``sw`` (at acceleration for "dynamic", position for "static")
     with λ at every point, as a ForceSweep; warns where the force balance has no
-    solution."""
+    solution. ``fused``: what the sweep's quick path solved already (sweeping.compiled):
+    only the other points, and those whose pivot fell below SING_RTOL, are solved here."""
     mech = sw.mechanism
     out = ForceSweep.__new__(ForceSweep)
     out.__dict__.update(sw.__dict__)
     out.__dict__.pop("_contact_cache", None)     # contact forces of other multipliers
     out.force_level = level
-    pts = solve_points(mech.module, sw.t, sw.Q, sw.QD, sw.QDD, mech.p, level, extras=False)
+    if fused and fused["count"] > 0:
+        pts = _completed(mech, sw, level, fused)
+    else:
+        pts = solve_points(mech.module, sw.t, sw.Q, sw.QD, sw.QDD, mech.p, level,
+                           extras=False)
     out.LAM, out.FACTORS = pts.LAM, pts.FACTORS
     if pts.extras:
         out._extras = (pts.TERMS, pts.NU, pts.ENERGY)
@@ -244,8 +250,30 @@ def _warn_pulling(sw):
                           stacklevel=5)
 
 
-def force_sweep(mech, t0, t1, n, level, **options) -> ForceSweep:
+def _completed(mech, sw, level, fused) -> PointForces:
+    """The quick path's multipliers (points before fused["count"] whose pivot held),
+    the other points' solved by solve_points."""
+    N = len(sw)
+    pts = PointForces(N, mech.m, mech.n, fused["FACTORS"].shape[1], extras=False)
+    pts.LAM, pts.FACTORS = fused["LAM"][:N], fused["FACTORS"][:N]
+    redo = np.ones(N, dtype=bool)
+    count = min(fused["count"], N)
+    redo[:count] = ~(fused["FPIV"][:count] >= SING_RTOL)    # (0.0 where a λ is not finite)
+    if redo.any():
+        k = np.flatnonzero(redo)
+        rest = solve_points(mech.module, sw.t[k], sw.Q[k], sw.QD[k], sw.QDD[k], mech.p,
+                            level, extras=False)
+        pts.LAM[k], pts.FACTORS[k], pts.singular[k] = rest.LAM, rest.FACTORS, rest.singular
+        pts.dependent = rest.dependent
+    return pts
+
+
+def force_sweep(mech, t0, t1, n, level, guess=None, method=None, tol=None, maxit=None,
+                times=None) -> ForceSweep:
     """``mech.sweep(t0, t1, n, level="static"|"dynamic")``: the kinematic sweep (at
-    acceleration, or position), then λ at every point (points.solve_points)."""
+    acceleration, or position), then λ at every point (points.solve_points); a dynamic
+    sweep's quick path solves them on its way where the module can (sweep_fast_forces)."""
     kin = "acceleration" if level == "dynamic" else "position"
-    return attach(mech.sweep(t0, t1, n, level=kin, **options), level)
+    fused = {} if level == "dynamic" else None
+    sw = mech._sweep_once(t0, t1, n, kin, guess, method, tol, maxit, times, None, fused)
+    return attach(sw, level, fused)

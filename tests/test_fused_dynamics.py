@@ -1,0 +1,125 @@
+"""The multipliers solved in the kinematics' own pass (compiler/dynamics_code.py): a
+dynamic sweep's quick path (sweep_fast_forces) and a dynamic solve (dynamics_sorted)
+against the separate pass over the solved points (force_rows) and numpy's dense solve of
+Φ_qᵀ λ = Q_a + Q_c − I written here; the points the quick path leaves (the careful
+sweep's, a pivot below SING_RTOL) solved again; the plain tier's ZeroDivisionError."""
+from __future__ import annotations
+
+import os
+import shutil
+
+import numpy as np
+import pytest
+
+import mechgen
+from mechgen.runtime.forces.points import solve_points
+from mechgen.runtime.forces.sweep import attach
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+
+@pytest.fixture(scope="module")
+def qr(tmp_path_factory):
+    """The committed quick-return with masses and a cutting force, compiled (its fast
+    sweep writes the multipliers into the loop)."""
+    path = str(tmp_path_factory.mktemp("qr") / "quick_return_forces.py")
+    shutil.copy(os.path.join(ROOT, "generated", "quick_return_forces.py"), path)
+    return mechgen.load(path, tier="compiled")
+
+
+def _dense(mech, sw, ks) -> np.ndarray:
+    """λ at points ks by numpy's least squares on Φ_qᵀ λ = Q_a + Q_c − I."""
+    out = []
+    for k in ks:
+        q, t = sw.Q[k], float(sw.t[k])
+        terms = np.zeros((3, mech.n))
+        mech.module.force_terms(q, sw.QD[k], sw.QDD[k], t, mech.p, terms)
+        rhs = terms[0] + terms[1] - terms[2]
+        out.append(np.linalg.lstsq(mech.jacobian(q, t).T, rhs, rcond=None)[0])
+    return np.array(out)
+
+
+def _separate(mech, sw):
+    return solve_points(mech.module, sw.t, sw.Q, sw.QD, sw.QDD, mech.p, "dynamic",
+                        extras=False)
+
+
+def _fused_sweep(mech, t0, t1, n):
+    fused = {}
+    sw = mech._sweep_once(t0, t1, n, "acceleration", None, None, None, None, None, None,
+                          fused)
+    return sw, fused
+
+
+def _close(a, b, rtol):
+    np.testing.assert_allclose(a, b, rtol=0, atol=rtol * np.abs(b).max())
+
+
+def test_quick_path_solves_every_point_as_the_separate_pass(qr):
+    sw, fused = _fused_sweep(qr, 0.0, 1.0, 2001)
+    assert fused["count"] == len(sw)
+    assert np.all(fused["FPIV"] >= qr.sing_rtol)
+    ref = _separate(qr, sw)
+    _close(fused["LAM"], ref.LAM, 1e-13)
+    np.testing.assert_array_equal(fused["FACTORS"], ref.FACTORS)
+    ks = np.arange(0, 2001, 50)
+    _close(fused["LAM"][ks], _dense(qr, sw, ks), 1e-11)
+    dyn = qr.sweep(0.0, 1.0, 2001, level="dynamic")
+    np.testing.assert_array_equal(dyn.LAM, fused["LAM"])
+    assert not dyn.force_singular.any()
+
+
+def test_the_careful_sweep_s_points_are_solved_after(qr):
+    """Seven points over a crank turn: the quick path stops early, the careful sweep
+    solves the rest; their multipliers come from the separate pass."""
+    sw, fused = _fused_sweep(qr, 0.0, 1.0, 7)
+    assert 0 < fused["count"] < len(sw)
+    dyn = attach(sw, "dynamic", fused)
+    _close(dyn.LAM, _separate(qr, sw).LAM, 1e-13)
+    _close(dyn.LAM, _dense(qr, sw, range(len(sw))), 1e-11)
+
+
+def test_a_point_below_the_pivot_is_solved_again(qr):
+    sw, fused = _fused_sweep(qr, 0.0, 1.0, 101)
+    ref = _separate(qr, sw).LAM
+    fused["FPIV"][[3, 40]] = 0.0, np.nan
+    fused["LAM"][3], fused["LAM"][40] = 1e300, np.nan
+    dyn = attach(sw, "dynamic", fused)
+    _close(dyn.LAM, ref, 1e-13)
+
+
+def test_strandbeest_step_calls_dynamics_sorted(tmp_path):
+    """A model too large to have its solvers written into the loop: the fast sweep calls
+    dynamics_sorted (plain tier: the same text as compiled)."""
+    mech = mechgen.compile(os.path.join(ROOT, "benchmarks", "strandbeest_forces.py"),
+                           outdir=str(tmp_path), tier="python")
+    assert "dynamics_sorted(q, t, p, qd, qdd, piv, LAM[k], FACTORS[k])" in \
+        open(mech.module.__file__).read()
+    sw, fused = _fused_sweep(mech, 0.0, 1.0, 201)
+    assert fused["count"] == len(sw)
+    _close(fused["LAM"], _separate(mech, sw).LAM, 1e-13)
+    _close(fused["LAM"][::10], _dense(mech, sw, range(0, 201, 10)), 1e-11)
+
+
+def test_dynamic_solve_takes_the_multipliers_from_the_derivatives_pass(qr, monkeypatch):
+    ref = qr.sweep(0.0, 0.37, 2, level="dynamic")
+    calls = []
+    real = qr.module.dynamics_sorted
+
+    def counted(*args):
+        calls.append(1)
+        return real(*args)
+
+    monkeypatch.setattr(qr.module, "dynamics_sorted", counted)
+    s = qr.solve(0.37, level="dynamic", guess=ref.Q[-1])
+    assert calls
+    _close(s.lam, ref.LAM[-1], 1e-13)
+    # the plain tier raises where numba's numpy error model gives inf: solved otherwise
+
+    def raising(*args):
+        raise ZeroDivisionError
+
+    monkeypatch.setattr(qr.module, "dynamics_sorted", raising)
+    t = qr.solve(0.37, level="dynamic", guess=ref.Q[-1])
+    _close(t.lam, ref.LAM[-1], 1e-13)
+    np.testing.assert_allclose(t.driver("crank driver"), s.driver("crank driver"), rtol=1e-13)
