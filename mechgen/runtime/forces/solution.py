@@ -203,28 +203,16 @@ class ForceSolution(Solution):
         return out
 
 
-def _rhs(terms):
-    return terms[0] + terms[1] - terms[2]
-
-
-def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -> ForceSolution:
-    """``mech.solve(t, level="static"|"dynamic")``: the kinematic solve, then λ (one
-    compiled call where the module writes the multipliers out: multipliers_point)."""
-    kin = "acceleration" if level == "dynamic" else "position"
+def _multipliers_at(mech, s, level):
+    """(λ, the force terms or None, dependent rows) at the kinematic solution s."""
     mod = mech.module
-    fused = None
-    if level == "dynamic" and hasattr(mod, "dynamics_sorted"):    # λ in the same pass
-        fused = (np.zeros(3), np.empty(mech.m), np.empty(len(mod.DRIVER_ROWS)))
-    s = mech._solve(t, guess, kin, method, tol, maxit, fused)
     if level == "static":
         qd = qdd = np.zeros(mech.n)
     else:
         qd, qdd = s.qd, s.qdd
     point = written_out(mod)
     terms, dependent = None, ()
-    if fused is not None and fused[0][2] >= SING_RTOL:   # (0.0 where a λ is not finite)
-        lam = fused[1]
-    elif point is not None:
+    if point is not None:
         lam = np.empty(mech.m)
         piv = point(s.q, qd, qdd, s.t, mech.p, lam)
         x = float(lam @ lam)
@@ -242,6 +230,31 @@ def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -
     else:
         terms = force_terms(mech, s.q, qd, qdd, s.t)
         lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
+    return lam, terms, dependent
+
+
+def _rhs(terms):
+    return terms[0] + terms[1] - terms[2]
+
+
+def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -> ForceSolution:
+    """``mech.solve(t, level="static"|"dynamic")``: the kinematic solve, then λ: in the
+    derivatives' pass where the module has dynamics_sorted, else one compiled call where
+    it writes the multipliers out (multipliers_point)."""
+    kin = "acceleration" if level == "dynamic" else "position"
+    mod = mech.module
+    fused = None
+    if level == "dynamic" and hasattr(mod, "dynamics_sorted"):    # λ in the same pass
+        scratch = mech.__dict__.get("_force_scratch")    # the pivot and the factors
+        if scratch is None:
+            scratch = mech._force_scratch = (np.zeros(3), np.empty(len(mod.DRIVER_ROWS)))
+        fused = (scratch[0], np.empty(mech.m), scratch[1])
+    s = mech._solve(t, guess, kin, method, tol, maxit, fused)
+    terms, dependent = None, ()
+    if fused is not None and fused[0][2] >= SING_RTOL:   # (0.0 where a λ is not finite)
+        lam = fused[1]
+    else:
+        lam, terms, dependent = _multipliers_at(mech, s, level)
     s.__class__ = ForceSolution         # the kinematic solution, with its multipliers
     s.force_level, s.lam, s._terms = level, lam, terms
     s.indeterminate = _constraints_of(mech, dependent) if dependent else ()
