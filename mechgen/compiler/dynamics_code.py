@@ -5,8 +5,9 @@ multipliers are written out, forces_code.multiplier_statements).
 - ``dynamics_sorted(q, t, p, qd, qdd, piv, lam, factors)``: derivatives_sorted's pass,
   then Φ_qᵀ λ = Q_a + Q_c − I block by block and the driver factors, one CSE over both;
   the smallest pivot of the multipliers into piv[2] (0.0 where one fell below SING_RTOL
-  or a λ is not finite: the runtime then solves that point by the SVD). Compiled with numpy's error model: the
-  multipliers are not stopped at a small pivot, their divisions give inf or NaN instead.
+  or a λ is not finite: the runtime then solves that point by the SVD). Compiled with
+  numpy's error model: the multipliers are not stopped at a small pivot, their divisions
+  give inf or NaN instead.
 - ``sweep_fast_forces(..., LAM, FACTORS, FPIV)``: sweep_fast (compiler.sweep) with that
   step at every point; a small model's written-out loop has the multipliers written into
   it, reading the sin and cos the position code turned from the last point.
@@ -22,6 +23,7 @@ from .forces_code import multiplier_statements
 from .inputs import free, prologue, time_local, unpack
 from .ir import Assign, Code, Guard, If, Return, Store, replaced
 from .schedule import TempNames, emit
+
 
 def force_step(plan, eq, model, lam="lam[{}]", factors="factors[{}]", pivot="piv[2]"):
     """The multipliers (not stopped at a small pivot, locals ``_f...``), then stores of
@@ -76,8 +78,8 @@ FUSED = (
         "derivatives_sorted's pass, then Φ_qᵀ λ = Q_a + Q_c − I written out as in",
         "multipliers_point and the driver factors, one CSE over both (the sines and cosines",
         "computed once). The smallest pivot of the multipliers goes to piv[2] (0.0 where one",
-        "fell below SING_RTOL: lam is then not to be used). Returns derivatives_sorted's",
-        "status.")),
+        "fell below SING_RTOL or a λ is not finite: lam is then not to be used). Returns",
+        "derivatives_sorted's status.")),
     ("sweep_fast_forces",
      "ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS, LAM, FACTORS, FPIV", (
         "sweep_fast with the multipliers at every point: row k of LAM, FACTORS (per",
