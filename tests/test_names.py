@@ -70,10 +70,14 @@ def quick_return(name, names):
 
 @pytest.fixture(scope="module")
 def built(tmp_path_factory):
+    """The four modules, the one whose names are the module's own locals and globals
+    under numba (the names numba could stumble on), the others as plain Python (the same
+    text: names that work there work compiled, and the compiles cost a minute)."""
     out = str(tmp_path_factory.mktemp("names"))
     models = {"ordinary": ORDINARY, "params": AS_PARAMETERS, "coords": AS_COORDINATES,
               "locals": AS_LOCALS}
-    return {key: (names, mechgen.load(build(quick_return(f"names_{key}", names), out)))
+    return {key: (names, mechgen.load(build(quick_return(f"names_{key}", names), out),
+                                      tier="compiled" if key == "locals" else "python"))
             for key, names in models.items()}
 
 
