@@ -18,6 +18,7 @@ from ..model.holds import held
 from ..model.symbolic import check_square
 from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
+from .blocks import EXPLICIT
 from .equations_code import (gamma_body, mesh_turns_body, nu_body, outputs_bodies, phi_body,
                              phi_q_body, point_list, points_body)
 from .forces_code import force_blocks, force_functions, forces_bodies, multipliers_point_body
@@ -25,6 +26,7 @@ from .ir import Options, code_words, render, symbols
 from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
 from .names import Names, emitter_symbols, identifiers, module_words
 from .plan import SHARE_MAX, make_plan, summary
+from .printer import Derived
 from .position import position_body, trig_pair
 from .profiles_code import profile_helpers
 from .sweep import options as sweep_options
@@ -41,6 +43,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
                      closed_forms=closed_forms)
     points = point_list(model)
     helpers, bodies = profile_helpers(model, eq, cse), {}    # cam profiles' functions
+    profiles = bool(helpers)
 
     def put(key, made):
         body, parts = made
@@ -80,10 +83,21 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     inline = plan.sorted and not helpers and len(eq.q) <= SHARE_MAX
     if plan.sorted and plan.level >= 2:
         step = None
-        if inline and plan.share and not plan.position_parts and derivatives is not None:
+        # the solvers written out in the fast sweep's loop: a small model's, whether or
+        # not long functions it does not call there (Φ_q, Φ) are split into parts
+        written = plan.sorted and not profiles and len(eq.q) <= SHARE_MAX
+        if written and plan.share and not plan.position_parts and derivatives is not None:
             step = written_step(plan, eq, bodies["position_sorted"], derivatives)
         pairs = [trig_pair(y) for y in plan.position.trig_pairs]
-        bodies["sweep_fast"] = sweep_fast_body(step, pairs)
+        signs = [Derived("_sg_", y) for y in plan.position.signs]
+        # the coordinates a block solves other than explicitly (Newton's tears, closed
+        # forms', dyads'): predicted, and their corrections watched: a dyad's or a signed
+        # form's result does not depend on its guess, but a coarse step over a window where
+        # it does not assemble shows as a correction its sign alone cannot see; the
+        # tangent at a position sweep's first point predicts its second
+        guessed = sorted({v for b in plan.blocks if b.method != EXPLICIT for v in b.tears})
+        tangent = bool(guessed)
+        bodies["sweep_fast"] = sweep_fast_body(step, pairs, signs, guessed, tangent)
 
     names = name_map(model, eq, list(bodies.values()) + [h.body for h in helpers],
                      [h.args for h in helpers])
