@@ -25,6 +25,7 @@ from .forces_code import force_blocks, force_functions, forces_bodies, multiplie
 from .ir import Options, code_words, render, symbols
 from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
 from .names import Names, emitter_symbols, identifiers, module_words
+from .dyads import reach_body
 from .plan import SHARE_MAX, make_plan, summary
 from .printer import Derived
 from .position import position_body, trig_pair
@@ -72,6 +73,9 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     if plan.sorted:
         put("position_sorted", position_body(plan, eq))
         put("jacobian_det", (jacobian_det_body(plan, eq), []))
+        watched = reach_body(plan, eq)
+        if watched is not None:
+            put("reach", (watched, []))
         if plan.level >= 1:
             put("velocity_sorted", linear_sorted_body(plan, eq, 1))
         if plan.level >= 2:
@@ -97,7 +101,13 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         # tangent at a position sweep's first point predicts its second
         guessed = sorted({v for b in plan.blocks if b.method != EXPLICIT for v in b.tears})
         tangent = bool(guessed)
-        bodies["sweep_fast"] = sweep_fast_body(step, pairs, signs, guessed, tangent)
+        # the reach margins of the blocks solved whatever the guess (dyads.reach_body):
+        # kept by the written-out solver's blocks, else from reach()
+        watch = None if "reach" not in bodies else "written" if step else "call"
+        rotations = {f"Th{b.number}" for b in model.bodies.values() if not b.is_ground}
+        angles = [j for j, y in enumerate(eq.q) if y.name in rotations]
+        bodies["sweep_fast"] = sweep_fast_body(step, pairs, signs, guessed, tangent, watch,
+                                               angles)
 
     names = name_map(model, eq, list(bodies.values()) + [h.body for h in helpers],
                      [h.args for h in helpers])
@@ -137,6 +147,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         acceleration_sorted=text("acceleration_sorted") or [],
         derivatives_sorted=text("derivatives_sorted"),
         jacobian_det=text("jacobian_det") or [],
+        reach=text("reach") or [],
         sweep_fast=text("sweep_fast"),
         helpers=[dict(name=h.name, args=h.args, doc=h.doc, lines=render(h.body, plain))
                  for h in helpers],
@@ -184,7 +195,7 @@ def model_hash(ctx) -> str:
                 "phi", "phi_q", "nu", "gamma", "points_code", "outputs_code", "position_sorted",
                 "velocity_sorted", "acceleration_sorted", "mechgen_version", "format_version",
                 "level", "solved", "helpers", "derivatives_sorted", "inline", "jacobian_det",
-                "sweep_fast", "blocks"):
+                "reach", "sweep_fast", "blocks"):
         h.update(repr(ctx[key]).encode())
     if ctx.get("forces"):       # only a model with mass or loads: the others' hash stays
         h.update(repr(ctx["forces"]).encode())

@@ -24,10 +24,11 @@ import math
 import sympy as sp
 
 from ..protocol import GAVE_UP, PIVOT_RTOL, TINY
-from .blocks import CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG
-from .inputs import sym
+from .blocks import CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, DYAD_RRR
+from .inputs import prologue, sym
 from .ir import Assign, Code, Comment, Guard, If, Return, Variant
 from .printer import Derived
+from .schedule import TempNames, emit
 
 
 def rrr_form(b, eq, rows):
@@ -125,6 +126,7 @@ def rrr_statements(b, eq, pairs):
                Code("{0} = 0.0  # they touch: a toggle", (disc,)))),
            Code("{0} = {1} * math.sqrt({2})", (rt, sg, disc)),
            Assign(h, sp.Rational(1, 2) / dd),
+           _watched(Code("_sw_mc = min(_sw_mc, 0.5 * {0} * {1} / {2})", (disc, h, r1))),
            Assign(w1x, h * (aa * dx + rt * dy)), Assign(w1y, h * (aa * dy - rt * dx)),
            Assign(w2x, dx - w1x), Assign(w2y, dy - w1y)]
     for pair, (ux, uy), w, r in ((pairs[0], U[:2], (w1x, w1y), r1),
@@ -172,6 +174,12 @@ def signed(method, form):
     return method == CLOSED_FORM_TRIG and not (form[0].is_number and form[1].is_number)
 
 
+def _watched(code):
+    """``code`` in the fast sweep only, where it keeps the smallest reach margin of the
+    point in _sw_mc (margin's, from the block's own numbers: sweep.reach_check)."""
+    return Variant((), (code,))
+
+
 def _sign(sg, value, bound, what):
     """The assembly sign ``sg`` from ``value`` at the guess (GAVE_UP where it is within
     ``bound`` of zero: a guess at a toggle), kept from a fast sweep's first point."""
@@ -196,6 +204,7 @@ def trig_statements(y, form, pair):
           Guard(rad, sp.Float(TINY), GAVE_UP), Assign(u, -kc / rad),
           If(Code("not abs({0}) <= 1.0 + 1e-12", (u,)), (Return(GAVE_UP),),
              tail="  # no assembly here"),
+          _watched(Code("_sw_mc = min(_sw_mc, 1.0 - {0} * {0})", (u,))),
           Code("{0} = min(1.0, max(-1.0, {0}))", (u,)),
           _sign(sg, a * sp.cos(y) - bb * sp.sin(y), sp.Float(PIVOT_RTOL) * rad, "a lock"),
           Code("{0} = {1} * math.sqrt(1.0 - {2} * {2})", (w, sg, u)),
@@ -216,6 +225,7 @@ def quadratic_statements(y, form):
                     f"of 2 A {y} + B"),
             Assign(A, qa), Assign(B, qb), Assign(C, qc),
             Code("_disc = _qb * _qb - 4.0 * _qa * _qc"),
+            _watched(Code("_sw_mc = min(_sw_mc, _disc / (_qb * _qb + 4.0 * abs(_qa * _qc)))")),
             If(Code("_disc < 0.0"),
                (If(Code("_disc < -1e-12 * _qb * _qb"), (Return(GAVE_UP),),
                    tail="  # no assembly here"), Code("_disc = 0.0  # a toggle"))),
@@ -227,5 +237,47 @@ def quadratic_statements(y, form):
                  (y, sg))]
 
 
-__all__ = ["rrr_form", "rrr_statements", "sign_at", "signed", "trig_statements",
+def guess_free(b):
+    """Whether the block's solution does not depend on its guess (an RRR dyad, a form
+    whose root a sign picks): its reach margin is watched along a sweep (reach_body)."""
+    return b.method == DYAD_RRR or signed(b.method, b.form)
+
+
+def margin(b):
+    """The block's reach margin, a number in (−∞, 1] that is positive where the block
+    assembles, zero where its two solutions meet (a toggle) and negative where it has none,
+    and that crosses zero at a simple root of its discriminant (linearly in time): an RRR
+    dyad's sin² of the angle between d and w1 (1 − a²/(4 d² r1²)), a trig form's
+    1 − c²/(a² + b²), a quadratic's (B² − 4AC)/(B² + 4|AC|)."""
+    if b.method == DYAD_RRR:
+        cx, cy, u1x, u1y, u2x, u2y = b.form
+        r1, r2, dd = u1x ** 2 + u1y ** 2, u2x ** 2 + u2y ** 2, cx ** 2 + cy ** 2
+        return 1 - (r1 - r2 + dd) ** 2 / (4 * dd * r1)
+    if b.method == CLOSED_FORM_TRIG:
+        ka, kb, kc = b.form
+        return 1 - kc ** 2 / (ka ** 2 + kb ** 2)
+    qa, qb, qc = b.form
+    return (qb ** 2 - 4 * qa * qc) / (qb ** 2 + 4 * sp.Abs(qa * qc))
+
+
+def reach_body(plan, eq):
+    """The body of reach(q, t, p): the smallest reach margin (margin) of the blocks whose
+    solution does not depend on the guess, at a solved configuration; None where the plan
+    has none. The sweeps watch it as they watch det Φ_q: a closed form finds the far side
+    of a stretch where it cannot assemble as readily as the near side, in the same mode,
+    and only the margin's dip below zero in between tells them apart (det Φ_q, a product
+    of all blocks, can hide one block's dip behind another's growth)."""
+    margins = [margin(b) for b in plan.blocks if guess_free(b)]
+    if not margins:
+        return None
+    names = [sym(f"_rm{i}") for i in range(len(margins))]
+    st = [Assign(n, m) for n, m in zip(names, margins)]
+    body = prologue(eq, margins) + emit(st, TempNames("_r"), plan.cse)
+    if len(names) == 1:
+        return body + [Code("return {0}", (names[0],))]
+    return body + [Code("return min(" + ", ".join("{%d}" % i for i in range(len(names))) + ")",
+                        tuple(names))]
+
+
+__all__ = ["guess_free", "margin", "reach_body", "rrr_form", "rrr_statements", "sign_at", "signed", "trig_statements",
            "quadratic_statements"]

@@ -159,14 +159,53 @@ def _position_det():
         Code("_sw_tk = t")))
 
 
-def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True):
+def reach_check(watch, tangent=True):
+    """The fast sweep's watch on the reach margin of the blocks solved whatever the guess
+    (sweep()'s test (5), library reach_kept): the margin of point k in _sw_mc (``watch``
+    "call": from reach(); "written": the written-out solver's blocks kept their smallest
+    in it), compared with the last point's (_sw_m at _sw_mt, changing by _sw_ms per unit
+    of time: at the first point along its tangent, library reach_slope); a step that may
+    pass a stretch where a block cannot assemble ends the quick path (sweep() goes on from
+    the last point it vouches for). No statements for None."""
+    if watch is None:
+        return []
+    st = [Code("_sw_mc = reach(q, t, p)")] if watch == "call" else []
+    return st + [
+        If(Code("k > 0"), (
+            If(Code("not reach_kept(_sw_mc, _sw_m, _sw_ms, t - _sw_mt)"),
+               (Code("return _sw_good"),),
+               tail="  # a block's reach margin could have dipped below zero"),
+            If(Code("t != _sw_mt"), (Code("_sw_ms = (_sw_mc - _sw_m) / abs(t - _sw_mt)"),)))),
+        If(Code(f"k == 0 and ts.shape[0] > 1 and (_sw_all or {tangent})"), (
+            Code("_sw_ms = reach_slope(q, qd, t, ts[1] - t, p, _sw_mc)"),),
+           tail="  # the first step: along the tangent"),
+        Code("_sw_m = _sw_mc"),
+        Code("_sw_mt = t")]
+
+
+def turn_check(angles):
+    """sweep()'s test (3) in the fast sweep: a step that turns a body's angle (``angles``,
+    their indices in q) by more than BRANCH_TURN from the last point (Q[k - 1]) ends the
+    quick path, as sweep() would take it in substeps. A coarse step can pass a whole
+    stretch where the mechanism does not assemble, and land in its own mode beyond it,
+    with nothing at either end to tell."""
+    if not angles:
+        return []
+    test = " or ".join(f"abs(q[{j}] - Q[k - 1, {j}]) > BRANCH_TURN" for j in angles)
+    return [If(Code(f"k > 0 and ({test})"), (Code("return _sw_good"),),
+               tail="  # a body turned too far in one step")]
+
+
+def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, watch=None,
+                    angles=()):
     """The statements of sweep_fast's body: with ``step`` (written_step: the position and
     the derivative statements) the solvers written out, else calls of position_sorted and
     derivatives_sorted. ``pairs``: the TrigPairs the step turns; ``signs``: the assembly
     signs of its dyads, taken at the first point and kept (ir.Variant); ``guessed``: the
     coordinates whose guess the position solve reads, ``tangent``: whether a position
     sweep takes the derivatives at its first point (where Newton blocks need a tangent to
-    predict the second; _predictors)."""
+    predict the second; _predictors); ``watch``: how its reach margins are watched
+    (reach_check); ``angles``: the indices of the bodies' angles (turn_check)."""
     init, keep = _memory(pairs) if step is not None else ([], [])
     if step is not None:
         init += [Code("{0} = 1.0  # a dyad's assembly sign, from the first point", (s,))
@@ -187,7 +226,11 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True):
                           (Code("return _sw_good"),))]
         warm = []
     solve.append(If(Code(f"_sw_all or k == 0 and {tangent}"), tuple(derivatives)))
+    if watch == "written":
+        solve.insert(0, Code("_sw_mc = 1.0            # the blocks' smallest reach margin"))
     checks = [
+        *turn_check(angles),
+        *reach_check(watch, tangent),
         Code("_sw_corr = 0.0"),
         Code("_sw_bad = 0.0          # x * 0 is 0 for every finite x, NaN for inf and NaN"),
         If(Code("_sw_all"), (Loop(Code("for j in range(N_COORDS)"), (
@@ -248,6 +291,10 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True):
         Code("_sw_tk = 0.0            # the time det Φ_q was evaluated last, and how fast it "
              "changed"),
         Code("_sw_rate = np.inf         # (unknown at the start: the first step is tested)"),
+        *([Code("_sw_m = 1.0              # the reach margin at _sw_mt, changing by _sw_ms"),
+           Code("_sw_mt = 0.0"),
+           Code("_sw_ms = np.nan           # per unit of time (unknown at the start)"),
+           Code("_sw_mc = 1.0")] if watch else []),
         Code("_sw_move = 0.0"),
         Code("_sw_size = 0.0"),
         Code("_sw_keep_d = QD.shape[0] > 0       # velocities stored (no rows: a position "
