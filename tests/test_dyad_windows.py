@@ -118,7 +118,6 @@ def test_coarse_sweeps_and_tables_over_a_window(family, variant):
 def test_the_window_centre_is_found():
     """The helper finds the four-bar's window where the closed form says (crank angle
     g + pi), so that the tests above straddle it."""
-    fam = FAMILIES["fourbar"]
     rng = np.random.default_rng(SEED)
     spec, centre, width = _draws("fourbar", "lockwin", rng)[0]
     p = spec.params

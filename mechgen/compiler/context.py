@@ -147,7 +147,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         acceleration_sorted=text("acceleration_sorted") or [],
         derivatives_sorted=text("derivatives_sorted"),
         jacobian_det=text("jacobian_det") or [],
-        reach=text("reach") or [],
+        reach=text("reach") or ["return 1.0"],
         sweep_fast=text("sweep_fast"),
         helpers=[dict(name=h.name, args=h.args, doc=h.doc, lines=render(h.body, plain))
                  for h in helpers],
