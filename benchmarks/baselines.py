@@ -4,6 +4,8 @@
   describes it: Th2 explicit, 1-unknown Newtons for Th3, Th4 and X4, Y4 explicit. The
   velocity and acceleration formulas use Th4 = 0 (its derivatives vanish), as a hand
   derivation would.
+- ``hand_closed_sweep``: the same mechanism in closed form (atan2, square roots, the
+  derivatives of those formulas): the fastest loop one writes by hand.
 - ``reference(t)``: closed form evaluated with mpmath at 50 digits — positions, velocities
   and accelerations (derivatives of the closed form by mpmath.diff).
 - ``lambdify_fsolve``: what most users write: sympy.lambdify + scipy.optimize.fsolve.
@@ -108,6 +110,48 @@ def hand_sorted_sweep_of(ts, L, level, tol, Q):
             x4dd = cxdd + ((cxd - x4d) ** 2 + cyd * cyd + (cy - 10.0) * cydd) / e
             Q[k, 4] = th3dd
             Q[k, 5] = x4dd
+    return Q
+
+
+@njit(cache=True)
+def hand_closed_sweep(ts, level, Q):
+    """Q[k] = (Th3, X4, Th3d, X4d, Th3dd, X4dd) at ts[k] in closed form, as one writes it
+    by hand: the crank pin P, the lever's angle atan2(−Px, Py) (its sin and cos −Px/|P|,
+    Py/|P|), the slider on y = 10 at 5 from the lever's end; velocities and accelerations
+    by differentiating those formulas."""
+    for k in range(ts.shape[0]):
+        th2 = W * ts[k]
+        c2, s2 = math.cos(th2), math.sin(th2)
+        px, py = L * c2, 5.0 + L * s2
+        r2 = px * px + py * py
+        r = math.sqrt(r2)
+        th3 = math.atan2(-px, py)
+        s3, c3 = -px / r, py / r
+        cx, cy = -9.0 * s3, 9.0 * c3
+        e = 10.0 - cy
+        sq = math.sqrt(25.0 - e * e)
+        Q[k, 0] = th3
+        Q[k, 1] = cx + sq
+        if level >= 1:
+            pxd, pyd = -L * W * s2, L * W * c2
+            num = px * pyd - py * pxd
+            th3d = num / r2
+            cxd, cyd = -9.0 * c3 * th3d, -9.0 * s3 * th3d
+            ed = -cyd
+            sqd = -e * ed / sq
+            Q[k, 2] = th3d
+            Q[k, 3] = cxd + sqd
+            if level >= 2:
+                pxdd, pydd = -W * W * (px), -W * W * (py - 5.0)
+                numd = px * pydd - py * pxdd
+                r2d = 2.0 * (px * pxd + py * pyd)
+                th3dd = (numd * r2 - num * r2d) / (r2 * r2)
+                cxdd = 9.0 * s3 * th3d * th3d - 9.0 * c3 * th3dd
+                cydd = -9.0 * c3 * th3d * th3d - 9.0 * s3 * th3dd
+                edd = -cydd
+                sqdd = -(ed * ed + e * edd + sqd * sqd) / sq
+                Q[k, 4] = th3dd
+                Q[k, 5] = cxdd + sqdd
     return Q
 
 

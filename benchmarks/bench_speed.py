@@ -8,7 +8,8 @@ Methods: the generated module's compiled sweep into preallocated arrays (as the 
 baseline is run), the same through mech.sweep (which allocates its result arrays; the
 first touch of fresh pages adds some 15 ns a point at this size), one mech.solve
 per point with its Python overhead, the generated full-Newton path (method="full"), the
-hand-written sorted numba baseline and sympy.lambdify + scipy.optimize.fsolve.
+hand-written sorted numba baseline, the hand-written closed form in numba and
+sympy.lambdify + scipy.optimize.fsolve.
 """
 from __future__ import annotations
 
@@ -33,6 +34,7 @@ from mechgen.model.loader import load_models  # noqa: E402
 
 NAMES = ("Th3", "X4")
 MODULE = "generated, compiled sweep (module)"
+CLOSED = "hand-written numba, closed form"
 
 
 def per_point(fn, n_points, rounds):
@@ -79,6 +81,7 @@ def main():
     full.sweep(0, 1, 5, method="full")
     Qh = np.zeros((N, 6))
     baselines.hand_sorted_sweep(ts[:5], 2, 1e-10, Qh[:5])
+    baselines.hand_closed_sweep(ts[:5], 2, Qh[:5])
 
     results = {}
     sweeps = {}
@@ -94,24 +97,38 @@ def main():
             baselines.hand_sorted_sweep(ts, level, 1e-10, Qh)
         return run
 
+    def hand_closed(level):
+        def run():
+            baselines.hand_closed_sweep(ts, level, Qh)
+        return run
+
     # the generated module's compiled sweep into preallocated arrays, as the hand-written
-    # baseline is run (its quick path always solves velocities and accelerations too)
+    # baselines are run (QD and QDD without rows: its position sweep)
     mod, n = mech.module, mech.n
     Qg, QDg, QDDg = np.zeros((N, n)), np.zeros((N, n)), np.zeros((N, n))
     INFOg = np.zeros((N, 3), dtype=np.int16)       # the STATUS rows (protocol.STATUS_*)
     q0 = np.array(mod.GUESS, dtype=float)
     mod.sweep_fast(ts[:5], q0, mech.p, mech.tol, mech.xtol, mech.maxit, Qg, QDg, QDDg, INFOg)
+    mod.sweep_fast(ts[:5], q0, mech.p, mech.tol, mech.xtol, mech.maxit, Qg, QDg[:0], QDDg[:0],
+                   INFOg)
 
-    def module_sweep():
-        done = mod.sweep_fast(ts, q0, mech.p, mech.tol, mech.xtol, mech.maxit, Qg, QDg, QDDg, INFOg)
-        assert done == N, f"the quick path stopped at point {done}"
+    none = np.zeros((0, n))
+
+    def module_sweep(full=True):
+        def run():
+            qd, qdd = (QDg, QDDg) if full else (none, none)    # no rows: a position sweep
+            done = mod.sweep_fast(ts, q0, mech.p, mech.tol, mech.xtol, mech.maxit, Qg, qd, qdd,
+                                  INFOg)
+            assert done == N, f"the quick path stopped at point {done}"
+        return run
 
     cases = [
-        (MODULE, module_sweep, module_sweep),
+        (MODULE, module_sweep(False), module_sweep(True)),
         ("mech.sweep (Python API, new arrays)", gen("position"), gen("acceleration")),
         ("generated, full Newton (--no-sort)", gen("position", full, "full"),
          gen("acceleration", full, "full")),
         ("hand-written numba, sorted", hand(0), hand(2)),
+        (CLOSED, hand_closed(0), hand_closed(2)),
     ]
     timing = {name: ([], []) for name, _, _ in cases}
     for _ in range(rounds):
@@ -129,7 +146,7 @@ def main():
     def of_arrays(Q, QD, QDD):      # the sample rows of Th3 and X4 at the three levels
         return [[A[sample_idx, j] for j in cols] for A in (Q, QD, QDD)]
 
-    module_sweep()
+    module_sweep()()
     errs[MODULE] = errors(of_arrays(Qg, QDg, QDDg), ts[sample_idx], ref)
     for name, m in (("mech.sweep (Python API, new arrays)", mech),
                     ("generated, full Newton (--no-sort)", full)):
@@ -137,6 +154,10 @@ def main():
         errs[name] = errors(of_arrays(sw.Q, sw.QD, sw.QDD), ts[sample_idx], ref)
     baselines.hand_sorted_sweep(ts, 2, 1e-10, Qh)
     errs["hand-written numba, sorted"] = errors(
+        [[Qh[sample_idx, 0], Qh[sample_idx, 1]], [Qh[sample_idx, 2], Qh[sample_idx, 3]],
+         [Qh[sample_idx, 4], Qh[sample_idx, 5]]], ts[sample_idx], ref)
+    baselines.hand_closed_sweep(ts, 2, Qh)
+    errs[CLOSED] = errors(
         [[Qh[sample_idx, 0], Qh[sample_idx, 1]], [Qh[sample_idx, 2], Qh[sample_idx, 3]],
          [Qh[sample_idx, 4], Qh[sample_idx, 5]]], ts[sample_idx], ref)
 
@@ -181,6 +202,11 @@ def main():
         own = ta if ta == ta else tp
         print(f"{name:42s} {tp:9.0f} {ta:9.0f} {own / base[1]:8.2f} "
               f"{slow / own:10.0f} {e[0]:9.1e} {e[1]:9.1e} {e[2]:9.1e}")
+    closed = results[CLOSED]
+    mod_t = results[MODULE]
+    print(f"generated module / hand-written closed form: position {mod_t[0] / closed[0]:.2f}, "
+          f"+vel+acc {mod_t[1] / closed[1]:.2f}; the module's position sweep / its full one "
+          f"{mod_t[0] / mod_t[1]:.2f}")
     print("vs hand: the +vel+acc time (position time where there is none) over the hand-written "
           "sorted numba's +vel+acc time;\nvs fsolve: lambdify + fsolve's time per position over "
           "the same time (a position with its velocity and acceleration against a position alone).")

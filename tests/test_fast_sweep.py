@@ -56,14 +56,16 @@ def test_fast_sweep_agrees_with_the_careful_sweep(request, name, t1):
 
 
 def test_fast_sweep_calls_trigonometry_only_where_it_must(qr):
-    """In the quick-return's step only the crank angle (driven) and the predicted lever
-    angle (before its Newton) need sin and cos: Th3 is turned by its Newton steps, Th4's
-    come from its closed form, and the derivative pass reuses them all."""
+    """In the quick-return's step only the crank angle (driven) needs sin and cos: the
+    lever's (Th3) and Th4's come from their closed forms, and the derivative pass reuses
+    them all; the lever's guess is read for its assembly sign at the first point only."""
     src = inspect.getsource(qr.module.sweep_fast)
     calls = sorted(set(x for x in src.split() if x.startswith("math.sin(")
                        or x.startswith("math.cos(")))
-    assert calls == ["math.cos(Th2)", "math.cos(Th3)", "math.sin(Th2)", "math.sin(Th3)"]
+    assert calls == ["math.cos(Th2)", "math.sin(Th2)"]
     assert src.count("math.sin(") == 2 and src.count("math.cos(") == 2
+    first = src[src.index("if k == 0:"):]
+    assert first.index("math.cos(Th3)") < first.index("_sg_Th3 = ")
     assert "Th4dd = 0" in src                  # a constant γ row folded: no 0 / pivot
 
 
@@ -93,7 +95,8 @@ def test_closed_form_sin_and_cos_of_the_root(build_dir):
     m.name = "quick_return_turn_all"
     mech = mechgen.load(build(m, os.path.join(build_dir, "turn"), closed_forms="all"))
     src = inspect.getsource(mech.module.sweep_fast)
-    assert "math.sin(Th3)" not in src and "math.cos(Th3)" not in src
+    step = src[:src.index("if k == 0:")] + src[src.index("_sg_Th3 = 1.0 if"):]
+    assert "math.sin(Th3)" not in step and "math.cos(Th3)" not in step   # but at the first point
     ts = np.linspace(0.0, 1.0, 300)
     (Q, QD, QDD), (Qc, _, _) = _fast_and_careful(mech, ts)
     assert np.abs(Q - Qc).max() < 1e-11
@@ -104,7 +107,8 @@ def test_turned_sin_and_cos_do_not_drift_on_a_long_sweep(qr):
     points, so the quick path stays as accurate as the careful sweep that calls them at
     every point."""
     src = inspect.getsource(qr.module.sweep_fast)
-    assert "_turn(_sw_sin_Th3, _sw_cos_Th3" in src and "_turn(_sw_sin_Th2, _sw_cos_Th2" in src
+    assert "_turn(_sw_sin_Th2, _sw_cos_Th2" in src
+    assert "Th3 = _sw_Th3 + _sd * (" in src       # the lever's angle from the last point's
     ts = np.linspace(0.0, 1.0, 20_000)
     (Q, QD, QDD), (Qc, QDc, QDDc) = _fast_and_careful(qr, ts)
     assert np.abs(Q - Qc).max() < 2e-14

@@ -32,16 +32,18 @@ def test_quick_return_block_methods():
     plan, found = methods(m)
     assert found == [(EXPLICIT, ["X2"], []), (EXPLICIT, ["Y2"], []), (EXPLICIT, ["Th2"], []),
                      (EXPLICIT, ["X3"], []), (EXPLICIT, ["Y3"], []),
-                     (NEWTON, ["Th3"], ["Th3"]),                 # a, b not constants: Newton
+                     (CLOSED_FORM_TRIG, ["Th3"], ["Th3"]),       # a, b vary: by a sign
                      (CLOSED_FORM_TRIG, ["Th4"], ["Th4"]),       # 34 sin(Th4) = 0: no calls
-                     (NEWTON, ["X4", "Y4"], ["X4"])]             # torn: Y4 explicit
+                     (CLOSED_FORM_QUADRATIC, ["X4", "Y4"], ["X4"])]  # circle-line, Y4 explicit
     th4 = plan.blocks[6]
     assert th4.form[0] == 34 and th4.form[1] == 0 and th4.form[2] == 0
     assert plan.sorted and plan.level == 2 and all(plan.solved) and plan.share
     assert plan.position_parts == ()
     assert {str(s): v for s, v in plan.known} == {"X2": 0, "Y2": 5, "X3": 0, "Y3": 0}
     # the angles whose sin and cos the position code calls as a pair (the sweep turns them)
-    assert [str(y) for y in plan.position.trig_pairs] == ["Th2", "Th3"]
+    assert [str(y) for y in plan.position.trig_pairs] == ["Th3", "Th2"]
+    # the forms whose root a sign picks: the lever's angle, the slider's x
+    assert [str(y) for y in plan.position.signs] == ["Th3", "X4"]
 
 
 def test_closed_forms_all_and_none():
@@ -89,15 +91,16 @@ def test_large_model_is_planned_in_parts_without_shared_calls():
 def test_docstring_blocks_and_code_say_how_each_block_is_solved():
     text = render(example_model("quick_return"))
     doc = text[:text.index('"""\nimport math')]
-    assert "  6. Th3 (Newton)\n" in doc
+    assert "  6. Th3 (closed form: a sin(Th3) + b cos(Th3) + c = 0, the guess's sign)\n" in doc
     assert "  7. Th4 (closed form: a sin(Th4) + b cos(Th4) + c = 0)\n" in doc
-    assert "  8. X4, Y4 (Newton on X4; Y4 explicit)\n" in doc
-    assert '    ("newton", ("Th3", ), (5, )),' in text
+    assert "  8. X4, Y4 (closed form: A X4^2 + B X4 + C = 0, the guess's sign; Y4 explicit)\n" \
+        in doc
+    assert '    ("closed_form_trig", ("Th3", ), (5, )),' in text
     assert '    ("closed_form_trig", ("Th4", ), (7, )),' in text
-    assert '    ("newton", ("X4", "Y4", ), (6, 8, )),' in text
+    assert '    ("closed_form_quadratic", ("X4", "Y4", ), (6, 8, )),' in text
     solver = text[text.index("def position_sorted("):text.index("def velocity_sorted(")]
     assert "# closed form: a sin(Th4) + b cos(Th4) + c = 0, the root nearest Th4" in solver
-    assert solver.count("for _it in range(maxit):") == 2          # Th3 and X4: Newton
+    assert solver.count("for _it in range(maxit):") == 0          # no Newton left
 
 
 def test_context_keys_of_the_fast_sweep():
@@ -108,7 +111,8 @@ def test_context_keys_of_the_fast_sweep():
     assert body[0].startswith("# (the loop's own names") and body[-1] == "return ts.shape[0]"
     assert "    if _sw_warm:" in body and "        return _sw_good" in body  # inside the loop
     assert not any(line.strip() in ("return 1", "return 2", "return 4") for line in body)
-    assert [b["method"] for b in ctx["blocks"]][5:] == [NEWTON, CLOSED_FORM_TRIG, NEWTON]
+    assert [b["method"] for b in ctx["blocks"]][5:] == [CLOSED_FORM_TRIG, CLOSED_FORM_TRIG,
+                                                        CLOSED_FORM_QUADRATIC]
     assert module_context(m, sort=False)["sweep_fast"] is None
     assert module_context(m, level="velocity")["sweep_fast"] is None
     # a model whose solvers are split calls them from the loop instead

@@ -30,7 +30,8 @@ def test_position_sweep_agrees_with_the_full_sweep(request, name, t1):
         (done, Q, S), (done_full, Qf, Sf) = _fast(mech, ts, 0), _fast(mech, ts, 2)
         if N >= 400:        # (in 7 points the quadratic predicts too coarsely: sweep()
             assert done == done_full == N       # takes over, as the test below sees)
-        assert np.abs(Q[:done] - Qf[:done]).max() < 1e-11 * (1.0 + np.abs(Qf).max())
+        both = min(done, done_full)     # (a position sweep's closed forms read no guess)
+        assert np.abs(Q[:both] - Qf[:both]).max() < 1e-11 * (1.0 + np.abs(Qf).max())
         assert np.all(S[:done, 0] == OK)
         # and through mech.sweep: the same numbers, the same statuses
         pos, full = mech.sweep(0.0, t1, N), mech.sweep(0.0, t1, N, level="acceleration")
@@ -41,10 +42,16 @@ def test_position_sweep_agrees_with_the_full_sweep(request, name, t1):
 def test_uneven_and_repeated_times(qr):
     ts = np.r_[0.0, 0.001, 0.003, 0.01, np.cumsum(np.linspace(0.001, 0.02, 60)) + 0.01]
     done, Q, _ = _fast(qr, ts, 0)
-    assert done == len(ts)
+    # the closed forms read no guess: the quick path evaluates det Φ_q every
+    # BRANCH_DET_EVERY points only, and where the steps grow to 0.02 det Φ_q changes by
+    # more than half between two evaluations near its zero: it goes back to the last one
+    # evaluated and sweep() takes the rest over
+    assert done >= 3 * len(ts) // 4
     from closed_forms import quick_return                   # the reference, written apart
     exact = np.array([[float(x) for x in quick_return(t)] for t in ts])
-    assert np.abs(Q[:done] - exact).max() < 1e-11
+    assert np.abs(Q[:done] - exact[:done]).max() < 1e-11
+    sw = qr.sweep(None, None, None, times=ts)
+    assert len(sw) == len(ts) and np.abs(sw.Q - exact).max() < 1e-11
     # a repeated time predicts no motion from it: sweep() takes over, the numbers hold
     ts = np.r_[ts[:3], ts[2:]]
     sw = qr.sweep(None, None, None, times=ts)

@@ -14,12 +14,14 @@ import sympy as sp
 
 # How a block is solved (decided by mechgen.compiler.plan): its unknown follows from its row
 # explicitly; in closed form (one tear, a sin y + b cos y + c = 0 or A y² + B y + C = 0);
-# or by Newton on its tears.
+# or by Newton on its tears; an RRR dyad (two angles, see mechgen.compiler.dyads) by the
+# intersection of two circles, its assembly mode a sign.
 EXPLICIT = "explicit"
 CLOSED_FORM_TRIG = "closed_form_trig"
 CLOSED_FORM_QUADRATIC = "closed_form_quadratic"
 NEWTON = "newton"
-METHODS = (EXPLICIT, CLOSED_FORM_TRIG, CLOSED_FORM_QUADRATIC, NEWTON)
+DYAD_RRR = "dyad_rrr"   # two angles of bodies joined to each other and to known points
+METHODS = (EXPLICIT, CLOSED_FORM_TRIG, CLOSED_FORM_QUADRATIC, NEWTON, DYAD_RRR)
 
 
 @dataclass

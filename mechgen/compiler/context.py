@@ -18,6 +18,7 @@ from ..model.holds import held
 from ..model.symbolic import check_square
 from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
+from .blocks import EXPLICIT
 from .equations_code import (gamma_body, mesh_turns_body, nu_body, outputs_bodies, phi_body,
                              phi_q_body, point_list, points_body)
 from .dynamics_code import FUSED, dynamics_sorted_body, written_forces
@@ -25,7 +26,9 @@ from .forces_code import force_blocks, force_functions, forces_bodies, multiplie
 from .ir import Options, code_words, render, symbols
 from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
 from .names import Names, emitter_symbols, identifiers, module_words
+from .dyads import reach_body
 from .plan import SHARE_MAX, make_plan, summary
+from .printer import Derived
 from .position import position_body, trig_pair
 from .profiles_code import profile_helpers
 from .sweep import options as sweep_options
@@ -42,6 +45,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
                      closed_forms=closed_forms)
     points = point_list(model)
     helpers, bodies = profile_helpers(model, eq, cse), {}    # cam profiles' functions
+    profiles = bool(helpers)
 
     def put(key, made):
         body, parts = made
@@ -70,6 +74,9 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     if plan.sorted:
         put("position_sorted", position_body(plan, eq))
         put("jacobian_det", (jacobian_det_body(plan, eq), []))
+        watched = reach_body(plan, eq)
+        if watched is not None:
+            put("reach", (watched, []))
         if plan.level >= 1:
             put("velocity_sorted", linear_sorted_body(plan, eq, 1))
         if plan.level >= 2:
@@ -81,17 +88,35 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     inline = plan.sorted and not helpers and len(eq.q) <= SHARE_MAX
     if plan.sorted and plan.level >= 2:
         step = None
-        if inline and plan.share and not plan.position_parts and derivatives is not None:
+        # the solvers written out in the fast sweep's loop: a small model's, whether or
+        # not long functions it does not call there (Φ_q, Φ) are split into parts
+        written = plan.sorted and not profiles and len(eq.q) <= SHARE_MAX
+        if written and plan.share and not plan.position_parts and derivatives is not None:
             step = written_step(plan, eq, bodies["position_sorted"], derivatives)
         pairs = [trig_pair(y) for y in plan.position.trig_pairs]
-        bodies["sweep_fast"] = sweep_fast_body(step, pairs)
+        signs = [Derived("_sg_", y) for y in plan.position.signs]
+        # the coordinates a block solves other than explicitly (Newton's tears, closed
+        # forms', dyads'): predicted, and their corrections watched: a dyad's or a signed
+        # form's result does not depend on its guess, but a coarse step over a window where
+        # it does not assemble shows as a correction its sign alone cannot see; the
+        # tangent at a position sweep's first point predicts its second
+        guessed = sorted({v for b in plan.blocks if b.method != EXPLICIT for v in b.tears})
+        tangent = bool(guessed)
+        # the reach margins of the blocks solved whatever the guess (dyads.reach_body):
+        # kept by the written-out solver's blocks, else from reach()
+        watch = None if "reach" not in bodies else "written" if step else "call"
+        rotations = {f"Th{b.number}" for b in model.bodies.values() if not b.is_ground}
+        angles = [j for j, y in enumerate(eq.q) if y.name in rotations]
+        bodies["sweep_fast"] = sweep_fast_body(step, pairs, signs, guessed, tangent, watch,
+                                               angles)
         # a dynamic solve's derivatives and multipliers in one pass, and the dynamic
         # sweep's quick path with the multipliers in its step (dynamics_code)
         made = dynamics_sorted_body(plan, eq, model, derivatives) if force_parts else None
         if made is not None:
             put("dynamics_sorted", made)
             forces = written_forces(plan, eq, model) if step is not None else True
-            bodies["sweep_fast_forces"] = sweep_fast_body(step, pairs, forces)
+            bodies["sweep_fast_forces"] = sweep_fast_body(step, pairs, signs, guessed, tangent,
+                                                          watch, angles, forces)
 
     names = name_map(model, eq, list(bodies.values()) + [h.body for h in helpers],
                      [h.args for h in helpers])
@@ -132,6 +157,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         acceleration_sorted=text("acceleration_sorted") or [],
         derivatives_sorted=text("derivatives_sorted"),
         jacobian_det=text("jacobian_det") or [],
+        reach=text("reach") or ["return 1.0"],
         sweep_fast=text("sweep_fast"),
         helpers=[dict(name=h.name, args=h.args, doc=h.doc, lines=render(h.body, plain))
                  for h in helpers],
@@ -179,7 +205,7 @@ def model_hash(ctx) -> str:
                 "phi", "phi_q", "nu", "gamma", "points_code", "outputs_code", "position_sorted",
                 "velocity_sorted", "acceleration_sorted", "mechgen_version", "format_version",
                 "level", "solved", "helpers", "derivatives_sorted", "inline", "jacobian_det",
-                "sweep_fast", "blocks"):
+                "reach", "sweep_fast", "blocks"):
         h.update(repr(ctx[key]).encode())
     if ctx.get("forces"):       # only a model with mass or loads: the others' hash stays
         h.update(repr(ctx["forces"]).encode())

@@ -80,6 +80,15 @@ class TrigPair:
 
 
 @dataclass(frozen=True)
+class Variant:
+    """Statements printed as ``body`` in a solver and as ``turned`` in the fast sweep's
+    step (``Options.turn``), where the loop's memory of the last point can stand in for
+    work: a dyad's sign kept from the first point, its angles from the last point's."""
+    body: tuple
+    turned: tuple
+
+
+@dataclass(frozen=True)
 class If:
     """``if test:`` body, ``else:`` orelse (when not empty); ``test`` a Code, ``tail``
     printed after the colon as it is (a comment with its spacing)."""
@@ -161,6 +170,8 @@ def _lines(st, o: Options, depth):
         return [f"{pad}if _sw_warm:",
                 f"{pad}{INDENT}{s}, {c} = _turn({last_sin}, {last_cos}, {last} - {y}, {y})",
                 f"{pad}else:"] + [pad + INDENT + x for x in calls]
+    if isinstance(st, Variant):
+        return render(st.turned if o.turn else st.body, o, depth)
     if isinstance(st, (If, Loop)):
         head = st.test if isinstance(st, If) else st.header
         tail = st.tail if isinstance(st, If) else ""
@@ -183,6 +194,8 @@ def count_lines(statements) -> int:
     for st in statements:
         if isinstance(st, (Guard, TrigPair)):
             n += 2
+        elif isinstance(st, Variant):
+            n += count_lines(st.body)
         elif isinstance(st, (If, Loop)):
             n += 1 + count_lines(st.body) + (1 + count_lines(st.orelse) if st.orelse else 0)
         else:
@@ -223,6 +236,9 @@ def walk(statements):
         if isinstance(st, (If, Loop)):
             yield from walk(st.body)
             yield from walk(st.orelse)
+        elif isinstance(st, Variant):
+            yield from walk(st.body)
+            yield from walk(st.turned)
 
 
 def expressions(st):

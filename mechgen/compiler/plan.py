@@ -17,8 +17,9 @@ import sympy as sp
 
 from ..errors import ModelError
 from ..protocol import LEVEL, LEVELS
-from .blocks import (CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, EXPLICIT, METHODS, NEWTON,
-                     incidence, linear_in, sort_blocks)
+from .blocks import (CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, METHODS,
+                     NEWTON, incidence, linear_in, sort_blocks)
+from .dyads import rrr_form, sign_at, signed
 from .position import Rows, position_code
 
 CHUNK_STORES = 48      # straight-line functions longer than this are split into parts
@@ -31,7 +32,9 @@ class BlockPlan:
     """One block: its rows and unknowns (``vars[i]`` matched to ``rows[i]``), the unknowns
     Newton iterates on (``tears``), the ones that follow explicitly (``explicit``, pairs
     (row, unknown) in evaluation order), the rows left as residuals, and the method.
-    ``form`` holds the coefficients of a closed form: (a, b, c) or (A, B, C)."""
+    ``form`` holds the coefficients of a closed form: (a, b, c) or (A, B, C), or an RRR
+    dyad's (cx, cy, u1x, u1y, u2x, u2y) (mechgen.compiler.dyads); ``sign``: a dyad's
+    assembly sign at the model's guess (its block determinant's), ``where``: its joint."""
     kind: str
     vars: tuple
     rows: tuple
@@ -40,6 +43,8 @@ class BlockPlan:
     residuals: tuple = ()
     method: str = NEWTON
     form: tuple = ()
+    sign: int = 0
+    where: str = ""
 
     @property
     def size(self):
@@ -51,6 +56,8 @@ class BlockPlan:
         if self.method in (CLOSED_FORM_TRIG, CLOSED_FORM_QUADRATIC) and \
                 (len(self.tears) != 1 or len(self.form) != 3):
             raise ValueError("a closed form solves one tear from three coefficients")
+        if self.method == DYAD_RRR and (len(self.tears) != 2 or len(self.form) != 6):
+            raise ValueError("an RRR dyad solves two angles from six coefficients")
 
 
 @dataclass(frozen=True)
@@ -78,9 +85,9 @@ class SolverPlan:
 def make_plan(model, eq, sort=True, level="acceleration", outputs=None, cse=True,
               closed_forms="cheap") -> SolverPlan:
     """The plan of ``model`` (its expanded equations ``eq``) for the given build options."""
-    # "all": every block of a standard form is solved in closed form; "cheap": only where
-    # that removes all run-time trigonometry (a warm-started Newton is faster than atan2
-    # or a square root); "none": Newton everywhere
+    # "all" and "cheap" (the default): every block of a standard form is solved in closed
+    # form (since the forms whose root a sign picks cost a sweep no call, "cheap" leaves
+    # none out any more); "none": Newton everywhere
     if closed_forms is True:
         closed_forms = "all"
     if closed_forms not in ("all", "cheap", "none", False):
@@ -105,7 +112,7 @@ def make_plan(model, eq, sort=True, level="acceleration", outputs=None, cse=True
         return plan
     planned, known, rows = [], {}, Rows(eq)
     for b in blocks:
-        planned.append(_block_plan(b, eq, rows.at(known), closed_forms))
+        planned.append(_block_plan(b, eq, rows.at(known), closed_forms, at))
         if b.kind == "explicit":
             value = _explicit_value(eq, rows.at(known), *b.explicit[0])
             if value is not None:     # a constant coordinate: substitute it forward
@@ -185,11 +192,17 @@ def _explicit_value(eq, rows, e, v):
     return value if value is not None and value.is_number else None
 
 
-def _block_plan(b, eq, rows, closed_forms):
+def _block_plan(b, eq, rows, closed_forms, at):
     plan = BlockPlan(kind=b.kind, vars=tuple(b.vars), rows=tuple(b.eqs), tears=tuple(b.tears),
                      explicit=tuple(tuple(x) for x in b.explicit),
                      residuals=tuple(b.residuals),
                      method=EXPLICIT if b.kind == "explicit" else NEWTON)
+    if closed_forms != "none" and len(b.tears) == 2:
+        form = rrr_form(plan, eq, rows)
+        if form is not None:
+            where = eq.labels[plan.residuals[0]].split(" ", 1)[-1].rsplit(" ", 1)[0]
+            return replace(plan, method=DYAD_RRR, form=form, where=where,
+                           sign=sign_at(form, plan, eq, at))
     if b.kind == "explicit" or len(b.tears) != 1 or closed_forms == "none":
         return plan
     found = _closed_form(b, eq, rows, closed_forms)
@@ -200,8 +213,9 @@ def _closed_form(b, eq, phi, closed_forms):
     """A block with one tear whose residual, once the explicit unknowns are substituted,
     has a standard form solved without iterating: a sin y + b cos y + c (a crank or lever
     angle) or A y² + B y + C (a two-circle intersection). (method, coefficients), or None
-    when the residual has neither form (or, with "cheap", when the form would cost
-    run-time trigonometry or a square root)."""
+    when the residual has neither form. A form whose root is picked by a sign
+    (mechgen.compiler.dyads.signed) costs no more than a warm Newton: the sweep keeps the
+    sign and takes y from the last point without calls."""
     q = eq.q
     y = q[b.tears[0]]
     subs = {}
@@ -222,12 +236,10 @@ def _closed_form(b, eq, phi, closed_forms):
     if trig and (sp.sin(y) in trig or sp.cos(y) in trig):
         ka, kb, kc = (sp.sympify(trig.get(sp.sin(y), 0)), sp.sympify(trig.get(sp.cos(y), 0)),
                       sp.sympify(trig.get(1, 0)))
-        if closed_forms == "cheap" and not (ka.is_number and kb.is_number):
-            return None
         if ka.is_number and kb.is_number and sp.sqrt(ka ** 2 + kb ** 2) == 0:
             return None
         return CLOSED_FORM_TRIG, (ka, kb, kc)
-    if quad and y ** 2 in quad and closed_forms != "cheap":
+    if quad and y ** 2 in quad:
         return CLOSED_FORM_QUADRATIC, (quad[y ** 2], quad.get(y, 0), quad.get(1, 0))
     return None
 
@@ -251,12 +263,15 @@ def summary(block: BlockPlan, q) -> str:
     tail = f"; {', '.join(rest)} explicit" if rest else ""
     if block.method == EXPLICIT:
         return "explicit"
+    if block.method == DYAD_RRR:
+        return f"RRR dyad at {block.where}, sign {block.sign:+d}"
+    sign = ", the guess's sign" if signed(block.method, block.form) else ""
     if block.method == CLOSED_FORM_TRIG:
         y = names[0]
-        return f"closed form: a sin({y}) + b cos({y}) + c = 0{tail}"
+        return f"closed form: a sin({y}) + b cos({y}) + c = 0{sign}{tail}"
     if block.method == CLOSED_FORM_QUADRATIC:
         y = names[0]
-        return f"closed form: A {y}^2 + B {y} + C = 0{tail}"
+        return f"closed form: A {y}^2 + B {y} + C = 0{sign}{tail}"
     if block.size == 1:
         return "Newton"
     return f"Newton on {', '.join(names)}{tail}"

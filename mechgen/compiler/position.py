@@ -15,7 +15,8 @@ import sympy as sp
 
 from ..model.geometry import T
 from ..protocol import PIVOT_RTOL, TINY
-from .blocks import CLOSED_FORM_TRIG, EXPLICIT, NEWTON, linear_in
+from .blocks import CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, NEWTON, linear_in
+from .dyads import quadratic_statements, rrr_statements, signed, trig_statements
 from .inputs import free, sym, time_local, unpack
 from .ir import (Assign, Break, Code, Comment, Guard, Helper, If, Loop, Return, Store,
                  TrigPair, count_lines, replaced)
@@ -90,6 +91,7 @@ class PositionCode:
     pieces: tuple
     shared: tuple | None
     trig_pairs: tuple
+    signs: tuple = ()           # the first angle of each RRR dyad (its sign is _sg_<angle>)
 
     @property
     def lines(self):
@@ -115,6 +117,7 @@ class _Writer:
         self.known = {}
         self.shared = {} if share else None
         self.trig_pairs = []
+        self.signs = []
         self.avail = set(eq.params) | {T}
         self.temps = TempNames()
 
@@ -130,6 +133,8 @@ class _Writer:
                     self.known[z] = known_all[z]
             elif b.method == NEWTON:
                 st += self.newton(b)
+            elif b.method == DYAD_RRR:
+                st += self.dyad(b)
             else:
                 st += self.closed_form(b)
             used = free([phi[e] for e in b.rows]) | {q[v] for v in b.vars}
@@ -137,7 +142,7 @@ class _Writer:
                                 count_lines(st)))
             self.avail |= {q[v] for v in b.vars}
         shared = None if self.shared is None else tuple(self.shared.items())
-        return PositionCode(tuple(pieces), shared, tuple(self.trig_pairs))
+        return PositionCode(tuple(pieces), shared, tuple(self.trig_pairs), tuple(self.signs))
 
     # -- shared calls -------------------------------------------------------------------
     def shared_emit(self, st, variant=None):
@@ -215,8 +220,18 @@ class _Writer:
     # -- closed forms -----------------------------------------------------------------------
     def closed_form(self, b):
         """The block's tear from its closed form (plan.form): of the two roots, the one
-        nearest the current value of y is kept, so the assembly mode is kept."""
+        nearest the current value of y is kept, so the assembly mode is kept; where the
+        form picks its root by a sign (dyads.signed), the root of the guess's sign."""
         y = self.q[b.tears[0]]
+        if signed(b.method, b.form):
+            self.signs.append(y)
+            if b.method == CLOSED_FORM_TRIG:
+                pair = self.share_trig(y)
+                self.trig_pairs.append(y)
+                st = trig_statements(y, b.form, pair)
+            else:
+                st = quadratic_statements(y, b.form)
+            return self.shared_emit(st + self.explicit(b.explicit))
         name = str(y)
         st = []
 
@@ -279,6 +294,15 @@ class _Writer:
             st.append(Code("{0} = _y1 if abs(_y1 - {0}) <= abs(_y2 - {0}) else _y2", (y,)))
         st += self.explicit(b.explicit)
         return self.shared_emit(st)
+
+    # -- RRR dyads ---------------------------------------------------------------------------
+    def dyad(self, b):
+        """The dyad's two angles in closed form (mechgen.compiler.dyads); their sin and cos
+        come with them, shared by later code. The sign is kept in a sweep (signs)."""
+        pairs = [self.share_trig(self.q[v]) for v in b.tears]
+        self.trig_pairs += [self.q[v] for v in b.tears]    # the sweep's memory of them
+        self.signs.append(self.q[b.tears[0]])
+        return self.shared_emit(rrr_statements(b, self.eq, pairs))
 
     # -- Newton ------------------------------------------------------------------------------
     def newton(self, b):

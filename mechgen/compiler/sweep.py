@@ -9,9 +9,11 @@ then sweep()'s branch test and the signs of Φ_q's blocks (det Φ_q, the product
 velocity pass's block determinants, and the pattern of their signs) at every point, and
 sweep()'s limit on det Φ_q where it could reach zero (a change by half of itself at most:
 a step from the near side of a lock never lands past it, on the same signs).
-A position sweep takes the derivatives at its first two points only (for the Taylor
-predictor), then predicts by the quadratic through its last three points, as sweep()
-does at level 0, and evaluates det Φ_q (jacobian_det) where its sign could have changed:
+A position sweep does position work: it predicts by the polynomial through the points
+it has (the quadratic through its last three, as sweep() does at level 0; derivatives
+at its first point only where Newton blocks need a tangent to predict the second), only
+the coordinates whose guess the solve reads, keeps its dyads' assembly signs from its
+first point, and evaluates det Φ_q (jacobian_det) where its sign could have changed:
 every BRANCH_DET_EVERY-th point, after a hard solve, and where its rate of change since
 the last evaluation says it could reach zero (sweep()'s rule). A block's sign change sends the
 sweep back to the point evaluated last: the function then returns the count of points
@@ -70,45 +72,63 @@ def _memory(pairs):
     return init, keep
 
 
-def _predictors():
+UNROLL = 16            # up to this many predicted coordinates, their loops written out
+
+
+def _each(coords, lines):
+    """``lines`` (text with ``{j}`` for the coordinate's index) for each coordinate of
+    ``coords``: written out for a few, else a loop over all (coords None: all)."""
+    if coords is not None and len(coords) <= UNROLL:
+        return [Code(line.format(j=j)) for j in coords for line in lines]
+    return [Loop(Code("for j in range(N_COORDS)"), tuple(Code(line.format(j="j"))
+                                                         for line in lines))]
+
+
+def _predictors(coords=None, tangent=True):
     """The predictor of point k > 0: Taylor from the derivatives at the last point (a sweep
-    with derivatives, and the first points of a position sweep), or the quadratic through
-    the last three points (a position sweep; no motion predicted where two of their
-    times coincide). _sw_move: the predicted move, _sw_size: the size of q."""
+    with derivatives, and the second point of a position sweep of a model with Newton
+    blocks: ``tangent``), else the polynomial through the last points the sweep has (the
+    quadratic through three; the line through two at its third point, the constant at
+    its second: a position sweep takes no derivative pass; no motion predicted where two
+    of their times coincide). _sw_move: the predicted move, _sw_size: the size of q.
+    ``coords``: the coordinates whose guess the position solve reads (Newton's tears,
+    closed forms' and dyads' angles; every other one follows from them and the time):
+    only those are predicted, and the branch test watches only their corrections (None:
+    all)."""
     start = (Code("_sw_move = 0.0"), Code("_sw_size = 0.0"))
-    quadratic = If(Code("k > 2 and not _sw_all"), start + (
+    shift = ("_sw_q2[{j}] = _sw_q1[{j}]", "_sw_q1[{j}] = q[{j}]")
+    weights = (
         Code("_sw_ta = ts[k - 1]"),
-        Code("_sw_tb = ts[k - 2]"),
-        Code("_sw_tc = ts[k - 3]"),
         Code("_sw_wa = 1.0"),
         Code("_sw_wb = 0.0"),
         Code("_sw_wc = 0.0"),
-        If(Code("(_sw_ta - _sw_tb) * (_sw_ta - _sw_tc) * (_sw_tb - _sw_tc) != 0.0"), (
-            Code("_sw_wa = (t - _sw_tb) * (t - _sw_tc) / ((_sw_ta - _sw_tb) * (_sw_ta - _sw_tc))"),
-            Code("_sw_wb = (t - _sw_ta) * (t - _sw_tc) / ((_sw_tb - _sw_ta) * (_sw_tb - _sw_tc))"),
-            Code("_sw_wc = (t - _sw_ta) * (t - _sw_tb) / ((_sw_tc - _sw_ta) * (_sw_tc - _sw_tb))"))),
-        Loop(Code("for j in range(N_COORDS)"), (
-            Code("_sw_x = _sw_wa * q[j] + _sw_wb * _sw_q1[j] + _sw_wc * _sw_q2[j]"),
-            Code("_sw_move = max(_sw_move, abs(_sw_x - q[j]))"),
-            Code("_sw_size = max(_sw_size, abs(q[j]))"),
-            Code("_sw_q2[j] = _sw_q1[j]"),
-            Code("_sw_q1[j] = q[j]"),
-            Code("q[j] = _sw_x"),
-            Code("_sw_qp[j] = _sw_x"))),
-    ), orelse=(If(Code("k > 0"), start + (
+        If(Code("k == 2 and ts[k - 2] != _sw_ta"), (
+            Code("_sw_wa = (t - ts[k - 2]) / (_sw_ta - ts[k - 2])"),
+            Code("_sw_wb = 1.0 - _sw_wa"))),
+        If(Code("k > 2"), (
+            Code("_sw_tb = ts[k - 2]"),
+            Code("_sw_tc = ts[k - 3]"),
+            If(Code("(_sw_ta - _sw_tb) * (_sw_ta - _sw_tc) * (_sw_tb - _sw_tc) != 0.0"), (
+                Code("_sw_wa = (t - _sw_tb) * (t - _sw_tc) / ((_sw_ta - _sw_tb) * (_sw_ta - _sw_tc))"),
+                Code("_sw_wb = (t - _sw_ta) * (t - _sw_tc) / ((_sw_tb - _sw_ta) * (_sw_tb - _sw_tc))"),
+                Code("_sw_wc = (t - _sw_ta) * (t - _sw_tb) / ((_sw_tc - _sw_ta) * (_sw_tc - _sw_tb))"))))))
+    taylor = If(Code(f"k > 0 and (_sw_all or k == 1 and {tangent})"), start + (
         Code("_sw_h = t - ts[k - 1]"),
-        If(Code("not _sw_all"), (
-            Loop(Code("for j in range(N_COORDS)"), (
-                Code("_sw_q2[j] = _sw_q1[j]"),
-                Code("_sw_q1[j] = q[j]"))),)),
-        Loop(Code("for j in range(N_COORDS)"), (
-            Code("_sw_dq = _sw_h * (qd[j] + 0.5 * _sw_h * qdd[j])"),
-            Code("_sw_move = max(_sw_move, abs(_sw_dq))"),
-            Code("_sw_size = max(_sw_size, abs(q[j]))"),
-            Code("q[j] += _sw_dq"),
-            Code("_sw_qp[j] = q[j]"))),
-    )),))
-    return quadratic
+        *([If(Code("not _sw_all"), tuple(_each(coords, shift)))] if coords != [] else []),
+        *_each(coords, (
+            "_sw_dq = _sw_h * (qd[{j}] + 0.5 * _sw_h * qdd[{j}])",
+            "_sw_move = max(_sw_move, abs(_sw_dq))",
+            "_sw_size = max(_sw_size, abs(q[{j}]))",
+            "q[{j}] += _sw_dq",
+            "_sw_qp[{j}] = q[{j}]"))),
+        orelse=(If(Code("k > 0"), start + weights + tuple(_each(coords, (
+            "_sw_x = _sw_wa * q[{j}] + _sw_wb * _sw_q1[{j}] + _sw_wc * _sw_q2[{j}]",
+            "_sw_move = max(_sw_move, abs(_sw_x - q[{j}]))",
+            "_sw_size = max(_sw_size, abs(q[{j}]))",
+            *shift,
+            "q[{j}] = _sw_x",
+            "_sw_qp[{j}] = _sw_x")))),))
+    return taylor
 
 
 # sweep()'s rule on det Φ_q where it could reach zero (within eight steps at the rate it
@@ -139,14 +159,60 @@ def _position_det():
         Code("_sw_tk = t")))
 
 
-def sweep_fast_body(step=None, pairs=(), forces=None):
+def reach_check(watch, tangent=True):
+    """The fast sweep's watch on the reach margin of the blocks solved whatever the guess
+    (sweep()'s test (5), library reach_kept): the margin of point k in _sw_mc (``watch``
+    "call": from reach(); "written": the written-out solver's blocks kept their smallest
+    in it), compared with the last point's (_sw_m at _sw_mt, changing by _sw_ms per unit
+    of time: at the first point along its tangent, library reach_slope); a step that may
+    pass a stretch where a block cannot assemble ends the quick path (sweep() goes on from
+    the last point it vouches for). No statements for None."""
+    if watch is None:
+        return []
+    st = [Code("_sw_mc = reach(q, t, p)")] if watch == "call" else []
+    return st + [
+        If(Code("k > 0"), (
+            If(Code("not reach_kept(_sw_mc, _sw_m, _sw_ms, t - _sw_mt)"),
+               (Code("return _sw_good"),),
+               tail="  # a block's reach margin could have dipped below zero"),
+            If(Code("t != _sw_mt"), (Code("_sw_ms = (_sw_mc - _sw_m) / abs(t - _sw_mt)"),)))),
+        If(Code(f"k == 0 and ts.shape[0] > 1 and (_sw_all or {tangent})"), (
+            Code("_sw_ms = reach_slope(q, qd, t, ts[1] - t, p, _sw_mc)"),),
+           tail="  # the first step: along the tangent"),
+        Code("_sw_m = _sw_mc"),
+        Code("_sw_mt = t")]
+
+
+def turn_check(angles):
+    """sweep()'s test (3) in the fast sweep: a step that turns a body's angle (``angles``,
+    their indices in q) by more than BRANCH_TURN from the last point (Q[k - 1]) ends the
+    quick path, as sweep() would take it in substeps. A coarse step can pass a whole
+    stretch where the mechanism does not assemble, and land in its own mode beyond it,
+    with nothing at either end to tell."""
+    if not angles:
+        return []
+    test = " or ".join(f"abs(q[{j}] - Q[k - 1, {j}]) > BRANCH_TURN" for j in angles)
+    return [If(Code(f"k > 0 and ({test})"), (Code("return _sw_good"),),
+               tail="  # a body turned too far in one step")]
+
+
+def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, watch=None,
+                    angles=(), forces=None):
     """The statements of sweep_fast's body: with ``step`` (written_step: the position and
     the derivative statements) the solvers written out, else calls of position_sorted and
-    derivatives_sorted. ``pairs``: the TrigPairs the step turns. ``forces``: the body of
-    sweep_fast_forces instead, the multipliers after the derivatives at every point (with
-    ``step``: the statements of dynamics_code.written_forces; else True: a call of
-    dynamics_sorted)."""
+    derivatives_sorted. ``pairs``: the TrigPairs the step turns; ``signs``: the assembly
+    signs of its dyads, taken at the first point and kept (ir.Variant); ``guessed``: the
+    coordinates whose guess the position solve reads, ``tangent``: whether a position
+    sweep takes the derivatives at its first point (where Newton blocks need a tangent to
+    predict the second; _predictors); ``watch``: how its reach margins are watched
+    (reach_check); ``angles``: the indices of the bodies' angles (turn_check).
+    ``forces``: the body of sweep_fast_forces instead, the multipliers after the
+    derivatives at every point (with ``step``: the statements of
+    dynamics_code.written_forces; else True: a call of dynamics_sorted)."""
     init, keep = _memory(pairs) if step is not None else ([], [])
+    if step is not None:
+        init += [Code("{0} = 1.0  # a dyad's assembly sign, from the first point", (s,))
+                 for s in signs]
     if step is not None:
         position, derivatives = step
         derivatives = list(derivatives) + list(forces or ())
@@ -167,17 +233,23 @@ def sweep_fast_body(step=None, pairs=(), forces=None):
                                    "!= 0"), (Code("return _sw_good"),)),
                            Code("FPIV[k] = piv[2]")]
         warm = []
-    solve.append(If(Code("_sw_all or k < 2"), tuple(derivatives)))
+    solve.append(If(Code(f"_sw_all or k == 0 and {tangent}"), tuple(derivatives)))
+    if watch == "written":
+        solve.insert(0, Code("_sw_mc = 1.0            # the blocks' smallest reach margin"))
     checks = [
+        *turn_check(angles),
+        *reach_check(watch, tangent),
         Code("_sw_corr = 0.0"),
         Code("_sw_bad = 0.0          # x * 0 is 0 for every finite x, NaN for inf and NaN"),
-        Loop(Code("for j in range(N_COORDS)"), (
-            Code("_sw_bad += (q[j] + qd[j] + qdd[j]) * 0.0"),
-            Code("_sw_corr = max(_sw_corr, abs(q[j] - _sw_qp[j]))"))),
+        If(Code("_sw_all"), (Loop(Code("for j in range(N_COORDS)"), (
+            Code("_sw_bad += (q[j] + qd[j] + qdd[j]) * 0.0"),)),),
+           orelse=(Loop(Code("for j in range(N_COORDS)"), (Code("_sw_bad += q[j] * 0.0"),)),)),
+        *_each(guessed, ("_sw_corr = max(_sw_corr, abs(q[{j}] - _sw_qp[{j}]))",)),
         If(Code("_sw_bad != 0.0"), (Code("return _sw_good"),)),
-        If(Code("k > 0"), (
+        If(Code(f"k > 1 or k == 1 and (_sw_all or {tangent})"), (
             If(Code("_sw_corr > BRANCH_RATIO * _sw_move + BRANCH_ATOL * (1.0 + _sw_size)"),
-               (Code("return _sw_good"),)),)),
+               (Code("return _sw_good"),)),),
+           tail="  # (a position sweep's second point, predicted constant: its signs alone)"),
         If(Code("_sw_all"), (
             If(Code("k > 0 and (not piv[0] * _sw_det > 0.0 or piv[1] != _sw_sig)"),
                (Code("return _sw_good"),),
@@ -203,7 +275,7 @@ def sweep_fast_body(step=None, pairs=(), forces=None):
         If(Code("_sw_substeps"), (Code("STATUS[k, STATUS_SUBSTEPS] = 0"),)),
     ]
     loop = Loop(Code("for k in range(ts.shape[0])"),
-                tuple([Code("t = ts[k]")] + warm + [_predictors()] + solve + checks + keep))
+                tuple([Code("t = ts[k]")] + warm + [_predictors(guessed, tangent)] + solve + checks + keep))
     last = If(Code("_sw_good < ts.shape[0]"), (
         If(Code("not jacobian_det(q, ts[ts.shape[0] - 1], p, piv) * _sw_det > 0.0 or "
                 "piv[1] != _sw_sig"),
@@ -229,6 +301,10 @@ def sweep_fast_body(step=None, pairs=(), forces=None):
         Code("_sw_tk = 0.0            # the time det Φ_q was evaluated last, and how fast it "
              "changed"),
         Code("_sw_rate = np.inf         # (unknown at the start: the first step is tested)"),
+        *([Code("_sw_m = 1.0              # the reach margin at _sw_mt, changing by _sw_ms"),
+           Code("_sw_mt = 0.0"),
+           Code("_sw_ms = np.nan           # per unit of time (unknown at the start)"),
+           Code("_sw_mc = 1.0")] if watch else []),
         Code("_sw_move = 0.0"),
         Code("_sw_size = 0.0"),
         Code("_sw_keep_d = QD.shape[0] > 0       # velocities stored (no rows: a position "

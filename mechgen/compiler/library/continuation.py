@@ -14,9 +14,9 @@ from .toy import (ACCELERATION, BRANCH_ATOL, BRANCH_HMIN, BRANCH_NEAR, BRANCH_RA
                   BRANCH_TURN, INFO_ITERATIONS, JUMP, LEVEL, METHOD_FULL, N_COORDS, N_EQS,
                   OK, POSITION_INFO_SIZE, REPORT_FAILED, REPORT_JUMP, REPORT_REACHED,
                   REPORT_SIZE, REPORT_STATUS, SORTED, STATUS_CODE, STATUS_ITERATIONS,
-                  STATUS_MAX, STATUS_SUBSTEPS, THROUGH_SINGULAR, TINY, VELOCITY,
+                  STATUS_MAX, STATUS_SUBSTEPS, THROUGH_SINGULAR, TINY, VELOCITY, REACH,
                   derivatives_sorted, jacobian_det, outputs, outputs_d, outputs_dd, phi,
-                  points, sweep_fast, njit)
+                  points, reach, sweep_fast, njit)
 
 # -- module body: below this line, the text as a generated module holds it --
 # ---------------------------------------------------------------------------------------
@@ -37,7 +37,11 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
     turned by 2π) by more than BRANCH_TURN, and (4) keeps the sign of every block
     determinant of Φ_q (det Φ_q's sign and the pattern of its blocks' signs, jacobian_det:
     tested at every point) and, where det Φ_q could reach zero, changes it by at most half
-    of itself. A jump
+    of itself, and (5) keeps the reach margin of the blocks solved whatever the guess
+    (reach(), where REACH) as reach_kept() says. A block in closed form lands as readily
+    on the far side of a stretch where it cannot assemble as on the near side, in the same
+    mode: the correction test (1) is applied to every step of such a model, not only after
+    a hard Newton (more than two iterations). A jump
     towards another assembly mode, or across a stretch where the mechanism does not
     assemble, fails them: the step is then halved, down to BRANCH_HMIN of the sweep's
     step, and the way is taken in substeps (not recorded) that grow again as they pass.
@@ -82,6 +86,9 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
     info = np.zeros(POSITION_INFO_SIZE)
     piv = np.zeros(2)           # det Φ_q and its blocks' sign pattern at tc (jacobian_det)
     sa = 0.0                    # the sign pattern at ta
+    ma = 1.0                    # the reach margin at ta (REACH), and its change per unit
+    mslope = np.nan             # of time from tb to ta (NaN: not known)
+    mc = 1.0
     # the angles: coordinates Φ does not see turned by a full turn
     angle = np.zeros(n, dtype=np.bool_)
     if ts.shape[0] > 1:
@@ -190,6 +197,13 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
                 # configuration the steps shrink, and a sign change is never stepped over
                 flip = flip or abs(dc - da) > 0.5 * min(abs(da), abs(dc))
                 checked = True
+            if REACH and status == OK:
+                mc = reach(q, tc, p)
+                if have > 0 and mslope != mslope and va:
+                    mslope = reach_slope(qa, qda, ta, dt, p, ma)    # the first step
+                if have > 0 and not reach_kept(mc, ma, mslope, dt):
+                    flip = True         # the step may pass a stretch where a block cannot
+                                        # assemble: halved, as a sign change
             if ok and have > 0 and jump == 0.0:
                 for j in range(n):
                     if angle[j]:
@@ -199,7 +213,8 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
                     corr = turn
             # (a Newton that converged within two iterations started within ~1e-5 of the
             # solution: the predictor was right, nothing more to test)
-            if ok and jump == 0.0 and have > 0 and (va or far_b) and info[INFO_ITERATIONS] > 2:
+            if ok and jump == 0.0 and have > 0 and (va or far_b) and \
+                    (info[INFO_ITERATIONS] > 2 or REACH):
                 move = 0.0
                 went = 0.0
                 trap = 0.0
@@ -265,6 +280,10 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
                 else:
                     jump = max(jump, corr, TINY)  # a jump the smallest step could not avoid
                     wild = True
+            if REACH:
+                if have > 0 and tc != ta:
+                    mslope = (mc - ma) / abs(tc - ta)
+                ma = mc
             tc0 = tb
             tb = ta
             ta = tc
@@ -295,6 +314,7 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
             if have == 1:
                 da = db
                 td = ta
+                mslope = np.nan
             if full:
                 break
             substeps += 1
@@ -320,6 +340,41 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
             for j in range(n):
                 QDD[k, j] = qdda[j]
     return ts.shape[0]
+
+
+@njit(cache=True)
+def reach_kept(mc, ma, slope, dt):
+    """Whether a step of dt from a point whose reach margin (reach()) is ma, changing by
+    ``slope`` per unit of time since the point before (NaN: not known, the first step), to
+    one whose margin is mc keeps clear of a stretch where a block cannot assemble: mc is
+    positive and, where the margin could reach zero within eight such steps at its last
+    rate (or that rate is not known), it changes by half of itself at most and, falling,
+    the step would not take it more than half of its way to zero at that rate. The far
+    side of such a stretch has a positive margin too, and near it a margin of the same
+    size as the near side's: only the rate the margin fell at before tells a step over
+    the stretch from one that stays on the near side (sweep() and sweep_fast())."""
+    if not mc > 0.0:
+        return False
+    h = abs(dt)
+    if slope == slope and ma > 8.0 * abs(slope) * h:
+        return True
+    if abs(mc - ma) > 0.5 * min(mc, ma):
+        return False
+    return not (slope < 0.0 and ma + slope * h < 0.5 * ma)
+
+
+@njit(cache=True)
+def reach_slope(q, qd, t, h, p, m):
+    """The rate of change of reach() (m at (q, t)) along the tangent qd, per unit of time
+    in the direction of the step h: a difference over a millionth of h. A sweep's first
+    step has no earlier point to tell how fast the margin falls; the tangent does."""
+    e = 1e-6 * h
+    if e == 0.0:
+        return np.nan
+    qe = np.empty(N_COORDS)
+    for j in range(N_COORDS):
+        qe[j] = q[j] + e * qd[j]
+    return (reach(qe, t + e, p) - m) / abs(e)
 
 
 @njit(cache=True)

@@ -44,11 +44,11 @@ __all__ = [
     "SING_RTOL", "SINGULAR", "STATUS_CODE", "STATUS_COLUMNS", "STATUS_ITERATIONS",
     "STATUS_MAX", "STATUS_SUBSTEPS", "THROUGH_SINGULAR", "TINY", "VELOCITY",
     # the model constants
-    "N_COORDS", "N_EQS", "ROW_WRAPS", "SORTED", "LEVEL", "ALL_SOLVED", "INLINE",
+    "N_COORDS", "N_EQS", "ROW_WRAPS", "SORTED", "LEVEL", "ALL_SOLVED", "REACH", "INLINE",
     # the model functions
     "njit", "phi", "phi_q", "nu", "gamma", "points", "outputs", "outputs_d", "outputs_dd",
     "position_sorted", "velocity_sorted", "acceleration_sorted", "derivatives_sorted",
-    "jacobian_det", "sweep_fast",
+    "jacobian_det", "reach", "sweep_fast",
 ]
 # what a module built with mass or loads defines besides (library/forces.py reads them)
 FORCE_NAMES = [
@@ -76,6 +76,7 @@ GUESS = (0.0, 0.1, 2.5)
 SORTED = True
 LEVEL = 2
 ALL_SOLVED = True
+REACH = False
 INLINE = "never"
 
 
@@ -206,6 +207,12 @@ def jacobian_det(q, t, p, piv):
     piv[0] = p[1] * math.cos(q[1])
     piv[1] = 1.0 if piv[0] < 0.0 else 0.0
     return piv[0]
+
+
+@njit(cache=True)
+def reach(q, t, p):
+    """No block solved whatever its guess (REACH False): 1.0."""
+    return 1.0
 
 
 @njit(cache=True, inline=INLINE)
