@@ -13,13 +13,14 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 CASES = {
-    # a design that cannot assemble at t = 0 (longitud 6, anguloI -0.8), one that
+    # (steps the fast sweep takes: less than BRANCH_TURN of the crank) a design that
+    # cannot assemble at t = 0 (longitud 6, anguloI -0.8), one that
     # solves, and the seed's own longitud 3
-    "quick_return": ((0.0, 0.5, 6), {"longitud": [2.0, 3.0, 6.0], "anguloI": [-0.8, 0.0]},
+    "quick_return": ((0.0, 0.5, 11), {"longitud": [2.0, 3.0, 6.0], "anguloI": [-0.8, 0.0]},
                      ["X4", "X4d", "Th3", "stroke_x", "stroke_xd"], ("position", "velocity")),
     # a crank too long to turn: fails in mid-sweep (a = 3, b = 2.5); a = 1.5 passes a
     # singular configuration (status THROUGH_SINGULAR); b = 0.5 cannot assemble at all
-    "fourbar": ((0.0, 0.5, 6), {"a": [0.8, 1.5, 3.0], "b": [2.5, 0.5]}, ["Th3", "Th4d", "X3dd"],
+    "fourbar": ((0.0, 0.5, 11), {"a": [0.8, 1.5, 3.0], "b": [2.5, 0.5]}, ["Th3", "Th4d", "X3dd"],
                 ("acceleration",)),
 }
 ORDER = {"position": 0, "velocity": 1, "acceleration": 2}

@@ -180,7 +180,7 @@ def test_the_module_reads_with_the_model_names(built):
     # a sweep local named after a coordinate (_sw_det, _sw_qp) keeps the sweep's own
     text = render(quick_return("names_locals", AS_LOCALS))
     body = text[text.index("def sweep_fast("):text.index("def eval_points(")]
-    assert "_sw_det = piv[0]" in body and "_sw_qp[j] = q[j]" in body
+    assert "_sw_det = piv[0]" in body and re.search(r"_sw_qp\[\d+\] = q\[\d+\]", body)
     assert "_sw_det_ = det" in body                               # the kepler angle's memory
     assert re.search(r"^\s+u_ = q\[\d+\]$", text, re.M)           # _u: underscores to the end
 
