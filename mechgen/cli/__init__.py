@@ -104,9 +104,9 @@ def parser() -> argparse.ArgumentParser:
     p.add_argument("--outputs", metavar="NAMES",
                    help="comma-separated outputs to compile (default: all declared)")
     p.add_argument("--closed-forms", choices=("all", "cheap", "none"), default="cheap",
-                   help="blocks of a standard form (a sin y + b cos y + c, a quadratic) solved "
-                        "without iterating: all of them, only where that removes all run-time "
-                        "trigonometry (default), or none")
+                   help="blocks of a standard form (a sin y + b cos y + c, a quadratic, an "
+                        "RRR dyad) solved without iterating: all of them (cheap, the default, "
+                        "is the same), or none (Newton on every block)")
     p.set_defaults(func=cmd_build, all_models=True)
 
     p = sub.add_parser("equations", help="print Phi, Phi_q, nu and gamma, labelled by "
