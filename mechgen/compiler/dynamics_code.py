@@ -4,10 +4,10 @@ multipliers are written out, forces_code.multiplier_statements).
 
 - ``dynamics_sorted(q, t, p, qd, qdd, piv, lam, factors)``: derivatives_sorted's pass,
   then Φ_qᵀ λ = Q_a + Q_c − I block by block and the driver factors, one CSE over both;
-  the smallest pivot of the multipliers into piv[2] (0.0 where one fell below SING_RTOL
-  or a λ is not finite: the runtime then solves that point by the SVD). Compiled with
-  numpy's error model: the multipliers are not stopped at a small pivot, their divisions
-  give inf or NaN instead.
+  piv[2] = 1.0, or 0.0 where a pivot of the multipliers fell below SING_RTOL (tested
+  without a division) or a λ is not finite: the runtime then solves that point by the
+  SVD. Compiled with numpy's error model: the multipliers are not stopped at a small
+  pivot, their divisions give inf or NaN instead.
 - ``sweep_fast_forces(..., LAM, FACTORS, FPIV)``: sweep_fast (compiler.sweep) with that
   step at every point; a small model's written-out loop has the multipliers written into
   it, reading the sin and cos the position code turned from the last point.
@@ -27,7 +27,8 @@ from .schedule import TempNames, emit
 
 def force_step(plan, eq, model, lam="lam[{}]", factors="factors[{}]", pivot="piv[2]"):
     """The multipliers (not stopped at a small pivot, locals ``_f...``), then stores of
-    λ, the driver factors and the smallest pivot into the slots the formats name. None
+    λ, the driver factors and the pivots' verdict (1.0 or 0.0) into the slots the formats
+    name. None
     where the multipliers are not written out."""
     made = multiplier_statements(plan, eq, model, prefix="_f", stop=False)
     if made is None:
@@ -58,7 +59,8 @@ def dynamics_sorted_body(plan, eq, model, derivatives):
 def written_forces(plan, eq, model):
     """The multipliers written into the fast sweep's loop after its derivative code: the
     sin and cos (and other calls) of the position code shared, the parameters it does not
-    read loaded, λ, the factors and the pivot stored into row k of LAM, FACTORS, FPIV."""
+    read loaded, λ, the factors and the pivots' verdict stored into row k of LAM,
+    FACTORS, FPIV."""
     step = force_step(plan, eq, model, "LAM[k, {}]", "FACTORS[k, {}]", "FPIV[k]")
     if step is None:
         return None
@@ -77,13 +79,14 @@ FUSED = (
     ("dynamics_sorted", "q, t, p, qd, qdd, piv, lam, factors", (
         "derivatives_sorted's pass, then Φ_qᵀ λ = Q_a + Q_c − I written out as in",
         "multipliers_point and the driver factors, one CSE over both (the sines and cosines",
-        "computed once). The smallest pivot of the multipliers goes to piv[2] (0.0 where one",
-        "fell below SING_RTOL or a λ is not finite: lam is then not to be used). Returns",
+        "computed once). piv[2] = 1.0, or 0.0 where a pivot of the multipliers fell below",
+        "SING_RTOL or a λ is not finite (lam is then not to be used). Returns",
         "derivatives_sorted's status.")),
     ("sweep_fast_forces",
      "ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS, LAM, FACTORS, FPIV", (
         "sweep_fast with the multipliers at every point: row k of LAM, FACTORS (per",
-        "DRIVER_ROWS) and FPIV (the smallest pivot, below SING_RTOL: λ not to be used)",
-        "receives point k's, computed from its velocities and accelerations in the same",
-        "step. A dynamic sweep's quick path; the careful rest is solved by force_rows.")),
+        "DRIVER_ROWS) and FPIV (1.0, or 0.0 where a pivot fell below SING_RTOL: λ not to",
+        "be used) receives point k's, computed from its velocities and accelerations in",
+        "the same step. A dynamic sweep's quick path; the careful rest is solved by",
+        "force_rows.")),
 )

@@ -106,10 +106,11 @@ def multipliers_point_body(plan, eq, model):
 def multiplier_statements(plan, eq, model, prefix="_", stop=True):
     """(statements, λ symbols) of the written-out multipliers (multipliers_point_body),
     before CSE; their locals start with ``prefix``. ``stop``: a pivot below SING_RTOL (or
-    a row of Φ_q all zero) returns at once; else the statements go on to the end (the
-    divisions then give inf or NaN: a caller compiled with numpy's error model) and
-    ``<prefix>w`` holds the smallest pivot, 0.0 where one fell below SING_RTOL. None where
-    the multipliers are not written out."""
+    a row of Φ_q all zero) returns at once, and ``<prefix>w`` is the smallest pivot; else
+    the statements go on to the end (the divisions then give inf or NaN: a caller
+    compiled with numpy's error model), each pivot tested without a division (|a| >=
+    SING_RTOL · s rather than |a| / s >= SING_RTOL), and ``<prefix>w`` is 1.0, or 0.0
+    where one fell below. None where the multipliers are not written out."""
     blocks = force_blocks(plan, eq)
     if blocks is None or not model.has_dynamics:
         return None
@@ -132,17 +133,19 @@ def multiplier_statements(plan, eq, model, prefix="_", stop=True):
 
     st = [Code(f"{w} = 1.0")]
 
-    def pivot(value, tag):
+    def pivot(num, den, tag):
+        """The pivot num / den (both ≥ 0) tested against SING_RTOL; its symbol (stop)."""
+        value = num / den
         if value.is_number and value >= SING_RTOL:     # a constant pivot: nothing to test
             return value
+        if not stop:                # (the sides as locals: CSE shares their terms)
+            a, b = Local(f"{prefix}a{tag}", real=True), Local(f"{prefix}b{tag}", real=True)
+            st.extend([Assign(a, num), Assign(b, den),
+                       If(Code("not {0} >= SING_RTOL * {1}", (a, b)), (Code(f"{w} = 0.0"),))])
+            return a
         p = Local(f"{prefix}p{tag}", real=True)
-        st.append(Assign(p, value))
-        if stop:
-            st.extend([Code(f"{w} = min({w}, {{0}})", (p,)),
-                       If(Code("not {0} >= SING_RTOL", (p,)), (Code("return {0}", (p,)),))])
-        else:
-            st.append(If(Code("{0} >= SING_RTOL", (p,)), (Code(f"{w} = min({w}, {{0}})", (p,)),),
-                         orelse=(Code(f"{w} = 0.0"),)))
+        st.extend([Assign(p, value), Code(f"{w} = min({w}, {{0}})", (p,)),
+                   If(Code("not {0} >= SING_RTOL", (p,)), (Code("return {0}", (p,)),))])
         return p
 
     for rows, cols in reversed(spans):
@@ -153,21 +156,26 @@ def multiplier_statements(plan, eq, model, prefix="_", stop=True):
                 s.append(value)
                 continue
             s.append(Local(f"{prefix}s{i}", real=True))
-            st += [Assign(s[-1], value, eq.labels[i]),
-                   If(Code("not {0} > 0.0", (s[-1],)),
-                      (Code("return 0.0") if stop else Code(f"{w} = 0.0"),))]
+            st.append(Assign(s[-1], value, eq.labels[i]))
+            if not any(a.is_number and a > 0 for a in value.args):   # else never zero
+                st.append(If(Code("not {0} > 0.0", (s[-1],)),
+                             (Code("return 0.0") if stop else Code(f"{w} = 0.0"),)))
         if len(rows) == 1:
             (i,), (c,) = rows, cols
-            pivot(sp.Abs(J[(i, c)]) / s[0], i)
+            pivot(sp.Abs(J[(i, c)]), s[0], i)
             st.append(Assign(lam[i], right(c, rows) / J[(i, c)]))
             continue
         (i0, i1), (c0, c1) = rows, cols
         m = {(a, e): J.get((i, c), sp.Integer(0)) for a, c in enumerate(cols)
              for e, i in enumerate(rows)}
-        first = pivot(sp.Max(sp.Abs(m[0, 0]) / s[0], sp.Abs(m[1, 0]) / s[0]), f"{i0}a")
+        largest = sp.Max(sp.Abs(m[0, 0]), sp.Abs(m[1, 0]))
+        first = pivot(largest, s[0], f"{i0}a")     # (without stop: the local of largest)
         det = Local(f"{prefix}d{i0}", real=True)
         st.append(Assign(det, m[0, 0] * m[1, 1] - m[0, 1] * m[1, 0]))
-        pivot(sp.Abs(det) / (s[0] * s[1] * first), f"{i0}b")
+        if stop:
+            pivot(sp.Abs(det), s[0] * s[1] * first, f"{i0}b")
+        else:                               # |det| / (s0 s1 (largest / s0))
+            pivot(sp.Abs(det), s[1] * (largest if first.is_number else first), f"{i0}b")
         y0, y1 = right(c0, rows), right(c1, rows)
         st.append(Assign(lam[i0], (y0 * m[1, 1] - m[0, 1] * y1) / det))
         st.append(Assign(lam[i1], (m[0, 0] * y1 - m[1, 0] * y0) / det))

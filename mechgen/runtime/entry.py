@@ -56,7 +56,7 @@ def solve_point_derivatives(mod, q, t, p, tol, xtol, maxit, meth, level, qd, qdd
     singular position) and, with level >= 2, the accelerations. Returns the position
     status, or VELOCITY + the velocity status, or ACCELERATION + the acceleration one.
     ``fused`` (piv, lam, factors), a module with dynamics_sorted: the multipliers too, in
-    the derivatives' pass (piv[2] their smallest pivot; left 0.0 where that pass did not
+    the derivatives' pass (piv[2] 1.0 where their pivots held; 0.0 where that pass did not
     run: the caller solves them)."""
     status = solve_point(mod, q, t, p, tol, xtol, maxit, meth, info)
     if status != OK:
