@@ -135,14 +135,15 @@ def test_split_solvers_agree_with_full_newton(chain6):
 @pytest.fixture(scope="module")
 def closed_form_builds(build_dir):
     """The quick-return and the four-bar with every standard-form block in closed form,
-    and with Newton everywhere."""
+    and with Newton everywhere (as plain Python: the same text and numbers as compiled,
+    without four modules' compiles)."""
     out = {}
     for name in ("quick_return", "fourbar"):
         for mode in ("all", "none"):
             m = example_model(name)
             m.name = f"{name}_{mode}"
             out[name, mode] = mechgen.load(build(m, os.path.join(build_dir, "cf"),
-                                                 closed_forms=mode))
+                                                 closed_forms=mode), tier="python")
     return out
 
 
