@@ -127,3 +127,23 @@ def test_dynamic_solve_takes_the_multipliers_from_the_derivatives_pass(qr, monke
     t = qr.solve(0.37, level="dynamic", guess=ref.Q[-1])
     _close(t.lam, ref.LAM[-1], 1e-13)
     np.testing.assert_allclose(t.driver("crank driver"), s.driver("crank driver"), rtol=1e-13)
+
+
+def test_design_table_of_peak_torque_solves_the_multipliers_in_its_sweeps(qr, monkeypatch):
+    """reduce= on the driver of a dynamic table: each design's quick path solves λ on its
+    way (sweep_designs_forces), the careful rest after it; the same extremes and times as
+    the separate pass (force_rows_designs), designs that cannot turn among them."""
+    import mechgen.runtime.chunks as chunks
+    kw = dict(params={"longitud": np.linspace(2.0, 6.5, 12)}, on_fail="ignore", workers=1,
+              level="dynamic", reduce=["crank driver", "X4"])
+    assert chunks._fused(qr.module, np.array([[2, 0, 1]]), 2, 0) == 1
+    fused = qr.sweep(0.0, 1.0, 201, **kw)
+    monkeypatch.setattr(chunks, "_fused", lambda *args: None)
+    separate = qr.sweep(0.0, 1.0, 201, **kw)
+    np.testing.assert_array_equal(fused.done, separate.done)
+    assert fused.done.min() < 201 and fused.done.max() == 201
+    for name in ("crank driver", "X4"):
+        a, b = fused.reduced(name), separate.reduced(name)
+        for part in ("min", "max", "tmin", "tmax"):
+            x, y = getattr(a, part), getattr(b, part)
+            np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-12 * np.nanmax(np.abs(y)))

@@ -11,8 +11,9 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from ..protocol import OK, STATUS_CODE
-from .reduce import DRIVER, design_status, reduce_chunk
+from ..protocol import METHOD, OK, STATUS_CODE
+from .forces.lookup import FORCE_LEVELS
+from .reduce import DRIVER, design_status, reduce_chunk, repaired
 
 # A design table's per-point record: the first column of a sweep's STATUS rows (int16: the
 # status code, protocol.STATUS_*), 2 bytes a point; INFO is its name in a DesignTable. The
@@ -146,14 +147,40 @@ def _solve_forces(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, Q, QD, 
     done = np.zeros(D, dtype=np.int64)
     status = np.zeros(D, dtype=np.int64)
     red = [np.empty((D, slots.shape[0])) for _ in range(4)]
+    fused = _fused(module, slots, lev, meth)
     for a in range(0, D, step):
         b = min(D, a + step)
         part = [None if x is None else x[:b - a] for x in (Q, QD, QDD, INFO)]
-        done[a:b] = sweep_chunk(module, ts, q0, P[a:b], lev, tol, xtol, maxit, meth, *part)
+        forces = None
+        if fused is not None:       # the multipliers in the sweep's own step
+            LAM = np.empty((b - a, N, int(module.N_EQS)))
+            FACTORS = np.empty((b - a, N, len(module.DRIVER_ROWS)))
+            PIV = np.empty((b - a, N))
+            done[a:b] = module.sweep_designs_forces(ts, q0, P[a:b], meth, tol, xtol, maxit,
+                                                    *part, FACTORS, PIV, LAM)
+            forces = {fused: repaired(module, ts, P[a:b], *part[:3], done[a:b], LAM, FACTORS,
+                                      PIV)}
+        else:
+            done[a:b] = sweep_chunk(module, ts, q0, P[a:b], lev, tol, xtol, maxit, meth,
+                                    *part)
         status[a:b] = design_status(part[3], done[a:b], N)
-        for arr, got in zip(red, reduce_chunk(module, slots, ts, P[a:b], *part[:3], done[a:b])):
+        for arr, got in zip(red, reduce_chunk(module, slots, ts, P[a:b], *part[:3], done[a:b],
+                                              forces)):
             arr[a:b] = got
     return (done, status) + tuple(red)
+
+
+def _fused(module, slots, lev, meth):
+    """The FORCE_LEVELS index of "dynamic" where every driver slot asks for it and the
+    module's dynamic quick path can solve the multipliers on its way
+    (sweep_designs_forces), else None."""
+    dynamic = FORCE_LEVELS.index("dynamic")
+    orders = {int(order) for kind, _, order in slots if kind == DRIVER}
+    if orders != {dynamic} or lev != 2 or meth == METHOD["full"]:
+        return None
+    if not (getattr(module, "FORCE_FUSED", False) and module.SORTED and module.LEVEL >= 2):
+        return None
+    return dynamic
 
 
 class Collector:

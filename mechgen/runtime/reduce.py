@@ -86,10 +86,11 @@ def design_status(INFO, done, N) -> np.ndarray:
     return status
 
 
-def reduce_chunk(module, slots, ts, P, Q, QD, QDD, done):
+def reduce_chunk(module, slots, ts, P, Q, QD, QDD, done, forces=None):
     """(min, max, tmin, tmax), each (designs, len(slots)), of a solved chunk of designs:
     over the times each design solved (the first occurrence of equal extremes); NaN for a
-    design that solved no time."""
+    design that solved no time. ``forces``: {force level's index: (LAM, FACTORS)} solved
+    already (the sweep's own step, chunks._solve_forces)."""
     D, N = Q.shape[0], ts.shape[0]
     k = slots.shape[0]
     mn, mx = np.full((D, k), np.nan), np.full((D, k), np.nan)
@@ -97,7 +98,7 @@ def reduce_chunk(module, slots, ts, P, Q, QD, QDD, done):
     if D == 0 or N == 0:
         return mn, mx, tmn, tmx
     solved = np.arange(N)[None, :] < done[:, None]
-    outs, forces = {}, {}
+    outs, forces = {}, dict(forces or {})
     for j, (kind, index, order) in enumerate(slots):
         if kind == COORDINATE:
             vals = (Q, QD, QDD)[order][:, :, index]
@@ -156,7 +157,18 @@ def _forces_batch(module, ts, P, Q, QD, QDD, done, level):
     FACTORS = np.zeros((D, N, len(getattr(module, "DRIVER_ROWS", ()))))
     PIV = np.zeros((D, N))
     module.force_rows_designs(ts, Q, QD, QDD, P, done, FACTORS, PIV, LAM)
+    return repaired(module, ts, P, Q, QD, QDD, done, LAM, FACTORS, PIV)
+
+
+def repaired(module, ts, P, Q, QD, QDD, done, LAM, FACTORS, PIV):
+    """(LAM, FACTORS) of a chunk whose multipliers a compiled loop solved, PIV the pivots'
+    verdict per point: those below SING_RTOL (or not finite) solved by the SVD as
+    solve_points does (NaN where no force balance), NaN at the times a design did not
+    solve."""
+    D, N, n = Q.shape
+    m = LAM.shape[2]
     solved = np.arange(N)[None, :] < done[:, None]
+    LAM[~solved] = np.nan
     weak = solved & ~((PIV >= SING_RTOL) & np.all(np.isfinite(LAM), axis=2))
     if weak.any():
         J, terms = np.empty((m, n)), np.empty((3, n))

@@ -192,7 +192,7 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
     continuation (sweep) from the last point the quick path accepted: (count solved, the
     first point the careful sweep solved: len(ts) when it did not run). Only the careful
     sweep writes the report and marks points JUMP or THROUGH_SINGULAR. ``forces`` (a
-    dict, an acceleration sweep of a module with sweep_fast_forces): the quick path
+    dict, an acceleration sweep of a module with FORCE_FUSED): the quick path
     solves the multipliers too, and the dict receives "LAM", "FACTORS", "FPIV" and
     "count", the points before which they hold (the careful sweep's are not solved)."""
     mod = mech.module
@@ -201,7 +201,7 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
     unwrap = getattr(mod, "unwrap_turns", None)
     if unwrap is not None and N:
         unwrap(q0, ts[0], mech.p)       # the guess's angles as its drivers ask (q0 is ours)
-    fused = forces is not None and lev == _ACC and hasattr(mod, "sweep_fast_forces")
+    fused = forces is not None and lev == _ACC and getattr(mod, "FORCE_FUSED", False)
     if meth != METHOD_FULL and mod.SORTED and mod.LEVEL >= 2:
         start = -1
         if fused:

@@ -16,11 +16,13 @@ import math
 
 import numpy as np
 
+from .continuation import sweep
 from .linalg import _fp_solve
 from .solve import pivot_ratio
 from .toy import (FORCE_BLOCK_COLS, FORCE_BLOCK_ROWS, FORCE_BLOCK_START, FORCE_POINT,
-                  FORCE_SORTED, N_COORDS, N_EQS, SING_RTOL, driver_factors, energies,
-                  force_terms, gamma, mass_matrix, multipliers_point, njit, phi_q)
+                  FORCE_SORTED, N_COORDS, N_EQS, REPORT_SIZE, SING_RTOL, driver_factors,
+                  energies, force_terms, gamma, mass_matrix, multipliers_point, njit, phi_q,
+                  sweep_fast_forces)
 
 # -- module body: below this line, the text as a generated module holds it --
 # ---------------------------------------------------------------------------------------
@@ -518,3 +520,39 @@ def force_rows_designs(ts, Q, QD, QDD, P, done, FACTORS, PIV, LAM):
         if _k > 0:
             force_rows(ts[:_k], Q[_d, :_k], QD[_d, :_k], QDD[_d, :_k], P[_d], _jac, _terms,
                        _nu, _energy, FACTORS[_d, :_k], PIV[_d, :_k], LAM[_d, :_k])
+
+
+@njit(cache=True, nogil=True)
+def sweep_designs_forces(ts, q0, P, method, tol, xtol, maxit, Q, QD, QDD, STATUS, FACTORS,
+                         PIV, LAM):
+    """sweep_designs at level acceleration with the multipliers of a dynamic table: each
+    design's quick path solves them on its way (sweep_fast_forces), the careful rest of
+    it by force_rows after sweep(). Row d of FACTORS, PIV and LAM receives design d's at
+    the times it solved (PIV below SING_RTOL: that λ is not to be used, the runtime
+    solves it by the SVD). Only for a module that has sweep_fast_forces (its multipliers
+    written out). Returns the count of solved times of each design; releases the GIL."""
+    done = np.zeros(P.shape[0], dtype=np.int64)
+    report = np.zeros(REPORT_SIZE)
+    _jac = np.empty((1, LAM.shape[2], N_COORDS))
+    _terms = np.empty((0, 3, N_COORDS))
+    _nu = np.empty((0, LAM.shape[2]))
+    _energy = np.empty((0, 3))
+    for d in range(P.shape[0]):
+        start = sweep_fast_forces(ts, q0, P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d],
+                                  STATUS[d], LAM[d], FACTORS[d], PIV[d])
+        if start == ts.shape[0]:
+            done[d] = start
+            continue
+        start = max(start - 1, 0)
+        q_start = q0
+        if start > 0:
+            q_start = Q[d, start].copy()
+        k = start + sweep(ts[start:], q_start, P[d], 2, tol, xtol, maxit, method,
+                          Q[d, start:], QD[d, start:], QDD[d, start:], STATUS[d, start:],
+                          report)
+        done[d] = k
+        if k > start:
+            force_rows(ts[start:k], Q[d, start:k], QD[d, start:k], QDD[d, start:k], P[d],
+                       _jac, _terms, _nu, _energy, FACTORS[d, start:k], PIV[d, start:k],
+                       LAM[d, start:k])
+    return done

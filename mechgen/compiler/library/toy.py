@@ -54,7 +54,7 @@ __all__ = [
 FORCE_NAMES = [
     "FORCE_SORTED", "FORCE_POINT", "FORCE_BLOCK_START", "FORCE_BLOCK_ROWS",
     "FORCE_BLOCK_COLS", "force_terms", "energies", "driver_factors", "mass_matrix",
-    "multipliers_point",
+    "multipliers_point", "sweep_fast_forces",
 ]
 __all__ += FORCE_NAMES
 
@@ -316,3 +316,15 @@ def mass_matrix(q, t, p, out):
 @njit(cache=True)
 def multipliers_point(q, qd, qdd, t, p, lam):
     return 0.0
+
+
+@njit(cache=True)
+def sweep_fast_forces(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS, LAM, FACTORS, FPIV):
+    """sweep_fast with the multipliers of every point it accepts (FPIV 1.0, or 0.0 where
+    a pivot fell below SING_RTOL), as a module whose multipliers are written out has it."""
+    done = sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS)
+    for k in range(done):
+        driver_factors(Q[k], ts[k], p, FACTORS[k])
+        piv = multipliers_point(Q[k], QD[k], QDD[k], ts[k], p, LAM[k])
+        FPIV[k] = 1.0 if piv >= SING_RTOL else 0.0
+    return done
