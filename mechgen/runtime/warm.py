@@ -18,8 +18,9 @@ from ..errors import MechgenError
 from ..protocol import LEVEL, LEVELS
 
 # in the order users need them: a position, its derivatives, a sweep (the quick path,
-# then the careful continuation), what pictures and diagnostics call, a design table
-STAGES = ("position", "derivatives", "sweep", "careful", "diagnostics", "design")
+# then the careful continuation), what pictures and diagnostics call, a design table, and
+# for a model with mass or loads its solves and sweeps at the force levels
+STAGES = ("position", "derivatives", "sweep", "careful", "diagnostics", "design", "forces")
 STAGES_FOR = {"sweep": ("sweep",), "design": ("design",), "simulate": ("simulate",)}
 
 
@@ -72,6 +73,14 @@ def _design(mech, t):
                           level=_top(mech), on_fail="ignore")
 
 
+def _forces(mech, t):
+    if getattr(mech.module, "FORCES", False):
+        mech.solve(t, level="static")
+        if mech.built_level >= LEVEL["acceleration"]:
+            mech.solve(t, level="dynamic")
+            mech.sweep(t, t + 0.01, 3, level="dynamic")
+
+
 def _simulate(mech, t):
     if getattr(mech.module, "FORCES", False):
         mech.simulate(t, t + 1e-3, 2)
@@ -79,7 +88,7 @@ def _simulate(mech, t):
 
 _RUN = {"position": _position, "derivatives": _derivatives, "sweep": _sweep,
         "careful": _careful, "diagnostics": _diagnostics, "design": _design,
-        "simulate": _simulate}
+        "forces": _forces, "simulate": _simulate}
 
 
 def warm(mech, stages=STAGES, t=0.0) -> list:
