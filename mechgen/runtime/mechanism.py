@@ -232,7 +232,7 @@ class Mechanism:
         turn from its start by whole turns back to the start's, in place: whether any was."""
         turned = False
         d = q - start
-        if float(d @ d) <= np.pi * np.pi or not np.any(np.abs(d) > np.pi):
+        if d.dot(d) <= _PI2 or not np.any(np.abs(d) > np.pi):
             return False            # the common case (no coordinate moved π): nothing to do
         from .assembly import angle_coordinates
         for j in angle_coordinates(self):
@@ -525,6 +525,7 @@ class Mechanism:
         return out
 
 
+_PI2 = np.pi * np.pi
 _FORCE_SOLVE = []
 
 
