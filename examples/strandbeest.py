@@ -34,23 +34,38 @@ D = _third(B, C, d, e, 1)
 F = _third(D, E, f, g, -1)
 G = _third(E, F, i, h, 1)
 
+
+def leg(m, body=None, crank_length=m_):
+    """Jansen's leg built into model ``m``: the frame, the seven bodies, the eleven pins and
+    the crank turning once a unit of time; returns the bodies by name. ``body(m, name,
+    points, guess, length)`` makes each body (plain ones by default; a model with masses
+    passes its own), and ``crank_length`` may be a parameter (the guesses stay those of
+    the holy numbers)."""
+    if body is None:
+        def body(m, name, points, guess, length):
+            return m.body(name, points=points, guess=guess)
+    frame = m.ground("frame", points=[O, B])
+    crank = body(m, "crank", [(0, 0), (crank_length, 0)], (0, 0, 0), m_)
+    upper = body(m, "upper", [(0, 0), (j, 0)], (*A, _frame(A, C)), j)
+    hip = body(m, "hip", [(0, 0), (b, 0), _frame(B, C, D)], (*B, _frame(B, C)), b)
+    lower = body(m, "lower", [(0, 0), (k, 0)], (*A, _frame(A, E)), k)
+    cee = body(m, "cee", [(0, 0), (c, 0)], (*B, _frame(B, E)), c)
+    eff = body(m, "eff", [(0, 0), (f, 0)], (*D, _frame(D, F)), f)
+    foot = body(m, "foot", [(0, 0), (g, 0), _frame(E, F, G)], (*E, _frame(E, F)), g)
+    m.revolute(frame[1], crank[1])
+    m.rotation_lock(crank, 2 * pi * T, name="crank angle")
+    m.revolute(crank[2], upper[1])
+    m.revolute(crank[2], lower[1])
+    m.revolute(frame[2], hip[1])
+    m.revolute(upper[2], hip[2])
+    m.revolute(frame[2], cee[1])
+    m.revolute(cee[2], lower[2])
+    m.revolute(cee[2], foot[1])
+    m.revolute(hip[3], eff[1])
+    m.revolute(eff[2], foot[2])
+    return dict(frame=frame, crank=crank, upper=upper, hip=hip, lower=lower, cee=cee,
+                eff=eff, foot=foot)
+
+
 m = Model("strandbeest_leg")
-frame = m.ground("frame", points=[O, B])
-crank = m.body("crank", points=[(0, 0), (m_, 0)], guess=(0, 0, 0))
-upper = m.body("upper", points=[(0, 0), (j, 0)], guess=(*A, _frame(A, C)))
-hip = m.body("hip", points=[(0, 0), (b, 0), _frame(B, C, D)], guess=(*B, _frame(B, C)))
-lower = m.body("lower", points=[(0, 0), (k, 0)], guess=(*A, _frame(A, E)))
-cee = m.body("cee", points=[(0, 0), (c, 0)], guess=(*B, _frame(B, E)))
-eff = m.body("eff", points=[(0, 0), (f, 0)], guess=(*D, _frame(D, F)))
-foot = m.body("foot", points=[(0, 0), (g, 0), _frame(E, F, G)], guess=(*E, _frame(E, F)))
-m.revolute(frame[1], crank[1])
-m.rotation_lock(crank, 2 * pi * T, name="crank angle")
-m.revolute(crank[2], upper[1])
-m.revolute(crank[2], lower[1])
-m.revolute(frame[2], hip[1])
-m.revolute(upper[2], hip[2])
-m.revolute(frame[2], cee[1])
-m.revolute(cee[2], lower[2])
-m.revolute(cee[2], foot[1])
-m.revolute(hip[3], eff[1])
-m.revolute(eff[2], foot[2])
+leg(m)
