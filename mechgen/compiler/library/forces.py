@@ -72,6 +72,36 @@ def _cholesky_solve(L, x):
 
 
 @njit(cache=True)
+def _eliminate(_A, _y, _k):
+    """_A[:_k, :_k] x = _y[:_k] by elimination with partial pivoting, x into _y: the
+    smallest pivot met, 0.0 at the first that is zero (_y then not to be used)."""
+    _worst = 1.0
+    for _e in range(_k):                     # partial pivoting down column _e
+        _piv = _e
+        for _a in range(_e + 1, _k):
+            if abs(_A[_a, _e]) > abs(_A[_piv, _e]):
+                _piv = _a
+        _worst = min(_worst, abs(_A[_piv, _e]))
+        if not abs(_A[_piv, _e]) > 0.0:
+            return 0.0
+        if _piv != _e:
+            for _c in range(_k):
+                _A[_e, _c], _A[_piv, _c] = _A[_piv, _c], _A[_e, _c]
+            _y[_e], _y[_piv] = _y[_piv], _y[_e]
+        for _a in range(_e + 1, _k):
+            _f = _A[_a, _e] / _A[_e, _e]
+            for _c in range(_e, _k):
+                _A[_a, _c] -= _f * _A[_e, _c]
+            _y[_a] -= _f * _y[_e]
+    for _e in range(_k - 1, -1, -1):         # back substitution
+        _v = _y[_e]
+        for _c in range(_e + 1, _k):
+            _v -= _A[_e, _c] * _y[_c]
+        _y[_e] = _v / _A[_e, _e]
+    return _worst
+
+
+@njit(cache=True)
 def multipliers_sorted(_J, _rhs, _lam, _A, _y, _r):
     """Φ_qᵀ λ = _rhs block by block in the reverse of the solving order: Φ_q is block
     lower-triangular in it, so Φ_qᵀ is block upper-triangular. Each block's equations (its
@@ -96,28 +126,10 @@ def multipliers_sorted(_J, _rhs, _lam, _A, _y, _r):
                 _A[_a, _e] = _J[_i, FORCE_BLOCK_COLS[_s0 + _a]] / _size
         for _a in range(_k):
             _y[_a] = _r[FORCE_BLOCK_COLS[_s0 + _a]]
-        for _e in range(_k):                 # elimination, partial pivoting down column _e
-            _piv = _e
-            for _a in range(_e + 1, _k):
-                if abs(_A[_a, _e]) > abs(_A[_piv, _e]):
-                    _piv = _a
-            _worst = min(_worst, abs(_A[_piv, _e]))
-            if not abs(_A[_piv, _e]) > 0.0:
-                return 0.0
-            if _piv != _e:
-                for _c in range(_k):
-                    _A[_e, _c], _A[_piv, _c] = _A[_piv, _c], _A[_e, _c]
-                _y[_e], _y[_piv] = _y[_piv], _y[_e]
-            for _a in range(_e + 1, _k):
-                _f = _A[_a, _e] / _A[_e, _e]
-                for _c in range(_e, _k):
-                    _A[_a, _c] -= _f * _A[_e, _c]
-                _y[_a] -= _f * _y[_e]
-        for _e in range(_k - 1, -1, -1):     # back substitution: the scaled multipliers
-            _x = _y[_e]
-            for _c in range(_e + 1, _k):
-                _x -= _A[_e, _c] * _y[_c]
-            _y[_e] = _x / _A[_e, _e]
+        _p = _eliminate(_A, _y, _k)             # _y: the block's scaled multipliers
+        _worst = min(_worst, _p)
+        if not _p > 0.0:
+            return 0.0
         for _e in range(_k):
             _i = FORCE_BLOCK_ROWS[_s0 + _e]
             _size = 0.0
@@ -154,28 +166,10 @@ def coordinates_sorted(_J, _rhs, _x, _A, _y):
             for _a in range(_k):
                 _A[_e, _a] = _J[_i, FORCE_BLOCK_COLS[_s0 + _a]] / _size
             _y[_e] = _v / _size
-        for _e in range(_k):                 # elimination, partial pivoting down column _e
-            _piv = _e
-            for _a in range(_e + 1, _k):
-                if abs(_A[_a, _e]) > abs(_A[_piv, _e]):
-                    _piv = _a
-            _worst = min(_worst, abs(_A[_piv, _e]))
-            if not abs(_A[_piv, _e]) > 0.0:
-                return 0.0
-            if _piv != _e:
-                for _c in range(_k):
-                    _A[_e, _c], _A[_piv, _c] = _A[_piv, _c], _A[_e, _c]
-                _y[_e], _y[_piv] = _y[_piv], _y[_e]
-            for _a in range(_e + 1, _k):
-                _f = _A[_a, _e] / _A[_e, _e]
-                for _c in range(_e, _k):
-                    _A[_a, _c] -= _f * _A[_e, _c]
-                _y[_a] -= _f * _y[_e]
-        for _e in range(_k - 1, -1, -1):
-            _v = _y[_e]
-            for _c in range(_e + 1, _k):
-                _v -= _A[_e, _c] * _y[_c]
-            _y[_e] = _v / _A[_e, _e]
+        _p = _eliminate(_A, _y, _k)
+        _worst = min(_worst, _p)
+        if not _p > 0.0:
+            return 0.0
         for _a in range(_k):
             _x[FORCE_BLOCK_COLS[_s0 + _a]] = _y[_a]
     return _worst
