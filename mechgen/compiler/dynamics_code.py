@@ -18,11 +18,11 @@ the points with the trigonometry again (runtime/forces/sweep.py).
 from __future__ import annotations
 
 from ..model.dynamics import dynamics
-from ..model.geometry import T
 from .forces_code import multiplier_statements
-from .inputs import free, prologue, time_local, unpack
-from .ir import Assign, Code, Guard, If, Return, Store, replaced
+from .inputs import prologue
+from .ir import Assign, Code, Guard, If, Return, Store
 from .schedule import TempNames, emit
+from .sweep import in_loop
 
 
 def force_step(plan, eq, model, lam="lam[{}]", factors="factors[{}]", pivot="piv[2]"):
@@ -64,14 +64,7 @@ def written_forces(plan, eq, model):
     step = force_step(plan, eq, model, "LAM[k, {}]", "FACTORS[k, {}]", "FPIV[k]")
     if step is None:
         return None
-    shared = plan.position.shared_map
-    st = [replaced(x, lambda e: e.xreplace(shared)) for x in step]
-    used = free([x.expr for x in st if isinstance(x, (Assign, Store))])
-    have = free(list(eq.phi)) | set(eq.qd) | set(eq.qdd)
-    head = unpack(used - have, eq.params, "p")
-    if T in used and T not in have:
-        head.append(time_local())
-    return head + emit(st, TempNames("_f"), plan.cse)
+    return in_loop(plan, eq, step, "_f", known=(*eq.qd, *eq.qdd))
 
 
 # (name, arguments, docstring lines) of the functions above, for the template

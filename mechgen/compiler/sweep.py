@@ -46,18 +46,26 @@ def written_step(plan, eq, position, derivatives):
     derivatives): ``position`` the body of the one-function position solver,
     ``derivatives`` linear.derivative_code. The derivative code reads the sin and cos
     (and other calls) the position code shares."""
-    shared = plan.position.shared_map
-    st = [replaced(x, lambda e: e.xreplace(shared)) for x in derivatives.statements]
-    exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
-    exprs += [x.bound for x in st if isinstance(x, Guard)]
-    used, have = free(exprs), free(list(eq.phi))
     if position[-1] != Return(0):
         raise ValueError("a position solver in parts cannot be written out in the sweep")
     pos = list(position[:-1])                   # all but its "return 0"
-    der = unpack(used - have, eq.params, "p")
+    return pos, in_loop(plan, eq, derivatives.statements, "_v") + list(derivatives.tail)
+
+
+def in_loop(plan, eq, statements, prefix, known=()):
+    """``statements`` as the fast sweep's loop writes them after the position code: the
+    sin and cos (and other calls) that code shares read from it, the parameters and the
+    time it does not read loaded first (``known``: other symbols defined before them),
+    one CSE pass with temporaries named ``prefix``0, ..."""
+    shared = plan.position.shared_map
+    st = [replaced(x, lambda e: e.xreplace(shared)) for x in statements]
+    exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
+    exprs += [x.bound for x in st if isinstance(x, Guard)]
+    used, have = free(exprs), free(list(eq.phi)) | set(known)
+    head = unpack(used - have, eq.params, "p")
     if T in used and T not in have:
-        der.append(time_local())
-    return pos, der + emit(st, TempNames("_v"), plan.cse) + list(derivatives.tail)
+        head.append(time_local())
+    return head + emit(st, TempNames(prefix), plan.cse)
 
 
 def _memory(pairs):
