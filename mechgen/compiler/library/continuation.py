@@ -409,16 +409,22 @@ def sweep_designs(ts, q0, P, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS
     report = np.zeros(REPORT_SIZE)
     for d in range(P.shape[0]):
         start = 0
-        q_start = q0
         if SORTED and LEVEL >= 2 and method != METHOD_FULL:
             start = sweep_fast(ts, q0, P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d], STATUS[d])
-            if start == ts.shape[0]:
-                done[d] = start
-                continue
-            start = max(start - 1, 0)
-            if start > 0:
-                q_start = Q[d, start].copy()
-        done[d] = start + sweep(ts[start:], q_start, P[d], level, tol, xtol, maxit, method,
-                                Q[d, start:], QD[d, start:], QDD[d, start:], STATUS[d, start:],
-                                report)
+        done[d] = sweep_on(ts, q0, P[d], level, tol, xtol, maxit, method, Q[d], QD[d], QDD[d],
+                           STATUS[d], start, report)
     return done
+
+
+@njit(cache=True, nogil=True)
+def sweep_on(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, start, report):
+    """One design after its quick path accepted ``start`` points: sweep() from the last of
+    them (from q0 where there is none) over the rest; the count of solved times."""
+    if start == ts.shape[0]:
+        return start
+    start = max(start - 1, 0)
+    q_start = q0
+    if start > 0:
+        q_start = Q[start].copy()
+    return start + sweep(ts[start:], q_start, p, level, tol, xtol, maxit, method, Q[start:],
+                         QD[start:], QDD[start:], STATUS[start:], report)

@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from .continuation import sweep
+from .continuation import sweep_on
 from .linalg import _fp_solve
 from .solve import pivot_ratio
 from .toy import (FORCE_BLOCK_COLS, FORCE_BLOCK_ROWS, FORCE_BLOCK_START, FORCE_POINT,
@@ -532,20 +532,13 @@ def sweep_designs_forces(ts, q0, P, method, tol, xtol, maxit, Q, QD, QDD, STATUS
     _nu = np.empty((0, LAM.shape[2]))
     _energy = np.empty((0, 3))
     for d in range(P.shape[0]):
-        start = sweep_fast_forces(ts, q0, P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d],
-                                  STATUS[d], LAM[d], FACTORS[d], PIV[d])
-        if start == ts.shape[0]:
-            done[d] = start
-            continue
-        start = max(start - 1, 0)
-        q_start = q0
-        if start > 0:
-            q_start = Q[d, start].copy()
-        k = start + sweep(ts[start:], q_start, P[d], 2, tol, xtol, maxit, method,
-                          Q[d, start:], QD[d, start:], QDD[d, start:], STATUS[d, start:],
-                          report)
+        fast = sweep_fast_forces(ts, q0, P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d],
+                                 STATUS[d], LAM[d], FACTORS[d], PIV[d])
+        k = sweep_on(ts, q0, P[d], 2, tol, xtol, maxit, method, Q[d], QD[d], QDD[d], STATUS[d],
+                     fast, report)
         done[d] = k
-        if k > start:
+        start = max(fast - 1, 0)            # where sweep() went on (its points: not yet)
+        if fast < ts.shape[0] and k > start:
             force_rows(ts[start:k], Q[d, start:k], QD[d, start:k], QDD[d, start:k], P[d],
                        _jac, _terms, _nu, _energy, FACTORS[d, start:k], PIV[d, start:k],
                        LAM[d, start:k])
