@@ -37,7 +37,7 @@ STATUS_NAMES = {OK: "ok", NO_CONVERGENCE: "no convergence", SINGULAR: "singular"
                 NOT_FINITE: "not finite", GAVE_UP: "sorted solver gave up",
                 JUMP: "branch jump", THROUGH_SINGULAR: "through a singular configuration"}
 
-# The solvers' info vector (solve_position: the first four; solve_point: all six).
+# The solvers' info vector (solve_position: the first four; solve_point: all seven).
 INFO_ITERATIONS = 0         # Newton iterations of the point
 INFO_RESIDUAL = 1           # max |Φ| reached
 INFO_RANK = 2               # numeric rank of Φ_q
@@ -45,7 +45,9 @@ INFO_METHOD = 3             # 0 sorted, 1 full Newton
 POSITION_INFO_SIZE = 4
 POINT_RESIDUAL = 4          # solve_point: max |Φ| of the solution
 POINT_PIVOT = 5             # solve_point: its pivot ratio
-POINT_INFO_SIZE = 6
+INFO_REACH = 6              # position_sorted, where info is this long: the smallest reach
+                            # margin of its blocks solved whatever the guess (reach())
+POINT_INFO_SIZE = 7
 
 # A sweep's per-point record: STATUS[k, column], a small integer array (int16) of one to
 # three columns, written for every point the sweep accepts (and the one where it stops);
@@ -94,7 +96,7 @@ HEADER_CONSTANTS = (
       "VELOCITY", "ACCELERATION")),
     ("The solvers' info vectors; a sweep's STATUS columns and report entries",
      ("INFO_ITERATIONS", "INFO_RESIDUAL", "INFO_RANK", "INFO_METHOD", "POSITION_INFO_SIZE",
-      "POINT_RESIDUAL", "POINT_PIVOT", "POINT_INFO_SIZE", "STATUS_CODE", "STATUS_ITERATIONS",
+      "POINT_RESIDUAL", "POINT_PIVOT", "INFO_REACH", "POINT_INFO_SIZE", "STATUS_CODE", "STATUS_ITERATIONS",
       "STATUS_SUBSTEPS", "STATUS_COLUMNS", "STATUS_MAX", "REPORT_STATUS", "REPORT_REACHED", "REPORT_FAILED",
       "REPORT_JUMP", "REPORT_SIZE")),
     ("Pivot thresholds (rows of Φ_q scaled to 1) and the smallest size counted as non-zero",

@@ -101,7 +101,7 @@ class _Fake:
         return status
 
     def solve_point_sorted(self, q, t, p, tol, xtol, maxit, info):
-        info[:] = [1, 0.0, len(q), 0, 0.0, 1.0]
+        info[:6] = [1, 0.0, len(q), 0, 0.0, 1.0]
         return self._call("solve_point_sorted")
 
     def solve_derivatives_sorted(self, q, t, p, qd, qdd):

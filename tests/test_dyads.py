@@ -98,6 +98,37 @@ def test_random_configurations_both_modes(pair):
             checked += 1
 
 
+def test_the_position_solve_hands_over_its_reach_margin(pair):
+    """position_sorted leaves the dyad's reach margin in info[INFO_REACH], which sweep()
+    reads instead of calling reach(): sin² of the angle at the crank pin B between B→D and
+    B→C, from the triangle's sides (b, c, |BD|), and reach()'s value at the solution. An
+    info vector of POSITION_INFO_SIZE (a caller of the module's own) is not written past
+    its end."""
+    dyad, _ = pair
+    mod = dyad.module
+    rng = np.random.default_rng(7)
+    buf = np.full(mod.POINT_INFO_SIZE + 2, 7.0)
+    for _ in range(50):
+        a, b, c, d = rng.uniform(0.3, 1.0), rng.uniform(1.5, 3.5), rng.uniform(1.5, 3.0), \
+            rng.uniform(2.0, 3.5)
+        th2 = rng.uniform(-math.pi, math.pi)
+        p = np.array([a, b, c, d, th2, 0.0])
+        L = math.hypot(d - a * math.cos(th2), a * math.sin(th2))
+        if not abs(b - c) + 0.05 < L < b + c - 0.05:
+            continue
+        cos_b = (b * b + L * L - c * c) / (2 * b * L)         # the law of cosines at B
+        (_, _), th3, th4 = joint(a, b, c, d, th2, 1)
+        q = guess_near(dyad, a, th2, th3, th4, rng, 0.05)
+        info = np.zeros(mod.POINT_INFO_SIZE)
+        assert mod.position_sorted(q, 0.0, p, 1e-12, 1e-12, 50, info) == OK
+        assert abs(info[mod.INFO_REACH] - (1.0 - cos_b * cos_b)) < 1e-12
+        assert abs(info[mod.INFO_REACH] - mod.reach(q, 0.0, p)) < 1e-12
+        q = guess_near(dyad, a, th2, th3, th4, rng, 0.05)
+        assert mod.position_sorted(q, 0.0, p, 1e-12, 1e-12, 50,
+                                   buf[:mod.POSITION_INFO_SIZE]) == OK
+        assert np.all(buf[mod.POSITION_INFO_SIZE:] == 7.0)
+
+
 def test_the_angles_keep_the_guess_s_turns(pair):
     """An angle guessed a whole turn away comes back there, as Newton's does."""
     dyad, newton = pair

@@ -107,8 +107,11 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         watch = None if "reach" not in bodies else "written" if step else "call"
         rotations = {f"Th{b.number}" for b in model.bodies.values() if not b.is_ground}
         angles = [j for j, y in enumerate(eq.q) if y.name in rotations]
+        # the coordinates that come out a constant number are finite at every point
+        steady = {y for y, v in plan.known_values.items() if v.is_number and v.is_finite}
+        checked = [j for j, y in enumerate(eq.q) if y not in steady]
         bodies["sweep_fast"] = sweep_fast_body(step, pairs, signs, guessed, tangent, watch,
-                                               angles)
+                                               angles, checked=checked)
         # a dynamic solve's derivatives and multipliers in one pass, and the dynamic
         # sweep's quick path with the multipliers in its step (dynamics_code)
         made = dynamics_sorted_body(plan, eq, model, derivatives) if force_parts else None
@@ -116,7 +119,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
             put("dynamics_sorted", made)
             forces = written_forces(plan, eq, model) if step is not None else True
             bodies["sweep_fast_forces"] = sweep_fast_body(step, pairs, signs, guessed, tangent,
-                                                          watch, angles, forces)
+                                                          watch, angles, forces, checked)
 
     names = name_map(model, eq, list(bodies.values()) + [h.body for h in helpers],
                      [h.args for h in helpers])

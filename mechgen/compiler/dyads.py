@@ -126,7 +126,7 @@ def rrr_statements(b, eq, pairs):
                Code("{0} = 0.0  # they touch: a toggle", (disc,)))),
            Code("{0} = {1} * math.sqrt({2})", (rt, sg, disc)),
            Assign(h, sp.Rational(1, 2) / dd),
-           _watched(Code("_sw_mc = min(_sw_mc, 0.5 * {0} * {1} / {2})", (disc, h, r1))),
+           _watched("0.5 * {0} * {1} / {2}", (disc, h, r1)),
            Assign(w1x, h * (aa * dx + rt * dy)), Assign(w1y, h * (aa * dy - rt * dx)),
            Assign(w2x, dx - w1x), Assign(w2y, dy - w1y)]
     for pair, (ux, uy), w, r in ((pairs[0], U[:2], (w1x, w1y), r1),
@@ -174,10 +174,12 @@ def signed(method, form):
     return method == CLOSED_FORM_TRIG and not (form[0].is_number and form[1].is_number)
 
 
-def _watched(code):
-    """``code`` in the fast sweep only, where it keeps the smallest reach margin of the
-    point in _sw_mc (margin's, from the block's own numbers: sweep.reach_check)."""
-    return Variant((), (code,))
+def _watched(margin, args):
+    """The block's reach margin (margin's, from its own numbers) into the smallest of the
+    point: _sw_mc in the fast sweep (sweep.reach_check), _mc in position_sorted, which
+    hands it to sweep() in info[INFO_REACH] (position.position_body)."""
+    return Variant((Code(f"_mc = min(_mc, {margin})", args),),
+                   (Code(f"_sw_mc = min(_sw_mc, {margin})", args),))
 
 
 def _sign(sg, value, bound, what):
@@ -204,7 +206,7 @@ def trig_statements(y, form, pair):
           Guard(rad, sp.Float(TINY), GAVE_UP), Assign(u, -kc / rad),
           If(Code("not abs({0}) <= 1.0 + 1e-12", (u,)), (Return(GAVE_UP),),
              tail="  # no assembly here"),
-          _watched(Code("_sw_mc = min(_sw_mc, 1.0 - {0} * {0})", (u,))),
+          _watched("1.0 - {0} * {0}", (u,)),
           Code("{0} = min(1.0, max(-1.0, {0}))", (u,)),
           _sign(sg, a * sp.cos(y) - bb * sp.sin(y), sp.Float(PIVOT_RTOL) * rad, "a lock"),
           Code("{0} = {1} * math.sqrt(1.0 - {2} * {2})", (w, sg, u)),
@@ -225,7 +227,7 @@ def quadratic_statements(y, form):
                     f"of 2 A {y} + B"),
             Assign(A, qa), Assign(B, qb), Assign(C, qc),
             Code("_disc = _qb * _qb - 4.0 * _qa * _qc"),
-            _watched(Code("_sw_mc = min(_sw_mc, _disc / (_qb * _qb + 4.0 * abs(_qa * _qc)))")),
+            _watched("_disc / (_qb * _qb + 4.0 * abs(_qa * _qc))", ()),
             If(Code("_disc < 0.0"),
                (If(Code("_disc < -1e-12 * _qb * _qb"), (Return(GAVE_UP),),
                    tail="  # no assembly here"), Code("_disc = 0.0  # a toggle"))),

@@ -16,9 +16,9 @@ import sympy as sp
 from ..model.geometry import T
 from ..protocol import PIVOT_RTOL, TINY
 from .blocks import CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, NEWTON, linear_in
-from .dyads import quadratic_statements, rrr_statements, signed, trig_statements
+from .dyads import guess_free, quadratic_statements, rrr_statements, signed, trig_statements
 from .inputs import free, sym, time_local, unpack
-from .ir import (Assign, Break, Code, Comment, Guard, Helper, If, Loop, Return, Store,
+from .ir import (Assign, Break, Code, Comment, Guard, Helper, If, Loop, Return, Store, Variant,
                  TrigPair, count_lines, replaced)
 from .printer import Derived
 from .schedule import TempNames, emit
@@ -76,11 +76,13 @@ class _RowsAt:
 @dataclass(frozen=True)
 class Piece:
     """The code of one block: its statements, the symbols its rows read, the coordinates
-    it solves, and how many lines it prints."""
+    it solves, how many lines it prints, and whether it keeps a reach margin (_mc:
+    dyads.guess_free)."""
     statements: tuple
     used: frozenset
     solved: tuple
     lines: int
+    watched: bool = False
 
 
 @dataclass(frozen=True)
@@ -139,7 +141,7 @@ class _Writer:
                 st += self.closed_form(b)
             used = free([phi[e] for e in b.rows]) | {q[v] for v in b.vars}
             pieces.append(Piece(tuple(st), frozenset(used), tuple(q[v] for v in b.vars),
-                                count_lines(st)))
+                                count_lines(st), guess_free(b)))
             self.avail |= {q[v] for v in b.vars}
         shared = None if self.shared is None else tuple(self.shared.items())
         return PositionCode(tuple(pieces), shared, tuple(self.trig_pairs), tuple(self.signs))
@@ -403,11 +405,14 @@ def position_body(plan, eq):
         if T in used:
             st.append(time_local())
         st.append(Code("_iters = 0"))
+        st += _margin_start(pieces)
         for piece in pieces:
             st += piece.statements
         st += [Store(f"q[{k}]", s) for k, s in enumerate(q)]
+        st += _margin_end(pieces, "_mc")
         return st + [Code("info[0] = _iters"), Return(0)], []
     top, helpers = [Code("_w = q.copy()"), Code("info[0] = 0")], []
+    top += _margin_end(pieces, "1.0")
     where = {s: k for k, s in enumerate(q)}
     for i, group in enumerate(plan.position_parts):
         used = set().union(*(pieces[k].used for k in group))
@@ -416,9 +421,12 @@ def position_body(plan, eq):
         if T in used:
             body.append(time_local())
         body.append(Code("_iters = 0"))
+        part = [pieces[k] for k in group]
+        body += _margin_start(part)
         for k in group:
             body += pieces[k].statements
         body += [Store(f"q[{where[s]}]", s) for s in solved]
+        body += _margin_end(part, "min(info[INFO_REACH], _mc)")
         body += [Code("info[0] = max(info[0], _iters)"), Return(0)]
         name = f"_position_part{i}"
         doc = (f"Position solver, part {i + 1} of {len(plan.position_parts)}: "
@@ -428,6 +436,24 @@ def position_body(plan, eq):
                 If(Code("_status != 0"), (Return(sym("_status")),))]
     top += [Loop(Code("for _k in range(N_COORDS)"), (Code("q[_k] = _w[_k]"),)), Return(0)]
     return top, helpers
+
+
+def _margin_start(pieces):
+    """_mc, the smallest reach margin of the blocks that keep one (none: no statement)."""
+    if not any(p.watched for p in pieces):
+        return []
+    return [Variant((Code("_mc = 1.0  # the smallest reach margin of the blocks below"),), ())]
+
+
+def _margin_end(pieces, value):
+    """info[INFO_REACH] = ``value`` where the caller's info is long enough (sweep()'s is:
+    it reads the margin there instead of calling reach()); no statement where no block
+    keeps a margin."""
+    if not any(p.watched for p in pieces):
+        return []
+    return [Variant((If(Code("info.shape[0] > INFO_REACH"),
+                        (Code(f"info[INFO_REACH] = {value}"),), tail="  # the margin, for sweep()"),),
+                    ())]
 
 
 __all__ = ["position_code", "position_body", "PositionCode", "Piece", "Rows",

@@ -204,8 +204,38 @@ def turn_check(angles):
                tail="  # a body turned too far in one step")]
 
 
+def _sum_tree(terms):
+    """``terms`` added pairwise (a + b) + (c + d): a short chain of dependent additions."""
+    while len(terms) > 1:
+        terms = [f"({a} + {b})" if b else a
+                 for a, b in zip(terms[::2], terms[1::2] + [""] * (len(terms) % 2))]
+    return terms[0][1:-1] if terms[0].startswith("(") else terms[0]
+
+
+def _finite_check(checked):
+    """_sw_bad: NaN where a coordinate, velocity or acceleration of the point is not finite
+    (x * 0 is 0 for every finite x, NaN for inf and NaN; a sum past 1e308, inf, counts as
+    not finite too). ``checked``: the indices of the coordinates that can be (those that
+    come out a constant number are finite, their derivatives zero), written out as one
+    sum; None: all, in a loop."""
+    if checked is None or len(checked) > UNROLL:
+        return [
+            Code("_sw_bad = 0.0          # x * 0 is 0 for every finite x, NaN for inf and NaN"),
+            If(Code("_sw_all"), (Loop(Code("for j in range(N_COORDS)"), (
+                Code("_sw_bad += (q[j] + qd[j] + qdd[j]) * 0.0"),)),),
+               orelse=(Loop(Code("for j in range(N_COORDS)"), (Code("_sw_bad += q[j] * 0.0"),)),))]
+    if not checked:
+        return [Code("_sw_bad = 0.0          # (every coordinate a constant number)")]
+    both = _sum_tree([f"(q[{j}] + qd[{j}] + qdd[{j}])" for j in checked])
+    one = _sum_tree([f"q[{j}]" for j in checked])
+    return [Comment("x * 0 is 0 for every finite x, NaN for inf and NaN (the coordinates "
+                    "that are not constant)"),
+            If(Code("_sw_all"), (Code(f"_sw_bad = ({both}) * 0.0"),),
+               orelse=(Code(f"_sw_bad = ({one}) * 0.0"),))]
+
+
 def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, watch=None,
-                    angles=(), forces=None):
+                    angles=(), forces=None, checked=None):
     """The statements of sweep_fast's body: with ``step`` (written_step: the position and
     the derivative statements) the solvers written out, else calls of position_sorted and
     derivatives_sorted. ``pairs``: the TrigPairs the step turns; ``signs``: the assembly
@@ -213,7 +243,8 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
     coordinates whose guess the position solve reads, ``tangent``: whether a position
     sweep takes the derivatives at its first point (where Newton blocks need a tangent to
     predict the second; _predictors); ``watch``: how its reach margins are watched
-    (reach_check); ``angles``: the indices of the bodies' angles (turn_check).
+    (reach_check); ``angles``: the indices of the bodies' angles (turn_check); ``checked``:
+    those of the coordinates that can come out not finite (_finite_check; None: all).
     ``forces``: the body of sweep_fast_forces instead, the multipliers after the
     derivatives at every point (with ``step``: the statements of
     dynamics_code.written_forces; else True: a call of dynamics_sorted)."""
@@ -248,10 +279,7 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
         *turn_check(angles),
         *reach_check(watch, tangent),
         Code("_sw_corr = 0.0"),
-        Code("_sw_bad = 0.0          # x * 0 is 0 for every finite x, NaN for inf and NaN"),
-        If(Code("_sw_all"), (Loop(Code("for j in range(N_COORDS)"), (
-            Code("_sw_bad += (q[j] + qd[j] + qdd[j]) * 0.0"),)),),
-           orelse=(Loop(Code("for j in range(N_COORDS)"), (Code("_sw_bad += q[j] * 0.0"),)),)),
+        *_finite_check(checked),
         *_each(guessed, ("_sw_corr = max(_sw_corr, abs(q[{j}] - _sw_qp[{j}]))",)),
         If(Code("_sw_bad != 0.0"), (Code("return _sw_good"),)),
         If(Code(f"k > 1 or k == 1 and (_sw_all or {tangent})"), (

@@ -11,8 +11,8 @@ import numpy as np
 
 from .solve import _fin, pivot_ratio, solve_position, solve_velocity, solve_acceleration
 from .toy import (ACCELERATION, BRANCH_ATOL, BRANCH_HMIN, BRANCH_NEAR, BRANCH_RATIO,
-                  BRANCH_TURN, INFO_ITERATIONS, JUMP, LEVEL, METHOD_FULL, N_COORDS, N_EQS,
-                  OK, POSITION_INFO_SIZE, REPORT_FAILED, REPORT_JUMP, REPORT_REACHED,
+                  BRANCH_TURN, INFO_ITERATIONS, INFO_METHOD, INFO_REACH, JUMP, LEVEL, METHOD_FULL, N_COORDS, N_EQS,
+                  OK, POINT_INFO_SIZE, POSITION_INFO_SIZE, REPORT_FAILED, REPORT_JUMP, REPORT_REACHED,
                   REPORT_SIZE, REPORT_STATUS, SORTED, STATUS_CODE, STATUS_ITERATIONS,
                   STATUS_MAX, STATUS_SUBSTEPS, THROUGH_SINGULAR, TINY, VELOCITY, REACH,
                   derivatives_sorted, jacobian_det, outputs, outputs_d, outputs_dd, phi,
@@ -83,7 +83,7 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
     have = 0                    # configurations reached so far
     va = False                  # qda holds the velocity at ta
     fresh = False               # ta was reached by a jump: predict no motion from it
-    info = np.zeros(POSITION_INFO_SIZE)
+    info = np.zeros(POINT_INFO_SIZE)     # (long enough for the position's reach margin)
     piv = np.zeros(2)           # det Φ_q and its blocks' sign pattern at tc (jacobian_det)
     sa = 0.0                    # the sign pattern at ta
     ma = 1.0                    # the reach margin at ta (REACH), and its change per unit
@@ -198,7 +198,8 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
                 flip = flip or abs(dc - da) > 0.5 * min(abs(da), abs(dc))
                 checked = True
             if REACH and status == OK:
-                mc = reach(q, tc, p)
+                # the margin the sorted solver's blocks kept, else computed afresh
+                mc = info[INFO_REACH] if info[INFO_METHOD] == 0.0 else reach(q, tc, p)
                 if have > 0 and mslope != mslope and va:
                     mslope = reach_slope(qa, qda, ta, dt, p, ma)    # the first step
                 if have > 0 and not reach_kept(mc, ma, mslope, dt):
