@@ -215,3 +215,30 @@ def test_every_example_and_the_chain_build_their_dyads():
     model = chain(50)
     plan = make_plan(model, model.equations())
     assert sum(b.method == "dyad_rrr" for b in plan.blocks) == 50
+
+
+def test_a_solver_in_parts_hands_over_the_smallest_margin(tmp_path):
+    """A chain of ten four-bars, its position solver split into parts: info[INFO_REACH]
+    is the smallest margin over all parts, that of reach() and of the ten dyads' own
+    triangles (sin² of the angle at each crank pin, from the sides b, c, |BD|). Plain tier:
+    the same text, no compile."""
+    sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
+    from chain_model import chain
+    mech = mechgen.load(build(chain(10), str(tmp_path)), tier="python")
+    mod = mech.module
+    assert "def _position_part1(" in open(mod.__file__).read()
+    names, info = mech.coordinates, np.zeros(mod.POINT_INFO_SIZE)
+    b, c = 2.5, 2.0
+    for t in (0.0, 0.3, 0.7):
+        q = mech.solve(t).q.copy()
+        info[mod.INFO_REACH] = -5.0
+        assert mod.position_sorted(q, t, mech.p, 1e-12, 1e-12, 50, info) == OK
+        smallest = 1.0
+        for k in range(10):
+            # the crank pin B: coupler k's origin (body 3k + 3); the rocker's pivot D
+            bx, by = q[names.index(f"X{3 * k + 3}")], q[names.index(f"Y{3 * k + 3}")]
+            L = math.hypot(3.0 * (k + 1) - bx, by)
+            cos_b = (b * b + L * L - c * c) / (2 * b * L)
+            smallest = min(smallest, 1.0 - cos_b * cos_b)
+        assert abs(info[mod.INFO_REACH] - smallest) < 1e-12
+        assert abs(info[mod.INFO_REACH] - mod.reach(q, t, mech.p)) < 1e-12

@@ -18,8 +18,8 @@ from ..protocol import PIVOT_RTOL, TINY
 from .blocks import CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, NEWTON, linear_in
 from .dyads import guess_free, quadratic_statements, rrr_statements, signed, trig_statements
 from .inputs import free, sym, time_local, unpack
-from .ir import (Assign, Break, Code, Comment, Guard, Helper, If, Loop, Return, Store, Variant,
-                 TrigPair, count_lines, replaced)
+from .ir import (Assign, Break, Code, Comment, Guard, Helper, If, Loop, Return, Store,
+                 TrigPair, Variant, count_lines, replaced)
 from .printer import Derived
 from .schedule import TempNames, emit
 
@@ -451,9 +451,8 @@ def _margin_end(pieces, value):
     keeps a margin."""
     if not any(p.watched for p in pieces):
         return []
-    return [Variant((If(Code("info.shape[0] > INFO_REACH"),
-                        (Code(f"info[INFO_REACH] = {value}"),), tail="  # the margin, for sweep()"),),
-                    ())]
+    return [Variant((If(Code("info.shape[0] > INFO_REACH"), (Code(f"info[INFO_REACH] = {value}"),),
+                        tail="  # the margin, for sweep()"),), ())]
 
 
 __all__ = ["position_code", "position_body", "PositionCode", "Piece", "Rows",

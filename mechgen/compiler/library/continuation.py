@@ -11,8 +11,9 @@ import numpy as np
 
 from .solve import _fin, pivot_ratio, solve_position, solve_velocity, solve_acceleration
 from .toy import (ACCELERATION, BRANCH_ATOL, BRANCH_HMIN, BRANCH_NEAR, BRANCH_RATIO,
-                  BRANCH_TURN, INFO_ITERATIONS, INFO_METHOD, INFO_REACH, JUMP, LEVEL, METHOD_FULL, N_COORDS, N_EQS,
-                  OK, POINT_INFO_SIZE, POSITION_INFO_SIZE, REPORT_FAILED, REPORT_JUMP, REPORT_REACHED,
+                  BRANCH_TURN, INFO_ITERATIONS, INFO_METHOD, INFO_REACH, JUMP, LEVEL,
+                  METHOD_FULL, N_COORDS, N_EQS, OK, POINT_INFO_SIZE, POSITION_INFO_SIZE,
+                  REPORT_FAILED, REPORT_JUMP, REPORT_REACHED,
                   REPORT_SIZE, REPORT_STATUS, SORTED, STATUS_CODE, STATUS_ITERATIONS,
                   STATUS_MAX, STATUS_SUBSTEPS, THROUGH_SINGULAR, TINY, VELOCITY, REACH,
                   derivatives_sorted, jacobian_det, outputs, outputs_d, outputs_dd, phi,
