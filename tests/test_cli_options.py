@@ -45,6 +45,14 @@ def outdir(build_dir):
     return build_dir
 
 
+@pytest.fixture(autouse=True)
+def _plain_python_tier(monkeypatch):
+    """The commands' output and messages are the point here, not numba: they run the
+    modules on the plain-Python tier (the same numbers; with numba's cache cold, the
+    seeded copies were compiled again, ~60 s of CPU for this file and test_cli_solve.py)."""
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+
+
 def run(capsys, *argv):
     try:
         code = main([str(a) for a in argv])

@@ -34,6 +34,14 @@ def outdir(tmp_path_factory):
     return str(path)
 
 
+@pytest.fixture(autouse=True)
+def _plain_python_tier(monkeypatch):
+    """The commands' output and messages are the point here, not numba: they run the
+    modules on the plain-Python tier (the same numbers; with numba's cache cold, the
+    seeded copies were compiled again, ~60 s of CPU for this file and test_cli_options.py)."""
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+
+
 @pytest.fixture
 def run(outdir, capsys):
     """mechgen's main() in this process: (exit code, stdout, stderr)."""

@@ -20,7 +20,12 @@ import numpy as np
 import pytest
 
 import random_checks as rc
+import random_families
 from random_families import FAMILIES
+
+# the families on the plain-Python tier: the generated text judged point by point, without
+# numba compiling three modules (~45 s of CPU; the same numbers: tests/test_tiers.py)
+random_families.TIER = "python"
 
 SEED = 2024
 CASES = 10          # draws per family and kind

@@ -6,7 +6,6 @@ sweep's, a pivot below SING_RTOL) solved again; the plain tier's ZeroDivisionErr
 from __future__ import annotations
 
 import os
-import shutil
 
 import numpy as np
 import pytest
@@ -19,12 +18,12 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
 @pytest.fixture(scope="module")
-def qr(tmp_path_factory):
+def qr():
     """The committed quick-return with masses and a cutting force, compiled (its fast
-    sweep writes the multipliers into the loop)."""
-    path = str(tmp_path_factory.mktemp("qr") / "quick_return_forces.py")
-    shutil.copy(os.path.join(ROOT, "generated", "quick_return_forces.py"), path)
-    return mechgen.load(path, tier="compiled")
+    sweep writes the multipliers into the loop); in place, sharing numba's cache of it
+    with the suite's other users of the module instead of compiling a copy."""
+    return mechgen.load(os.path.join(ROOT, "generated", "quick_return_forces.py"),
+                        tier="compiled")
 
 
 def _dense(mech, sw, ks) -> np.ndarray:

@@ -40,7 +40,11 @@ def qr_model():
 
 @pytest.fixture(scope="module")
 def mech(qr_model, tmp_path_factory):
-    return mechgen.compile(qr_model, outdir=str(tmp_path_factory.mktemp("outfn")))
+    """On the plain-Python tier: the values of the seed's functions, the same text and
+    numbers as numba's (which runs a module's outputs in generated/quick_return.py's
+    tests), without compiling this build (~25 s of CPU)."""
+    return mechgen.compile(qr_model, outdir=str(tmp_path_factory.mktemp("outfn")),
+                           tier="python")
 
 
 @pytest.fixture(scope="module")

@@ -288,6 +288,8 @@ def test_cli_plot_units(qr, build_dir, tmp_path, monkeypatch):
         seen.append([lines[0].axes.get_xlabel()] + [ln.axes.get_ylabel() for ln in lines])
         return lines
     monkeypatch.setattr(plot, "plot", spy)
+    # the labels are the point: the plain-Python tier, not a compile of the fresh build
+    monkeypatch.setenv("MECHGEN_TIER", "python")
     model = os.path.join(ROOT, "examples", "quick_return.py")
     assert main(["plot", model, "X4", "X4d", "-o", str(tmp_path / "p.png"), "--outdir",
                  build_dir, "-n", "11", "--length", "mm"]) == 0

@@ -8,8 +8,10 @@ status OK must be the closed form's; a solve may refuse (raise, or flag a point 
 THROUGH_SINGULAR) only where the closed form says the configuration is near-singular
 (NEAR_SINGULAR), and at most MAX_REFUSED of a test's examples may refuse.
 
-Each topology is a mechgen Model compiled once into a temporary folder; every example
-only changes parameters (mech.with_params). Run with ``-s`` to see how many random
+Each topology is a mechgen Model built once into a temporary folder and run on the
+plain-Python tier (the generated text, the same numbers as numba's: tests/test_tiers.py;
+~35 s of CPU less than compiling both); every example only changes parameters
+(mech.with_params). Run with ``-s`` to see how many random
 mechanisms and configurations were checked."""
 import math
 import warnings
@@ -79,8 +81,8 @@ def slider_crank_model():
 def mechs(tmp_path_factory):
     from mechgen.compiler.build import build
     out = str(tmp_path_factory.mktemp("property_models"))
-    return {"fourbar": mechgen.load(build(fourbar_model(), out)),
-            "slider": mechgen.load(build(slider_crank_model(), out))}
+    return {"fourbar": mechgen.load(build(fourbar_model(), out), tier="python"),
+            "slider": mechgen.load(build(slider_crank_model(), out), tier="python")}
 
 
 # -- closed forms (sympy, differentiated in time, lambdified once) ------------------------------

@@ -8,10 +8,11 @@ against a closed form written in the test (tests/random_checks.py): a point with
 OK on another assembly mode, or past a lock window, fails.
 
 hypothesis draws seeds (derandomize=True: the same mechanisms every run); each family is
-one parameterised model compiled once per session. The long profile is
-benchmarks/random_mechanisms.py (the same checks, >= 10,000 mechanisms). Run with -s to
-see the counts. Warm (modules in mechgen's cache folder) the file takes ~20 s on one core;
-cold, numba compiles the seven modules first (~2 min of CPU).
+one parameterised model built once per session and run on the plain-Python tier (the
+same generated text as numba's, the same numbers: tests/test_tiers.py; ~100 s of CPU less
+than compiling the seven modules); the dask workers and the CUDA simulator's kernels still
+compile the file. The long profile is benchmarks/random_mechanisms.py (the same checks,
+>= 10,000 mechanisms, compiled). Run with -s to see the counts.
 
 On the code this suite was written against, these fail (issue 20): the issue's
 slider-driven slider-crank; single solves with a guess whose angles are wrapped to
@@ -31,8 +32,11 @@ from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import strategies as st
 
 import random_checks as rc
+import random_families
 from conftest import ROOT
 from random_families import FAMILIES, FOURBAR, SliderDriven
+
+random_families.TIER = "python"         # (see the docstring)
 
 COUNTS = Counter()
 SETTINGS = settings(max_examples=4, deadline=None, derandomize=True, database=None,

@@ -26,8 +26,11 @@ def qr_model():
 
 @pytest.fixture(scope="session")
 def qr_compiled(qr_model, tmp_path_factory):
-    """mechgen.compile(model): built into a tmp dir, loaded, the model kept."""
-    return mechgen.compile(qr_model, outdir=str(tmp_path_factory.mktemp("compiled")))
+    """mechgen.compile(model): built into a tmp dir, loaded, the model kept. On the
+    plain-Python tier: its tests are about the model and the symbolic side kept (the same
+    numbers as numba's), and a fresh build compiled by numba cost ~20 s of CPU."""
+    return mechgen.compile(qr_model, outdir=str(tmp_path_factory.mktemp("compiled")),
+                           tier="python")
 
 
 class Spy:

@@ -29,7 +29,9 @@ def staged():
 
 @pytest.fixture(scope="module")
 def handover():
-    return mechgen.load(os.path.join(GENERATED, "quick_return_crank_slider.py"))
+    """On the plain-Python tier: the same text and numbers; numba compiles a staged
+    module's switches in ``staged``'s tests."""
+    return mechgen.load(os.path.join(GENERATED, "quick_return_crank_slider.py"), tier="python")
 
 
 def _crank_model(back_law=None, until=0.5):

@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from closed_forms import quick_return
-from conftest import EXAMPLES
+from conftest import EXAMPLES, GENERATED
 
 bokeh = pytest.importorskip("bokeh", reason="the view needs bokeh (pip install bokeh)")
 webdriver = pytest.importorskip("selenium.webdriver",
@@ -81,15 +81,18 @@ def browser():
 
 @pytest.fixture(scope="module")
 def mech():
-    return mechgen.compile(MODEL, tier="compiled")
+    """Compiled into generated/, as `mechgen view` does by default (the same text as the
+    committed module, kept: numba's cache of it is shared with the suite's other users
+    of generated/quick_return.py instead of compiling a copy)."""
+    return mechgen.compile(MODEL, outdir=GENERATED, tier="compiled")
 
 
 @pytest.fixture(scope="module")
 def server(mech):
     from mechgen.view.explorer import Explorer
     from mechgen.view.server import ViewServer
-    srv = ViewServer(lambda: Explorer(mechgen.compile(MODEL, tier="compiled"), n=1000,
-                                      trace=["deslizadera[1]", "manivela[2]"]))
+    srv = ViewServer(lambda: Explorer(mechgen.compile(MODEL, outdir=GENERATED, tier="compiled"),
+                                      n=1000, trace=["deslizadera[1]", "manivela[2]"]))
     srv.start()
     yield srv
     srv.stop()
@@ -255,7 +258,7 @@ def test_explore_runs_in_a_notebook(tmp_path):
     nb = nbformat.v4.new_notebook()
     nb.cells = [nbformat.v4.new_code_cell(
         "import mechgen\n"
-        f"mech = mechgen.compile({MODEL!r}, tier='compiled')\n"
+        f"mech = mechgen.compile({MODEL!r}, outdir={GENERATED!r}, tier='compiled')\n"
         "page = mech.explore(vary=['longitud'], steps=3, n=50)\n"
         "print(len(page.table[1].data['start']), 'cycles')")]
     nbclient.NotebookClient(nb, timeout=300, kernel_name="python3",
