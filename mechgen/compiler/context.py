@@ -32,7 +32,7 @@ from .printer import Derived
 from .position import position_body, trig_pair
 from .profiles_code import profile_helpers
 from .sweep import options as sweep_options
-from .sweep import sweep_fast_body, written_step
+from .sweep import sweep_fast_body, written_det, written_step
 
 
 def module_context(model, sort=True, level="acceleration", outputs=None, cse=True,
@@ -110,8 +110,9 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         # the coordinates that come out a constant number are finite at every point
         steady = {y for y, v in plan.known_values.items() if v.is_number and v.is_finite}
         checked = [j for j, y in enumerate(eq.q) if y not in steady]
+        det = written_det(plan, eq) if step is not None else None
         bodies["sweep_fast"] = sweep_fast_body(step, pairs, signs, guessed, tangent, watch,
-                                               angles, checked=checked)
+                                               angles, checked=checked, det=det)
         # a dynamic solve's derivatives and multipliers in one pass, and the dynamic
         # sweep's quick path with the multipliers in its step (dynamics_code)
         made = dynamics_sorted_body(plan, eq, model, derivatives) if force_parts else None

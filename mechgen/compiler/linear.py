@@ -255,6 +255,14 @@ def jacobian_det_body(plan, eq):
     exactly where Φ_q loses rank along a branch, which the sweep watches for. It goes to
     piv[0] and is returned; piv[1] receives the pattern of the blocks' signs
     (branch_code)."""
+    st = jacobian_det_statements(plan, eq)
+    exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
+    return prologue(eq, exprs) + emit(st, TempNames(), plan.cse) + [Code("return piv[0]")]
+
+
+def jacobian_det_statements(plan, eq):
+    """jacobian_det's statements before their CSE, which read the coordinates by name
+    (the fast sweep writes them into its loop: sweep.in_loop)."""
     J = eq.phi_q
     st, factors = [], []
     for b in plan.blocks:
@@ -275,6 +283,4 @@ def jacobian_det_body(plan, eq):
         else:
             st.append(Assign(d, value))
             factors.append(d)
-    st += branch_code(factors, "piv")
-    exprs = [x.expr for x in st if isinstance(x, (Assign, Store))]
-    return prologue(eq, exprs) + emit(st, TempNames(), plan.cse) + [Code("return piv[0]")]
+    return st + branch_code(factors, "piv")

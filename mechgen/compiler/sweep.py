@@ -28,6 +28,7 @@ position code calls as a pair are turned from the last point instead (ir.Options
 from __future__ import annotations
 
 from .inputs import free, time_local, unpack
+from .linear import jacobian_det_statements
 from .ir import Assign, Code, Comment, Guard, If, Loop, Options, Return, Store, replaced
 from ..model.geometry import T
 from .schedule import TempNames, emit
@@ -146,14 +147,27 @@ _NEAR = ("abs(_sw_det) <= 8.0 * _sw_rate * abs(t - _sw_tk) and "
          "abs({d} - _sw_det) > 0.5 * min(abs({d}), abs(_sw_det))")
 
 
-def _position_det():
+def written_det(plan, eq):
+    """jacobian_det() written into the fast sweep's loop after the position code, reading
+    the sin and cos that code turned (in_loop) instead of calling them afresh; None where
+    a block is larger than 2 × 2 (its determinant a call of the library's _det, a name
+    the loop's Newton code uses for a number)."""
+    if any(b.size > 2 for b in plan.blocks):
+        return None
+    return in_loop(plan, eq, jacobian_det_statements(plan, eq), "_dj")
+
+
+def _position_det(det=None):
     """A position sweep's watch on det Φ_q: evaluated where its sign could have changed
     since the point evaluated last (_sw_good - 1, at time _sw_tk); a change sends the
-    sweep back there (see the module's docstring)."""
+    sweep back there (see the module's docstring). ``det``: jacobian_det's statements
+    written out (written_det), else a call."""
     due = ("k < 2 or k + 1 - _sw_good >= BRANCH_DET_EVERY or info[INFO_ITERATIONS] > 2 or "
            "abs(_sw_det) <= 8.0 * _sw_rate * abs(t - _sw_tk)")
+    evaluate = [Code("_sw_d = jacobian_det(q, t, p, piv)")] if det is None else \
+        [*det, Code("_sw_d = piv[0]")]
     return If(Code(due), (
-        Code("_sw_d = jacobian_det(q, t, p, piv)"),
+        *evaluate,
         If(Code("k > 0"), (
             If(Code("not _sw_d * _sw_det > 0.0 or piv[1] != _sw_sig"), (Code("return _sw_good"),),
                tail="      # a block's sign changed: sweep() goes on from the last evaluated"),
@@ -235,7 +249,7 @@ def _finite_check(checked):
 
 
 def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, watch=None,
-                    angles=(), forces=None, checked=None):
+                    angles=(), forces=None, checked=None, det=None):
     """The statements of sweep_fast's body: with ``step`` (written_step: the position and
     the derivative statements) the solvers written out, else calls of position_sorted and
     derivatives_sorted. ``pairs``: the TrigPairs the step turns; ``signs``: the assembly
@@ -299,7 +313,7 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
             Code("_sw_sig = piv[1]"),
             Code("_sw_tk = t"),
             Code("_sw_good = k + 1")),
-           orelse=(_position_det(),)),
+           orelse=(_position_det(det),)),
         Loop(Code("for j in range(N_COORDS)"), (Code("Q[k, j] = q[j]"),)),
         If(Code("_sw_keep_d"), (
             Loop(Code("for j in range(N_COORDS)"), (Code("QD[k, j] = qd[j]"),)),)),
