@@ -168,10 +168,14 @@ def test_the_fast_path_is_taken_with_any_names(built):
 def test_the_module_reads_with_the_model_names(built):
     text = render(quick_return("names_params", AS_PARAMETERS))
     # free names are kept; names the generated functions use (their arguments, the fast
-    # sweep's loop variables) get a trailing underscore
-    for kept in ("i", "n", "N", "E", "I", "S", "level"):
+    # sweep's loop variables) get a trailing underscore. (j is free here: this sweep
+    # writes its loops over the coordinates out; the library's own loops over j do not
+    # share a scope with the model's names)
+    for kept in ("i", "j", "n", "N", "E", "I", "S", "level"):
         assert re.search(rf"^\s+{kept} = p\[\d+\]$", text, re.M), kept
-    for mangled in ("j", "k", "t", "p", "q", "tol"):
+    assert not re.search(r"^\s+for j in", text.split("def sweep_fast(")[1].split("\ndef ")[0],
+                         re.M)
+    for mangled in ("k", "t", "p", "q", "tol"):
         assert re.search(rf"^\s+{mangled}_ = p\[\d+\]$", text, re.M), mangled
         assert not re.search(rf"^\s+{mangled} = p\[\d+\]$", text, re.M), mangled
     text = render(quick_return("names_coords", AS_COORDINATES))

@@ -248,6 +248,20 @@ def _finite_check(checked):
                orelse=(Code(f"_sw_bad = ({one}) * 0.0"),))]
 
 
+def _rows(step, name, out):
+    """Row k of ``out`` (Q, QD, QDD) from the point's values: with a written ``step``,
+    straight from the numbers it stored into ``name`` (q, qd, qdd) when it stored every
+    one (numba then keeps them in registers rather than reading the array back), else
+    copied from ``name``."""
+    if step is not None:
+        stored = {x.lhs: x.expr for x in (*step[0], *step[1]) if isinstance(x, Store)}
+        n = sum(lhs.startswith("q[") for lhs in stored)    # the position code stores all
+        values = [stored.get(f"{name}[{j}]") for j in range(n)]
+        if n and all(v is not None for v in values):
+            return [Store(f"{out}[k, {j}]", v) for j, v in enumerate(values)]
+    return [Loop(Code("for j in range(N_COORDS)"), (Code(f"{out}[k, j] = {name}[j]"),))]
+
+
 def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, watch=None,
                     angles=(), forces=None, checked=None, det=None):
     """The statements of sweep_fast's body: with ``step`` (written_step: the position and
@@ -314,11 +328,9 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
             Code("_sw_tk = t"),
             Code("_sw_good = k + 1")),
            orelse=(_position_det(det),)),
-        Loop(Code("for j in range(N_COORDS)"), (Code("Q[k, j] = q[j]"),)),
-        If(Code("_sw_keep_d"), (
-            Loop(Code("for j in range(N_COORDS)"), (Code("QD[k, j] = qd[j]"),)),)),
-        If(Code("_sw_keep_dd"), (
-            Loop(Code("for j in range(N_COORDS)"), (Code("QDD[k, j] = qdd[j]"),)),)),
+        *_rows(step, "q", "Q"),
+        If(Code("_sw_keep_d"), tuple(_rows(step, "qd", "QD"))),
+        If(Code("_sw_keep_dd"), tuple(_rows(step, "qdd", "QDD"))),
         Code("STATUS[k, STATUS_CODE] = OK"),
         If(Code("_sw_iterations"), (
             Code("STATUS[k, STATUS_ITERATIONS] = min(info[INFO_ITERATIONS], STATUS_MAX)"),)),
