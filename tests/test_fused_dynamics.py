@@ -6,6 +6,7 @@ sweep's, a pivot below SING_RTOL) solved again; the plain tier's ZeroDivisionErr
 from __future__ import annotations
 
 import os
+import re
 
 import numpy as np
 import pytest
@@ -146,3 +147,51 @@ def test_design_table_of_peak_torque_solves_the_multipliers_in_its_sweeps(qr, mo
         for part in ("min", "max", "tmin", "tmax"):
             x, y = getattr(a, part), getattr(b, part)
             np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-12 * np.nanmax(np.abs(y)))
+
+
+def test_bounds_of_a_row_scale():
+    """_bound: |sin|, |cos| <= 1 and nothing else; a coordinate's size is not bounded."""
+    import sympy as sp
+    from mechgen.compiler.forces_code import _bound, _never_small
+    x, X = sp.symbols("x X", real=True)
+    scale = sp.Max(1, sp.Abs(2.6 * sp.cos(x) - 40.0 * sp.sin(x)))
+    assert _bound(scale) == pytest.approx(42.6)
+    assert _bound(sp.Abs(3 * sp.sin(x) ** 2 * sp.cos(2 * x))) == pytest.approx(3.0)
+    assert _bound(sp.Max(1, sp.Abs(X * sp.sin(x)))) is None
+    assert _never_small(sp.Integer(1), scale) and not _never_small(sp.Float(1e-9), scale)
+    assert not _never_small(sp.Abs(sp.cos(x)), scale)        # not a constant
+
+
+def test_constant_pivots_no_row_scale_can_dwarf_go_untested(tmp_path):
+    """The Strandbeest leg with masses: the rows whose pivot is a constant 1 against a
+    scale bounded by |a cos + b sin| <= |a| + |b| carry no pivot test in the fused step
+    (dynamics_sorted), whose λ still equal numpy's solve of Φ_qᵀ λ = Q_a + Q_c − I, on the
+    plain tier (the same text)."""
+    import sys
+    from mechgen.compiler.build import build
+    from mechgen.model.loader import load_models
+    sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
+    model = load_models(os.path.join(ROOT, "benchmarks", "strandbeest_forces.py"))[0]
+    mech = mechgen.load(build(model, str(tmp_path)), tier="python")
+    text = open(mech.module.__file__).read()
+    fused = text.split("def dynamics_sorted(")[1].split("\ndef ")[0]
+    point = text.split("def multipliers_point(")[1].split("\ndef ")[0]
+    # the tests left are the 2 x 2 blocks' (_fa<row>a, _fa<row>b): every 1 x 1 block of
+    # this leg has a constant pivot, 1, and a scale its trig bounds; multipliers_point
+    # (which reports the smallest pivot) tests them all
+    left = re.findall(r"not (_fa\w+) >= SING_RTOL", fused)
+    assert left and all(name[-1] in "ab" for name in left), left
+    assert re.search(r"not _p\d+ >= SING_RTOL", point)
+    n = mech.n
+    for t in (0.05, 0.4, 0.8):
+        s = mech.solve(t, level="acceleration")
+        lam, piv = np.zeros(len(mech.module.CONSTRAINT_LABELS)), np.zeros(3)
+        factors = np.zeros(len(mech.module.DRIVER_ROWS))
+        qd, qdd = np.zeros(n), np.zeros(n)
+        assert mech.module.dynamics_sorted(s.q.copy(), t, mech.p, qd, qdd, piv, lam,
+                                           factors) == 0
+        assert piv[2] == 1.0
+        terms = np.zeros((3, n))
+        mech.module.force_terms(s.q, qd, qdd, t, mech.p, terms)
+        dense = np.linalg.solve(mech.jacobian(s.q, t).T, terms[0] + terms[1] - terms[2])
+        _close(lam, dense, 1e-12)

@@ -149,6 +149,11 @@ def multiplier_statements(plan, eq, model, prefix="_", stop=True):
         return p
 
     for rows, cols in reversed(spans):
+        if not stop and len(rows) == 1 and _never_small(sp.Abs(J[(rows[0], cols[0])]),
+                                                         scale(rows[0])):
+            (i,), (c,) = rows, cols         # a constant pivot no scale of its row can
+            st.append(Assign(lam[i], right(c, rows) / J[(i, c)]))    # dwarf: no test
+            continue
         s = []
         for i in rows:
             value = scale(i)
@@ -180,6 +185,43 @@ def multiplier_statements(plan, eq, model, prefix="_", stop=True):
         st.append(Assign(lam[i0], (y0 * m[1, 1] - m[0, 1] * y1) / det))
         st.append(Assign(lam[i1], (m[0, 0] * y1 - m[1, 0] * y0) / det))
     return st, lam
+
+
+def _never_small(pivot, scale):
+    """Whether a constant ``pivot`` stays at or above SING_RTOL times its row's ``scale``
+    wherever the coordinates are: the scale bounded with |sin|, |cos| <= 1 (_bound)."""
+    if not (pivot.is_number and pivot > 0):
+        return False
+    bound = _bound(scale)
+    return bound is not None and float(pivot) >= SING_RTOL * bound
+
+
+def _bound(e):
+    """An upper bound of |e| over all coordinates, times and parameters (None where e
+    holds a symbol outside sin and cos: a coordinate's or a parameter's size is not
+    bounded)."""
+    if e.is_number:
+        return abs(float(e))
+    if isinstance(e, (sp.sin, sp.cos)):
+        return 1.0
+    if isinstance(e, sp.Abs):
+        return _bound(e.args[0])
+    if isinstance(e, sp.Pow) and e.exp.is_Integer and e.exp > 0:
+        b = _bound(e.base)
+        return None if b is None else b ** int(e.exp)
+    if isinstance(e, (sp.Add, sp.Mul, sp.Max)):
+        parts = [_bound(a) for a in e.args]
+        if any(b is None for b in parts):
+            return None
+        if isinstance(e, sp.Add):
+            return sum(parts)
+        if isinstance(e, sp.Max):
+            return max(parts)
+        out = 1.0
+        for b in parts:
+            out *= b
+        return out
+    return None
 
 
 # the force functions the template lays out, in order: (name, arguments, docstring lines,
