@@ -48,6 +48,15 @@ def joint(a, b, c, d, th2, mode):
     return (cx, cy), math.atan2(cy - by, cx - bx), math.atan2(cy, cx - d)
 
 
+def random_fourbar(rng):
+    """Random sides a, b, c, d, crank angle θ2, the parameter vector and |BD|."""
+    a, b, c, d = rng.uniform(0.3, 1.0), rng.uniform(1.5, 3.5), rng.uniform(1.5, 3.0), \
+        rng.uniform(2.0, 3.5)
+    th2 = rng.uniform(-math.pi, math.pi)
+    L = math.hypot(d - a * math.cos(th2), a * math.sin(th2))
+    return a, b, c, d, th2, np.array([a, b, c, d, th2, 0.0]), L
+
+
 def guess_near(mech, a, th2, th3, th4, rng, spread):
     """A guess in the mode of (th3, th4), its angles off by up to ``spread``."""
     q = np.zeros(mech.n)
@@ -76,11 +85,7 @@ def test_random_configurations_both_modes(pair):
     info = np.zeros(dyad.module.POSITION_INFO_SIZE)
     checked = 0
     while checked < 300:
-        a, b, c, d = rng.uniform(0.3, 1.0), rng.uniform(1.5, 3.5), rng.uniform(1.5, 3.0), \
-            rng.uniform(2.0, 3.5)
-        th2 = rng.uniform(-math.pi, math.pi)
-        p = np.array([a, b, c, d, th2, 0.0])
-        L = math.hypot(d - a * math.cos(th2), a * math.sin(th2))
+        a, b, c, d, th2, p, L = random_fourbar(rng)
         if not abs(b - c) + 0.05 < L < b + c - 0.05:
             continue                       # keep away from the toggles (tested below)
         for mode in (1, -1):
@@ -111,11 +116,7 @@ def test_the_position_solve_hands_over_its_reach_margin(pair):
     rng = np.random.default_rng(7)
     buf = np.full(mod.POINT_INFO_SIZE + 2, 7.0)
     for _ in range(50):
-        a, b, c, d = rng.uniform(0.3, 1.0), rng.uniform(1.5, 3.5), rng.uniform(1.5, 3.0), \
-            rng.uniform(2.0, 3.5)
-        th2 = rng.uniform(-math.pi, math.pi)
-        p = np.array([a, b, c, d, th2, 0.0])
-        L = math.hypot(d - a * math.cos(th2), a * math.sin(th2))
+        a, b, c, d, th2, p, L = random_fourbar(rng)
         if not abs(b - c) + 0.05 < L < b + c - 0.05:
             continue
         cos_b = (b * b + L * L - c * c) / (2 * b * L)         # the law of cosines at B
