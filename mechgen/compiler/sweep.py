@@ -272,7 +272,9 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
     sweep takes the derivatives at its first point (where Newton blocks need a tangent to
     predict the second; _predictors); ``watch``: how its reach margins are watched
     (reach_check); ``angles``: the indices of the bodies' angles (turn_check); ``checked``:
-    those of the coordinates that can come out not finite (_finite_check; None: all).
+    those of the coordinates that can come out not finite (_finite_check; None: all);
+    ``det``: jacobian_det written out for a position sweep's watch (written_det; None:
+    a call).
     ``forces``: the body of sweep_fast_forces instead, the multipliers after the
     derivatives at every point (with ``step``: the statements of
     dynamics_code.written_forces; else True: a call of dynamics_sorted)."""
