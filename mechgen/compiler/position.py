@@ -439,10 +439,12 @@ def position_body(plan, eq):
 
 
 def _margin_start(pieces):
-    """_mc, the smallest reach margin of the blocks that keep one (none: no statement)."""
+    """_mc (in the fast sweep _sw_mc: sweep.reach_check), the smallest reach margin of the
+    blocks that keep one (none: no statement)."""
     if not any(p.watched for p in pieces):
         return []
-    return [Variant((Code("_mc = 1.0  # the smallest reach margin of the blocks below"),), ())]
+    return [Variant((Code("_mc = 1.0  # the smallest reach margin of the blocks below"),),
+                    (Code("_sw_mc = 1.0  # the smallest reach margin of the blocks below"),))]
 
 
 def _margin_end(pieces, value):

@@ -219,11 +219,12 @@ def turn_check(angles):
 
 
 def _sum_tree(terms):
-    """``terms`` added pairwise (a + b) + (c + d): a short chain of dependent additions."""
-    while len(terms) > 1:
-        terms = [f"({a} + {b})" if b else a
-                 for a, b in zip(terms[::2], terms[1::2] + [""] * (len(terms) % 2))]
-    return terms[0][1:-1] if terms[0].startswith("(") else terms[0]
+    """``terms`` added by halves, (a + b) + (c + d): a short chain of dependent additions."""
+    if len(terms) == 1:
+        return terms[0]
+    half = (len(terms) + 1) // 2
+    return " + ".join(t[0] if len(t) == 1 else f"({_sum_tree(t)})"
+                      for t in (terms[:half], terms[half:]))
 
 
 def _finite_check(checked):
@@ -282,7 +283,6 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
     if step is not None:
         init += [Code("{0} = 1.0  # a dyad's assembly sign, from the first point", (s,))
                  for s in signs]
-    if step is not None:
         position, derivatives = step
         derivatives = list(derivatives) + list(forces or ())
         solve = [Comment("position_sorted() and derivatives_sorted() written out here, the "
@@ -303,8 +303,6 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
                            Code("FPIV[k] = piv[2]")]
         warm = []
     solve.append(If(Code(f"_sw_all or k == 0 and {tangent}"), tuple(derivatives)))
-    if watch == "written":
-        solve.insert(0, Code("_sw_mc = 1.0            # the blocks' smallest reach margin"))
     checks = [
         *turn_check(angles),
         *reach_check(watch, tangent),
