@@ -30,12 +30,16 @@ def methods(model, **kw):
 def test_quick_return_block_methods():
     m = example_model("quick_return")
     plan, found = methods(m)
-    assert found == [(EXPLICIT, ["X2"], []), (EXPLICIT, ["Y2"], []), (EXPLICIT, ["Th2"], []),
+    # the blocks that stay the same along a sweep first (the ground pins, the slider's
+    # angle on its guide): the fast sweep solves them once, before its loop
+    assert found == [(EXPLICIT, ["X2"], []), (EXPLICIT, ["Y2"], []),
                      (EXPLICIT, ["X3"], []), (EXPLICIT, ["Y3"], []),
-                     (CLOSED_FORM_TRIG, ["Th3"], ["Th3"]),       # a, b vary: by a sign
                      (CLOSED_FORM_TRIG, ["Th4"], ["Th4"]),       # 34 sin(Th4) = 0: no calls
+                     (EXPLICIT, ["Th2"], []),
+                     (CLOSED_FORM_TRIG, ["Th3"], ["Th3"]),       # a, b vary: by a sign
                      (CLOSED_FORM_QUADRATIC, ["X4", "Y4"], ["X4"])]  # circle-line, Y4 explicit
-    th4 = plan.blocks[6]
+    assert plan.steady == 5
+    th4 = plan.blocks[4]
     assert th4.form[0] == 34 and th4.form[1] == 0 and th4.form[2] == 0
     assert plan.sorted and plan.level == 2 and all(plan.solved) and plan.share
     assert plan.position_parts == ()
@@ -49,11 +53,11 @@ def test_quick_return_block_methods():
 def test_closed_forms_all_and_none():
     m = example_model("quick_return")
     _, found = methods(m, closed_forms="all")
-    assert found[5] == (CLOSED_FORM_TRIG, ["Th3"], ["Th3"])
-    assert found[6] == (CLOSED_FORM_TRIG, ["Th4"], ["Th4"])
+    assert found[4] == (CLOSED_FORM_TRIG, ["Th4"], ["Th4"])
+    assert found[6] == (CLOSED_FORM_TRIG, ["Th3"], ["Th3"])
     assert found[7] == (CLOSED_FORM_QUADRATIC, ["X4", "Y4"], ["X4"])
     _, found = methods(m, closed_forms="none")
-    assert [x[0] for x in found[5:]] == [NEWTON, NEWTON, NEWTON]
+    assert [x[0] for x in found[4:]] == [NEWTON, EXPLICIT, NEWTON, NEWTON]
     with pytest.raises(ValueError, match="closed_forms must be"):
         methods(m, closed_forms="some")
 
@@ -74,7 +78,8 @@ def test_the_plan_is_frozen_and_checks_itself():
 def test_pruned_plan():
     m = example_model("quick_return")
     plan, found = methods(m, level="position", outputs=["Th3"])
-    assert [x[1] for x in found] == [["X2"], ["Y2"], ["Th2"], ["X3"], ["Y3"], ["Th3"]]
+    assert [x[1] for x in found] == [["X2"], ["Y2"], ["X3"], ["Y3"], ["Th2"], ["Th3"]]
+    assert plan.steady == 4
     assert plan.solved == (True,) * 6 + (False,) * 3 and plan.level == 0
     assert plan.outputs == ()
 
@@ -91,8 +96,8 @@ def test_large_model_is_planned_in_parts_without_shared_calls():
 def test_docstring_blocks_and_code_say_how_each_block_is_solved():
     text = render(example_model("quick_return"))
     doc = text[:text.index('"""\nimport math')]
-    assert "  6. Th3 (closed form: a sin(Th3) + b cos(Th3) + c = 0, the guess's sign)\n" in doc
-    assert "  7. Th4 (closed form: a sin(Th4) + b cos(Th4) + c = 0)\n" in doc
+    assert "  5. Th4 (closed form: a sin(Th4) + b cos(Th4) + c = 0)\n" in doc
+    assert "  7. Th3 (closed form: a sin(Th3) + b cos(Th3) + c = 0, the guess's sign)\n" in doc
     assert "  8. X4, Y4 (closed form: A X4^2 + B X4 + C = 0, the guess's sign; Y4 explicit)\n" \
         in doc
     assert '    ("closed_form_trig", ("Th3", ), (5, )),' in text
@@ -111,8 +116,8 @@ def test_context_keys_of_the_fast_sweep():
     assert body[0].startswith("# (the loop's own names") and body[-1] == "return ts.shape[0]"
     assert "    if _sw_warm:" in body and "        return _sw_good" in body  # inside the loop
     assert not any(line.strip() in ("return 1", "return 2", "return 4") for line in body)
-    assert [b["method"] for b in ctx["blocks"]][5:] == [CLOSED_FORM_TRIG, CLOSED_FORM_TRIG,
-                                                        CLOSED_FORM_QUADRATIC]
+    assert [b["method"] for b in ctx["blocks"]][4:] == [CLOSED_FORM_TRIG, EXPLICIT,
+                                                        CLOSED_FORM_TRIG, CLOSED_FORM_QUADRATIC]
     assert module_context(m, sort=False)["sweep_fast"] is None
     assert module_context(m, level="velocity")["sweep_fast"] is None
     # a model whose solvers are split calls them from the loop instead

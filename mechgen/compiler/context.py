@@ -29,7 +29,7 @@ from .names import Names, emitter_symbols, identifiers, module_words
 from .dyads import reach_body
 from .plan import SHARE_MAX, make_plan, summary
 from .printer import Derived
-from .position import position_body, trig_pair
+from .position import position_body, solved_once, trig_pair
 from .profiles_code import profile_helpers
 from .sweep import options as sweep_options
 from .sweep import sweep_fast_body, written_det, written_step
@@ -92,7 +92,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         # not long functions it does not call there (Φ_q, Φ) are split into parts
         written = plan.sorted and not profiles and len(eq.q) <= SHARE_MAX
         if written and plan.share and not plan.position_parts and derivatives is not None:
-            step = written_step(plan, eq, bodies["position_sorted"], derivatives)
+            step = written_step(plan, eq, derivatives)
         pairs = [trig_pair(y) for y in plan.position.trig_pairs]
         signs = [Derived("_sg_", y) for y in plan.position.signs]
         # the coordinates a block solves other than explicitly (Newton's tears, closed
@@ -100,16 +100,19 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         # form's result does not depend on its guess, but a coarse step over a window where
         # it does not assemble shows as a correction its sign alone cannot see; the
         # tangent at a position sweep's first point predicts its second
-        guessed = sorted({v for b in plan.blocks if b.method != EXPLICIT for v in b.tears})
+        # (not those it solves once, before its loop: position.solved_once)
+        once = solved_once(plan) if step is not None else set()
+        guessed = sorted({v for b in plan.blocks if b.method != EXPLICIT for v in b.tears
+                          if eq.q[v] not in once})
         tangent = bool(guessed)
         # the reach margins of the blocks solved whatever the guess (dyads.reach_body):
         # kept by the written-out solver's blocks, else from reach()
         watch = None if "reach" not in bodies else "written" if step else "call"
         rotations = {f"Th{b.number}" for b in model.bodies.values() if not b.is_ground}
-        angles = [j for j, y in enumerate(eq.q) if y.name in rotations]
+        angles = [j for j, y in enumerate(eq.q) if y.name in rotations and y not in once]
         # the coordinates that come out a constant number are finite at every point
-        steady = {y for y, v in plan.known_values.items() if v.is_number and v.is_finite}
-        checked = [j for j, y in enumerate(eq.q) if y not in steady]
+        constant = {y for y, v in plan.known_values.items() if v.is_number and v.is_finite}
+        checked = [j for j, y in enumerate(eq.q) if y not in constant]
         det = written_det(plan, eq) if step is not None else None
         bodies["sweep_fast"] = sweep_fast_body(step, pairs, signs, guessed, tangent, watch,
                                                angles, checked=checked, det=det)

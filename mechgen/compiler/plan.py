@@ -2,7 +2,8 @@
 data computed once.
 
 - the blocks of Φ in solving order (block-lower-triangular sorting and tearing, see
-  mechgen.compiler.blocks), pruned to what the requested outputs need;
+  mechgen.compiler.blocks), pruned to what the requested outputs need, the blocks that
+  stay the same at every point of a sweep first (``steady``);
 - per block, how it is solved: ``explicit``, in closed form (``closed_form_trig``:
   a sin y + b cos y + c = 0; ``closed_form_quadratic``: A y² + B y + C = 0) or ``newton``;
 - the solved mask, the derivative level, the coordinates that come out constant;
@@ -16,6 +17,7 @@ from dataclasses import dataclass, replace
 import sympy as sp
 
 from ..errors import ModelError
+from ..model.geometry import T
 from ..protocol import LEVEL, LEVELS
 from .blocks import (CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, METHODS,
                      NEWTON, incidence, linear_in, sort_blocks)
@@ -76,6 +78,7 @@ class SolverPlan:
     position_parts: tuple = ()    # block indices per part; () when it is one function
     chunk_stores: int = CHUNK_STORES
     chunk_lines: int = CHUNK_LINES
+    steady: int = 0               # the leading blocks that stay the same along a sweep
 
     @property
     def known_values(self):
@@ -105,9 +108,12 @@ def make_plan(model, eq, sort=True, level="acceleration", outputs=None, cse=True
         blocks = _prune(eq, blocks, need)
         kept = {v for b in blocks for v in b.vars}
         solved = [j in kept for j in range(len(q))]
+    steady = 0
+    if blocks is not None:
+        blocks, steady = _steady_first(eq, blocks)
     plan = SolverPlan(sorted=blocks is not None, blocks=(), solved=tuple(solved), level=lvl,
                 outputs=tuple(outs), cse=cse, closed_forms=closed_forms,
-                chunk_stores=CHUNK_STORES, chunk_lines=CHUNK_LINES)
+                chunk_stores=CHUNK_STORES, chunk_lines=CHUNK_LINES, steady=steady)
     if blocks is None:
         return plan
     planned, known, rows = [], {}, Rows(eq)
@@ -182,6 +188,26 @@ def _prune(eq, blocks, need):
         for e in blocks[k].eqs:
             stack.extend(block_of[v] for v in inc[e] if block_of[v] not in keep)
     return [b for k, b in enumerate(blocks) if k in keep]
+
+
+def _steady_first(eq, blocks):
+    """(blocks, count): ``blocks`` with those that stay the same at every point of a sweep
+    first, ``count`` of them. Such a block's rows hold neither the time nor any coordinate
+    but its own and those of earlier such blocks (a slider's angle fixed by its guide, a
+    point placed by parameters alone): it reads nothing solved after it, so the order
+    stays a solving order, and the fast sweep solves it once, before its loop (sweep.py).
+    The other blocks keep their order."""
+    q, known = list(eq.q), set(eq.params)
+    steady, rest = [], []
+    for b in blocks:
+        own = {q[v] for v in b.vars}
+        syms = set().union(*(eq.phi[e].free_symbols for e in b.eqs))
+        if T not in syms and syms <= known | own:
+            steady.append(b)
+            known |= own
+        else:
+            rest.append(b)
+    return steady + rest, len(steady)
 
 
 def _explicit_value(eq, rows, e, v):

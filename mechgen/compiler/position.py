@@ -402,15 +402,7 @@ def position_body(plan, eq):
     if not plan.position_parts:
         used = free(list(eq.phi))
         st = unpack(set(q), q, "q") + unpack(used, params, "p")
-        if T in used:
-            st.append(time_local())
-        st.append(Code("_iters = 0"))
-        st += _margin_start(pieces)
-        for piece in pieces:
-            st += piece.statements
-        st += [Store(f"q[{k}]", s) for k, s in enumerate(q)]
-        st += _margin_end(pieces, "_mc")
-        return st + [Code("info[0] = _iters"), Return(0)], []
+        return st + _one_point(eq, pieces) + [Return(0)], []
     top, helpers = [Code("_w = q.copy()"), Code("info[0] = 0")], []
     top += _margin_end(pieces, "1.0")
     where = {s: k for k, s in enumerate(q)}
@@ -438,6 +430,59 @@ def position_body(plan, eq):
     return top, helpers
 
 
+def _one_point(eq, pieces, loaded=()):
+    """The statements that solve ``pieces`` at one point, after the loads of the
+    coordinates and parameters: the time, the blocks' code, q stored whole (the
+    coordinates ``loaded`` solved before), the reach margin handed over."""
+    st = [time_local()] if T in free(list(eq.phi)) else []
+    st.append(Code("_iters = 0"))
+    st += _margin_start(pieces)
+    for piece in pieces:
+        st += piece.statements
+    st += [Store(f"q[{k}]", s) for k, s in enumerate(eq.q)]
+    st += _margin_end(pieces, "_mc")
+    return st + [Code("info[0] = _iters")]
+
+
+def _once(plan):
+    """How many leading blocks the fast sweep solves once, before its loop."""
+    pieces, n = plan.position.pieces, 0
+    while n < plan.steady and not pieces[n].watched:
+        n += 1
+    return n
+
+
+def solved_once(plan):
+    """The coordinates the fast sweep solves once, before its loop (position_in_sweep)."""
+    return {s for p in plan.position.pieces[:_once(plan)] for s in p.solved}
+
+
+def position_in_sweep(plan, eq):
+    """(before, each): the position solver as the fast sweep writes it into its loop (one
+    function's solver, plan.position_parts empty). ``before``, run once before the loop:
+    the parameters' loads (a sweep does not change them) and the leading blocks that stay
+    the same at every point (plan.steady; up to the first that keeps a reach margin, whose
+    sign the loop takes at its first point), from the guess in q; ``each``, run at every
+    point: the other blocks, from the loads of the coordinates they read."""
+    q, params, pieces = list(eq.q), list(eq.params), plan.position.pieces
+    n = _once(plan)
+    once = solved_once(plan)
+    before = [Comment("the parameters, and the blocks that stay the same at every point: "
+                      "once")]
+    before += unpack(free(list(eq.phi)), params, "p")
+    if n:
+        guessed = {q[v] for b in plan.blocks[:n] if b.method != EXPLICIT for v in b.vars}
+        before += unpack(guessed, q, "q")
+        if any(isinstance(x, TrigPair) for p in pieces[:n] for x in p.statements):
+            before.append(Code("_sw_warm = False   # (sin and cos called, not turned)"))
+        if any(b.method == NEWTON for b in plan.blocks[:n]):
+            before.append(Code("_iters = 0"))
+        for piece in pieces[:n]:
+            before += piece.statements
+    each = unpack(set(q) - once, q, "q") + _one_point(eq, pieces[n:])
+    return before, each
+
+
 def _margin_start(pieces):
     """_mc (in the fast sweep _sw_mc: sweep.reach_check), the smallest reach margin of the
     blocks that keep one (none: no statement)."""
@@ -457,5 +502,5 @@ def _margin_end(pieces, value):
                         tail="  # the margin, for sweep()"),), ())]
 
 
-__all__ = ["position_code", "position_body", "PositionCode", "Piece", "Rows",
+__all__ = ["position_code", "position_body", "position_in_sweep", "solved_once", "PositionCode", "Piece", "Rows",
            "trig_pair", "block_comment", "NEWTON"]

@@ -23,13 +23,19 @@ For a small model the two solvers are written out in the loop (numba's own inlin
 array functions costs refcount work at every return): the derivative code takes the sin
 and cos of solved coordinates from the position code, each failure status prints as
 ``return _sw_good`` (the count of points the loop vouches for) and the sin and cos the
-position code calls as a pair are turned from the last point instead (ir.Options).
+position code calls as a pair are turned from the last point instead (ir.Options). What
+a sweep does not change is computed once, before the loop (position.position_in_sweep):
+the parameters' loads and the blocks that stay the same at every point (plan.steady: a
+slider's angle fixed by its guide, ground points), so that everything computed from them
+alone is loop-invariant for LLVM too; those coordinates are neither predicted nor
+watched for turns.
 """
 from __future__ import annotations
 
 from .inputs import free, time_local, unpack
 from .linear import jacobian_det_statements
-from .ir import Assign, Code, Comment, Guard, If, Loop, Options, Return, Store, replaced
+from .position import position_in_sweep
+from .ir import Assign, Code, Comment, Guard, If, Loop, Options, Store, replaced
 from ..model.geometry import T
 from .schedule import TempNames, emit
 
@@ -42,15 +48,17 @@ def options(names) -> Options:
     return Options(names=names, failure="_sw_good", turn=True)
 
 
-def written_step(plan, eq, position, derivatives):
-    """position_sorted() and derivatives_sorted() written out as two pieces, (position,
-    derivatives): ``position`` the body of the one-function position solver,
-    ``derivatives`` linear.derivative_code. The derivative code reads the sin and cos
-    (and other calls) the position code shares."""
-    if position[-1] != Return(0):
+def written_step(plan, eq, derivatives):
+    """position_sorted() and derivatives_sorted() written out as three pieces, (before,
+    position, derivatives): ``before`` what the loop computes once (position_in_sweep:
+    the parameters, the blocks that stay the same at every point), ``position`` the
+    position solver's code for one point, ``derivatives`` linear.derivative_code's. The
+    derivative code reads the sin and cos (and other calls) the position code shares."""
+    if plan.position_parts:
         raise ValueError("a position solver in parts cannot be written out in the sweep")
-    pos = list(position[:-1])                   # all but its "return 0"
-    return pos, in_loop(plan, eq, derivatives.statements, "_v") + list(derivatives.tail)
+    before, position = position_in_sweep(plan, eq)
+    return (before, position,
+            in_loop(plan, eq, derivatives.statements, "_v") + list(derivatives.tail))
 
 
 def in_loop(plan, eq, statements, prefix, known=()):
@@ -99,7 +107,8 @@ def _predictors(coords=None, tangent=True):
     blocks: ``tangent``), else the polynomial through the last points the sweep has (the
     quadratic through three; the line through two at its third point, the constant at
     its second: a position sweep takes no derivative pass; no motion predicted where two
-    of their times coincide). _sw_move: the predicted move, _sw_size: the size of q.
+    of their times coincide; equal steps, to 1e-9 of one, take the quadratic's weights
+    3, −3, 1 without computing them). _sw_move: the predicted move, _sw_size: the size of q.
     ``coords``: the coordinates whose guess the position solve reads (Newton's tears,
     closed forms' and dyads' angles; every other one follows from them and the time):
     only those are predicted, and the branch test watches only their corrections (None:
@@ -117,10 +126,17 @@ def _predictors(coords=None, tangent=True):
         If(Code("k > 2"), (
             Code("_sw_tb = ts[k - 2]"),
             Code("_sw_tc = ts[k - 3]"),
-            If(Code("(_sw_ta - _sw_tb) * (_sw_ta - _sw_tc) * (_sw_tb - _sw_tc) != 0.0"), (
-                Code("_sw_wa = (t - _sw_tb) * (t - _sw_tc) / ((_sw_ta - _sw_tb) * (_sw_ta - _sw_tc))"),
-                Code("_sw_wb = (t - _sw_ta) * (t - _sw_tc) / ((_sw_tb - _sw_ta) * (_sw_tb - _sw_tc))"),
-                Code("_sw_wc = (t - _sw_ta) * (t - _sw_tb) / ((_sw_tc - _sw_ta) * (_sw_tc - _sw_tb))"))))))
+            Code("_sw_h = t - _sw_ta"),
+            If(Code("abs(_sw_h - (_sw_ta - _sw_tb)) < 1e-9 * abs(_sw_h) and "
+                    "abs(_sw_h - (_sw_tb - _sw_tc)) < 1e-9 * abs(_sw_h)"), (
+                Code("_sw_wa = 3.0"),
+                Code("_sw_wb = -3.0"),
+                Code("_sw_wc = 1.0")),
+               orelse=(If(Code("(_sw_ta - _sw_tb) * (_sw_ta - _sw_tc) * (_sw_tb - _sw_tc) != 0.0"), (
+                   Code("_sw_wa = (t - _sw_tb) * (t - _sw_tc) / ((_sw_ta - _sw_tb) * (_sw_ta - _sw_tc))"),
+                   Code("_sw_wb = (t - _sw_ta) * (t - _sw_tc) / ((_sw_tb - _sw_ta) * (_sw_tb - _sw_tc))"),
+                   Code("_sw_wc = (t - _sw_ta) * (t - _sw_tb) / ((_sw_tc - _sw_ta) * (_sw_tc - _sw_tb))"))),),
+               tail="  # equal steps (to 1e-9 of one): 3, -3, 1"))))
     taylor = If(Code(f"k > 0 and (_sw_all or k == 1 and {tangent})"), start + (
         Code("_sw_h = t - ts[k - 1]"),
         *([If(Code("not _sw_all"), tuple(_each(coords, shift)))] if coords != [] else []),
@@ -255,7 +271,7 @@ def _rows(step, name, out):
     one (numba then keeps them in registers rather than reading the array back), else
     copied from ``name``."""
     if step is not None:
-        stored = {x.lhs: x.expr for x in (*step[0], *step[1]) if isinstance(x, Store)}
+        stored = {x.lhs: x.expr for x in (*step[1], *step[2]) if isinstance(x, Store)}
         n = sum(lhs.startswith("q[") for lhs in stored)    # the position code stores all
         values = [stored.get(f"{name}[{j}]") for j in range(n)]
         if n and all(v is not None for v in values):
@@ -283,7 +299,7 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
     if step is not None:
         init += [Code("{0} = 1.0  # a dyad's assembly sign, from the first point", (s,))
                  for s in signs]
-        position, derivatives = step
+        before, position, derivatives = step
         derivatives = list(derivatives) + list(forces or ())
         solve = [Comment("position_sorted() and derivatives_sorted() written out here, the "
                          "sin and cos"),
@@ -301,7 +317,7 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
             derivatives = [If(Code("dynamics_sorted(q, t, p, qd, qdd, piv, LAM[k], FACTORS[k]) "
                                    "!= 0"), (Code("return _sw_good"),)),
                            Code("FPIV[k] = piv[2]")]
-        warm = []
+        warm, before = [], []
     solve.append(If(Code(f"_sw_all or k == 0 and {tangent}"), tuple(derivatives)))
     checks = [
         *turn_check(angles),
@@ -376,6 +392,7 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
         Code("_sw_iterations = STATUS.shape[1] > STATUS_ITERATIONS"),
         Code("_sw_substeps = STATUS.shape[1] > STATUS_SUBSTEPS"),
         *init,
+        *before,
         loop,
         last,
         Code("return ts.shape[0]"),
