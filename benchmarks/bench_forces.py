@@ -7,7 +7,8 @@ Accuracy: the slider-crank of tests/test_forces.py (driver torque at 1,000 crank
 against the power form, pin forces against Newton–Euler body by body, power residual),
 the four-bar held still (virtual work, 5-point finite differences of the closed-form
 potential), the quick-return of examples/quick_return_forces.py (power residual over a
-turn, flywheel). Speed: a sweep of 10^5 points at level "acceleration" and "dynamic", and
+turn, flywheel). Speed: a sweep of 10^5 points at level "acceleration" and "dynamic"
+(and "position" and "static", λ in the sweep's quick path and after it), and
 one solve at each, best of 5 after a warm-up, on the quick-return and the Strandbeest leg
 with masses (benchmarks/strandbeest_forces.py); a design table of peak torque on all
 cores beside the kinematic one.
@@ -82,18 +83,36 @@ def _best(fn, rounds):
 
 
 def speed(mech, name, n=100_000, rounds=5):
-    """A sweep of n points at level "acceleration" and "dynamic", interleaved, best of
-    ``rounds``; the dynamic one's λ and driver effort against a dense numpy solve."""
-    mech.sweep(0, 1, 11, level="dynamic")
-    mech.sweep(0, 1, 11, level="acceleration")
+    """A sweep of n points at level "acceleration" and "dynamic", and at "position" and
+    "static" (with λ in the position sweep's quick path, sweep_fast_statics, and with λ
+    solved after the sweep instead), interleaved, best of ``rounds``; the dynamic one's λ
+    and driver effort against a dense numpy solve."""
+    module = mech.module
+    statics = getattr(module, "sweep_fast_statics", None)
+
+    def separate():                 # λ after the sweep (force_rows), as without the path
+        delattr(module, "sweep_fast_statics")
+        try:
+            mech.sweep(0, 1, n, level="static")
+        finally:
+            module.sweep_fast_statics = statics
+    runs = {level: (lambda level=level: mech.sweep(0, 1, n, level=level))
+            for level in ("position", "static", "acceleration", "dynamic")}
+    if statics is not None:
+        runs["static, λ after"] = separate
+    for level in ("position", "static", "acceleration", "dynamic"):
+        mech.sweep(0, 1, 11, level=level)
     best = {}
     for _ in range(rounds):
-        for level in ("acceleration", "dynamic"):
-            best[level] = min(best.get(level, math.inf),
-                              _best(lambda: mech.sweep(0, 1, n, level=level), 1))
+        for level, run in runs.items():
+            best[level] = min(best.get(level, math.inf), _best(run, 1))
     print(f"{name}: sweep of {n} points: acceleration {best['acceleration'] * 1e9 / n:.0f} ns "
           f"a point, dynamic {best['dynamic'] * 1e9 / n:.0f} ns "
-          f"({best['dynamic'] / best['acceleration']:.2f}x)")
+          f"({best['dynamic'] / best['acceleration']:.2f}x); position "
+          f"{best['position'] * 1e9 / n:.0f} ns, static {best['static'] * 1e9 / n:.0f} ns "
+          f"({best['static'] / best['position']:.2f}x)" +
+          (f"; static with λ after the sweep {best['static, λ after'] * 1e9 / n:.0f} ns "
+           f"({best['static, λ after'] / best['position']:.2f}x)" if statics else ""))
     sw = mech.sweep(0, 1, 401, level="dynamic")
     worst = 0.0
     for k in range(0, 401, 8):

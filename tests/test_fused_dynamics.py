@@ -1,8 +1,9 @@
 """The multipliers solved in the kinematics' own pass (compiler/dynamics_code.py): a
-dynamic sweep's quick path (sweep_fast_forces) and a dynamic solve (dynamics_sorted)
-against the separate pass over the solved points (force_rows) and numpy's dense solve of
-Φ_qᵀ λ = Q_a + Q_c − I written here; the points the quick path leaves (the careful
-sweep's, a pivot below SING_RTOL) solved again; the plain tier's ZeroDivisionError."""
+dynamic sweep's quick path (sweep_fast_forces), a static sweep's (sweep_fast_statics) and
+a dynamic solve (dynamics_sorted) against the separate pass over the solved points
+(force_rows), numpy's dense solve of Φ_qᵀ λ = Q_a + Q_c − I written here and, at rest,
+virtual work; the points the quick path leaves (the careful sweep's, a pivot below
+SING_RTOL) solved again; the plain tier's ZeroDivisionError."""
 from __future__ import annotations
 
 import os
@@ -28,26 +29,27 @@ def qr():
 
 
 def _dense(mech, sw, ks) -> np.ndarray:
-    """λ at points ks by numpy's least squares on Φ_qᵀ λ = Q_a + Q_c − I."""
+    """λ at points ks by numpy's least squares on Φ_qᵀ λ = Q_a + Q_c − I (at rest where
+    the sweep has no velocities: a static one)."""
     out = []
     for k in ks:
         q, t = sw.Q[k], float(sw.t[k])
         terms = np.zeros((3, mech.n))
-        mech.module.force_terms(q, sw.QD[k], sw.QDD[k], t, mech.p, terms)
+        qd, qdd = (np.zeros(mech.n),) * 2 if sw.QD is None else (sw.QD[k], sw.QDD[k])
+        mech.module.force_terms(q, qd, qdd, t, mech.p, terms)
         rhs = terms[0] + terms[1] - terms[2]
         out.append(np.linalg.lstsq(mech.jacobian(q, t).T, rhs, rcond=None)[0])
     return np.array(out)
 
 
-def _separate(mech, sw):
-    return solve_points(mech.module, sw.t, sw.Q, sw.QD, sw.QDD, mech.p, "dynamic",
+def _separate(mech, sw, level="dynamic"):
+    return solve_points(mech.module, sw.t, sw.Q, sw.QD, sw.QDD, mech.p, level,
                         extras=False)
 
 
-def _fused_sweep(mech, t0, t1, n):
+def _fused_sweep(mech, t0, t1, n, level="acceleration", times=None):
     fused = {}
-    sw = mech._sweep_once(t0, t1, n, "acceleration", None, None, None, None, None, None,
-                          fused)
+    sw = mech._sweep_once(t0, t1, n, level, None, None, None, None, times, None, fused)
     return sw, fused
 
 
@@ -80,6 +82,50 @@ def test_the_careful_sweep_s_points_are_solved_after(qr):
     dyn = attach(sw, "dynamic", fused)
     _close(dyn.LAM, _separate(qr, sw).LAM, 1e-13)
     _close(dyn.LAM[::5], _dense(qr, sw, range(0, len(sw), 5)), 1e-11)
+
+
+def test_static_quick_path_solves_every_point_as_the_separate_pass(qr):
+    """A static sweep's quick path (a position sweep) solves λ at q̇ = q̈ = 0 on its way:
+    the separate pass's numbers, numpy's, and what mech.sweep(level="static") returns."""
+    assert "def sweep_fast_statics(" in open(qr.module.__file__).read()
+    sw, fused = _fused_sweep(qr, 0.0, 1.0, 2001, level="position")
+    assert sw.QD is None and fused["count"] == len(sw)
+    assert np.all(fused["FPIV"] >= qr.sing_rtol)
+    ref = _separate(qr, sw, "static")
+    _close(fused["LAM"], ref.LAM, 1e-13)
+    np.testing.assert_array_equal(fused["FACTORS"], ref.FACTORS)
+    ks = np.arange(0, 2001, 50)
+    _close(fused["LAM"][ks], _dense(qr, sw, ks), 1e-11)
+    static = qr.sweep(0.0, 1.0, 2001, level="static")
+    np.testing.assert_array_equal(static.LAM, fused["LAM"])
+
+
+def test_static_torque_is_the_rate_of_potential_energy(qr):
+    """At rest the crank's torque holds gravity alone (the cutting force acts only while
+    the slider moves): by virtual work τ θ̇2 = dV/dt, V = g Σ m y_G, with the centroids of
+    examples/quick_return_forces.py and the velocities of a kinematic sweep."""
+    L, g, w = 3.0, 9.807, 2 * np.pi
+    static = qr.sweep(0.0, 1.0, 401, level="static")
+    kin = qr.sweep(0.0, 1.0, 401, level="velocity")
+    Q, QD = kin.Q, kin.QD
+    c = {name: j for j, name in enumerate(qr.coordinates)}
+
+    def y_rate(y, th, x_local, y_local):      # d/dt of Y + x sin θ + y cos θ
+        return QD[:, c[y]] + (x_local * np.cos(Q[:, c[th]]) -
+                              y_local * np.sin(Q[:, c[th]])) * QD[:, c[th]]
+    dV = g * (2.0 * y_rate("Y2", "Th2", L / 2, 0.0) + 5.0 * y_rate("Y3", "Th3", 0.0, 4.5) +
+              3.0 * y_rate("Y4", "Th4", 1.0, 0.2))
+    torque = static.driver("crank driver")
+    np.testing.assert_allclose(torque, dV / w, rtol=0, atol=1e-10 * np.abs(dV / w).max())
+
+
+def test_the_static_sweep_s_careful_points_are_solved_after(qr):
+    times = np.concatenate([np.linspace(0.0, 0.3, 61), np.linspace(0.6, 1.0, 41)])
+    sw, fused = _fused_sweep(qr, 0.0, 1.0, len(times), level="position", times=times)
+    assert 0 < fused["count"] < len(sw)
+    static = attach(sw, "static", fused)
+    _close(static.LAM, _separate(qr, sw, "static").LAM, 1e-13)
+    _close(static.LAM[::5], _dense(qr, sw, range(0, len(sw), 5)), 1e-11)
 
 
 def test_a_point_below_the_pivot_is_solved_again(qr):

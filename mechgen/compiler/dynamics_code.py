@@ -11,16 +11,21 @@ multipliers are written out, forces_code.multiplier_statements).
 - ``sweep_fast_forces(..., LAM, FACTORS, FPIV)``: sweep_fast (compiler.sweep) with that
   step at every point; a small model's written-out loop has the multipliers written into
   it, reading the sin and cos the position code turned from the last point.
+- ``sweep_fast_statics(...)``: the same for a static sweep (a small model's written-out
+  loop only): a position sweep with Φ_qᵀ λ = Q_a + Q_c at every point, the multipliers'
+  code with q̇ = q̈ = 0 put in (its inertia and velocity terms vanish before CSE).
 
 A dynamic sweep then costs its kinematics and the arithmetic of λ, not a second pass over
 the points with the trigonometry again (runtime/forces/sweep.py).
 """
 from __future__ import annotations
 
+import sympy as sp
+
 from ..model.dynamics import dynamics
 from .forces_code import multiplier_statements
 from .inputs import prologue
-from .ir import Assign, Code, Guard, If, Return, Store
+from .ir import Assign, Code, Guard, If, Return, Store, replaced
 from .schedule import TempNames, emit
 from .sweep import in_loop
 
@@ -67,6 +72,17 @@ def written_forces(plan, eq, model):
     return in_loop(plan, eq, step, "_f", known=(*eq.qd, *eq.qdd))
 
 
+def written_statics(plan, eq, model):
+    """written_forces at q̇ = q̈ = 0 (a static sweep's multipliers, after its position
+    code at every point): nothing of the derivative code read."""
+    step = force_step(plan, eq, model, "LAM[k, {}]", "FACTORS[k, {}]", "FPIV[k]")
+    if step is None:
+        return None
+    still = {s: sp.Integer(0) for s in (*eq.qd, *eq.qdd)}
+    step = [replaced(x, lambda e: sp.sympify(e).xreplace(still)) for x in step]
+    return in_loop(plan, eq, step, "_f")
+
+
 # (name, arguments, docstring lines) of the functions above, for the template
 FUSED = (
     ("dynamics_sorted", "q, t, p, qd, qdd, piv, lam, factors", (
@@ -81,5 +97,11 @@ FUSED = (
         "DRIVER_ROWS) and FPIV (1.0, or 0.0 where a pivot fell below SING_RTOL: λ not to",
         "be used) receives point k's, computed from its velocities and accelerations in",
         "the same step. A dynamic sweep's quick path; the careful rest is solved by",
+        "force_rows.")),
+    ("sweep_fast_statics",
+     "ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS, LAM, FACTORS, FPIV", (
+        "sweep_fast_forces for a static sweep (QD and QDD without rows): a position sweep",
+        "with the multipliers at q̇ = q̈ = 0 at every point, from the same step's sines",
+        "and cosines. A static sweep's quick path; the careful rest is solved by",
         "force_rows.")),
 )

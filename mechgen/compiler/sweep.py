@@ -280,7 +280,7 @@ def _rows(step, name, out):
 
 
 def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, watch=None,
-                    angles=(), forces=None, checked=None, det=None):
+                    angles=(), forces=None, checked=None, det=None, statics=None):
     """The statements of sweep_fast's body: with ``step`` (written_step: the position and
     the derivative statements) the solvers written out, else calls of position_sorted and
     derivatives_sorted. ``pairs``: the TrigPairs the step turns; ``signs``: the assembly
@@ -294,7 +294,9 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
     a call).
     ``forces``: the body of sweep_fast_forces instead, the multipliers after the
     derivatives at every point (with ``step``: the statements of
-    dynamics_code.written_forces; else True: a call of dynamics_sorted)."""
+    dynamics_code.written_forces; else True: a call of dynamics_sorted). ``statics``: the
+    body of sweep_fast_statics instead (with ``step``), the multipliers at q̇ = q̈ = 0
+    after the position code at every point (dynamics_code.written_statics)."""
     init, keep = _memory(pairs) if step is not None else ([], [])
     if step is not None:
         init += [Code("{0} = 1.0  # a dyad's assembly sign, from the first point", (s,))
@@ -319,6 +321,7 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
                            Code("FPIV[k] = piv[2]")]
         warm, before = [], []
     solve.append(If(Code(f"_sw_all or k == 0 and {tangent}"), tuple(derivatives)))
+    solve += list(statics or ())
     checks = [
         *turn_check(angles),
         *reach_check(watch, tangent),

@@ -393,8 +393,8 @@ class Mechanism:
     def _sweep_once(self, t0, t1, n, level, guess, method, tol, maxit, times, out,
                     forces=None):
         """One kinematic sweep (sweep() without params); ``forces``: a dict that a
-        dynamic sweep's quick path fills with the multipliers it solved on the way
-        (sweeping.compiled), where the module has it."""
+        dynamic or static sweep's quick path fills with the multipliers it solved on the
+        way (sweeping.compiled), where the module has it."""
         if getattr(self.module, "SWITCH_TIMES", ()):
             # a model with stages: a sweep across a switch runs stage by stage
             from .stages import staged_sweep

@@ -192,24 +192,29 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
     continuation (sweep) from the last point the quick path accepted: (count solved, the
     first point the careful sweep solved: len(ts) when it did not run). Only the careful
     sweep writes the report and marks points JUMP or THROUGH_SINGULAR. ``forces`` (a
-    dict, an acceleration sweep of a module with FORCE_FUSED): the quick path
-    solves the multipliers too, and the dict receives "LAM", "FACTORS", "FPIV" and
-    "count", the points before which they hold (the careful sweep's are not solved)."""
+    dict; an acceleration sweep of a module with FORCE_FUSED, or a position sweep of one
+    with sweep_fast_statics: a dynamic or a static sweep): the quick path solves the
+    multipliers too, and the dict receives "LAM", "FACTORS", "FPIV" and "count", the
+    points before which they hold (the careful sweep's are not solved)."""
     mod = mech.module
     N = ts.shape[0]
     start = 0
     unwrap = getattr(mod, "unwrap_turns", None)
     if unwrap is not None and N:
         unwrap(q0, ts[0], mech.p)       # the guess's angles as its drivers ask (q0 is ours)
-    fused = forces is not None and lev == _ACC and getattr(mod, "FORCE_FUSED", False)
+    fused = None
+    if forces is not None and lev == _ACC and getattr(mod, "FORCE_FUSED", False):
+        fused = mod.sweep_fast_forces
+    elif forces is not None and lev == 0:
+        fused = getattr(mod, "sweep_fast_statics", None)
     if meth != METHOD_FULL and mod.SORTED and mod.LEVEL >= 2:
         start = -1
-        if fused:
+        if fused is not None:
             LAM, FACTORS = np.empty((N, mod.N_EQS)), np.empty((N, len(mod.DRIVER_ROWS)))
             FPIV = np.empty(N)
             try:
-                start = mod.sweep_fast_forces(ts, q0, mech.p, tol, mech.xtol, maxit, Q, QD,
-                                              QDD, S, LAM, FACTORS, FPIV)
+                start = fused(ts, q0, mech.p, tol, mech.xtol, maxit, Q, QD, QDD, S, LAM,
+                              FACTORS, FPIV)
             except ZeroDivisionError:   # the plain tier, where numba's numpy error model
                 pass                    # gives inf: the multipliers are solved afterwards
             else:

@@ -76,6 +76,7 @@ def _design(mech, t):
 def _forces(mech, t):
     if getattr(mech.module, "FORCES", False):
         mech.solve(t, level="static")
+        mech.sweep(t, t + 0.01, 3, level="static")
         if mech.built_level >= LEVEL["acceleration"]:
             mech.solve(t, level="dynamic")
             mech.sweep(t, t + 0.01, 3, level="dynamic")

@@ -261,8 +261,9 @@ def _completed(mech, sw, level, fused) -> PointForces:
     redo[:count] = ~(fused["FPIV"][:count] >= SING_RTOL)    # (0.0 where a λ is not finite)
     if redo.any():
         k = np.flatnonzero(redo)
-        rest = solve_points(mech.module, sw.t[k], sw.Q[k], sw.QD[k], sw.QDD[k], mech.p,
-                            level, extras=False)
+        still = level == "static"           # (a static sweep has no QD, QDD)
+        rest = solve_points(mech.module, sw.t[k], sw.Q[k], None if still else sw.QD[k],
+                            None if still else sw.QDD[k], mech.p, level, extras=False)
         pts.LAM[k], pts.FACTORS[k], pts.singular[k] = rest.LAM, rest.FACTORS, rest.singular
         pts.dependent = rest.dependent
     return pts
@@ -271,9 +272,10 @@ def _completed(mech, sw, level, fused) -> PointForces:
 def force_sweep(mech, t0, t1, n, level, guess=None, method=None, tol=None, maxit=None,
                 times=None) -> ForceSweep:
     """``mech.sweep(t0, t1, n, level="static"|"dynamic")``: the kinematic sweep (at
-    acceleration, or position), then λ at every point (points.solve_points); a dynamic
-    sweep's quick path solves them on its way where the module can (sweep_fast_forces)."""
+    acceleration, or position), then λ at every point (points.solve_points); the sweep's
+    quick path solves them on its way where the module can (sweep_fast_forces,
+    sweep_fast_statics)."""
     kin = "acceleration" if level == "dynamic" else "position"
-    fused = {} if level == "dynamic" else None
+    fused = {}
     sw = mech._sweep_once(t0, t1, n, kin, guess, method, tol, maxit, times, None, fused)
     return attach(sw, level, fused)
