@@ -68,6 +68,26 @@ def forces(designs=10_000, times=1000):
           f"done differing {int(np.sum(a.done != b.done))}", flush=True)
     kernel(mech, a.t, a.P, kw["reduce"])
     mixed(mech, times=times)
+    if "--old" in sys.argv:
+        kept_points(mech, times, kw, out["cuda_s"], a)
+
+
+def kept_points(mech, times, kw, new_s, new):
+    """The same table the way it ran before the force kernel: the kinematic kernel keeps
+    every point, the host solves the multipliers (the path level "static" still takes)."""
+    import mechgen.runtime.design as design
+    keep = design.cuda_keeps_points
+    design.cuda_keeps_points = lambda *a: True
+    try:
+        mech.sweep(0.0, 1.0, 8, backend="cuda", **dict(kw, params={"longitud": [2.5, 3.0]}))
+        t0 = time.perf_counter()
+        old = mech.sweep(0.0, 1.0, times, backend="cuda", **kw)
+        old_s = time.perf_counter() - t0
+    finally:
+        design.cuda_keeps_points = keep
+    d = float(np.nanmax(np.abs(old.reduced("crank driver").max - new.reduced("crank driver").max)))
+    print(f"  every point back (before): {old_s:.3g} s; force kernel {new_s:.3g} s: "
+          f"{old_s / new_s:.3g}x faster; max|old-new| torque {d:.3g}", flush=True)
 
 
 def mixed(mech, designs=256, times=1000):
