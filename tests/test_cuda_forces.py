@@ -87,3 +87,22 @@ def test_which_tables_keep_their_points():
     assert not cuda_keeps_points(mech, kin, 2, METHOD["auto"])
     assert not cuda_keeps_points(mech, None, 2, METHOD["auto"])
     assert np.any(dyn[:, 0] == 2)
+
+
+def test_sweep_fast_forces_translates_with_its_rows_masked():
+    """The fused quick path of the committed force module: its λ rows indexed through the
+    row mask like Q, its hook before the first row it writes in each step."""
+    import mechgen
+    from mechgen.runtime.cuda import numba_module
+    from mechgen.runtime.cuda_twin import ROOTS, translate
+    mod = numba_module(mechgen.load(os.path.join(ROOT, "generated", "quick_return_forces.py")))
+    text = translate(mod, ROOTS + ("sweep_fast_forces",))
+    fused = text[text.index("def sweep_fast_forces("):]
+    fused = fused[:fused.index("\ndef ", 1)]
+    assert "LAM[k & _cu_ctx[6], 0] = " in fused and "FPIV[k & _cu_ctx[6]] = " in fused
+    assert "FACTORS[k & _cu_ctx[6], 0] = " in fused
+    hook = fused.index("_cu_point_forces(k - 1, ts, Q, QD, QDD, STATUS, LAM, FACTORS, FPIV, p, "
+                       "_cu_ctx)")
+    assert hook < fused.index("LAM[k & _cu_ctx[6]") < fused.index("Q[k & _cu_ctx[6], 0] = ")
+    assert "np.zeros" not in fused and ".copy()" not in fused
+    assert translate(mod) == translate(mod, ROOTS)          # the kinematic twin: as before

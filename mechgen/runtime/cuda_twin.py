@@ -19,7 +19,9 @@ back from the module file, translated by a few mechanical rules and compiled wit
   functions (numba.cuda cannot compile the builtins for two numbers);
 - in sweep() and sweep_fast() the rows they write (Q, QD, QDD, STATUS) are indexed
   ``k & mask``: mask -1 keeps every row (the table kernels, nothing changes), mask 0
-  one thread-local row (the reducing kernels);
+  one thread-local row (the reducing kernels); sweep_fast_forces' LAM, FACTORS and FPIV
+  rows too, where mechgen.runtime.cuda_forces translates it (its hook:
+  ``_cu_point_forces``);
 - a hook ``_cu_point`` sees each final point once: at the end of each time step of
   sweep(), one step late in sweep_fast() (whose last accepted point sweep() solves
   again when it takes over, as on the CPU), just before the next point's row is
