@@ -4,6 +4,8 @@ report their registers and stack per thread (what occupancy they allow).
     pip install nvidia-cuda-nvcc-cu12          # NVVM, libdevice and ptxas, no driver needed
     CUDA_HOME=$(python -c "import nvidia.cuda_nvcc, os; print(os.path.dirname(nvidia.cuda_nvcc.__file__))") \\
         python benchmarks/cuda_ptx_check.py [generated/quick_return.py] [--cc 90]
+    ... python benchmarks/cuda_ptx_check.py generated/quick_return_forces.py --forces
+        (the force table's kernel, mechgen.runtime.cuda_forces)
 
 numba compiles a device function for the current device; with no device this script
 tells it one of compute capability --cc exists (a stand-in used here only, for typing).
@@ -34,6 +36,8 @@ SIGNATURES = {
     "_cu_careful_reduce": f"f1, f2, i1, int64, int64, {COMMON}, {TAIL}",
     "_cu_fast_table": f"f1, f1, f2, int64, {COMMON}, f3, f3, f3, h3, {TAIL}",
     "_cu_careful_table": f"f1, f2, i1, int64, int64, {COMMON}, f3, f3, f3, h3, {TAIL}",
+    # ts, q0, P, tol, xtol, maxit, SL, nsl, nord, DRV, R, DONE, DSTATUS
+    "_cu_forces_reduce": "f1, f1, f2, float64, float64, int64, i1, int64, int64, i2, f3, i1, i1",
 }
 
 
@@ -45,7 +49,10 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("module", nargs="?", default=os.path.join(ROOT, "generated", "quick_return.py"))
     ap.add_argument("--cc", default="90", help="compute capability, e.g. 80 or 90")
-    ap.add_argument("--kernels", default=",".join(SIGNATURES))
+    ap.add_argument("--kernels", default=None, help="(default: the four kinematic kernels, "
+                    "or with --forces the force kernel)")
+    ap.add_argument("--forces", action="store_true", help="the force kernel of a module with "
+                    "FORCE_FUSED (mechgen.runtime.cuda_forces)")
     args = ap.parse_args(argv)
     cc = (int(args.cc[:-1]), int(args.cc[-1]))
     import numba.cuda.dispatcher as dispatcher
@@ -53,13 +60,21 @@ def main(argv=None):
     dispatcher.get_current_device = lambda: types.SimpleNamespace(compute_capability=cc)
 
     import mechgen
-    from mechgen.runtime.cuda import STATUS_COLUMNS
+    from mechgen.runtime.cuda import STATUS_COLUMNS, numba_module
     from mechgen.runtime.cuda_twin import build_twin
     mech = mechgen.load(args.module)
-    ns = build_twin(mech.module, cuda, STATUS_COLUMNS)
+    if args.forces:
+        from mechgen.runtime import cuda_forces
+        from mechgen.runtime.cuda_twin import ROOTS
+        ns = build_twin(numba_module(mech), cuda, STATUS_COLUMNS, roots=ROOTS + ("sweep_fast_forces",),
+                        support=cuda_forces.SUPPORT, kernels=(cuda_forces.KERNEL,))
+    else:
+        ns = build_twin(numba_module(mech), cuda, STATUS_COLUMNS)
+    kernels = args.kernels or ("_cu_forces_reduce" if args.forces else
+                               ",".join(k for k in SIGNATURES if k != "_cu_forces_reduce"))
     home = os.environ.get("CUDA_HOME", "")
     ptxas = shutil.which("ptxas") or (os.path.join(home, "bin", "ptxas") if home else None)
-    for name in args.kernels.split(","):
+    for name in kernels.split(","):
         t0 = time.perf_counter()
         ptx, _ = cuda.compile_ptx(ns[name].py_func, signature(SIGNATURES[name]), cc=cc)
         line = f"{name}: PTX {len(ptx) / 1e3:.0f} kB in {time.perf_counter() - t0:.1f} s"

@@ -4,10 +4,15 @@ benchmarks/bench_cuda.py, at 10^5 designs × 10^3 times, positions and all level
 10^6 designs × 10^3 times in positions; each with its difference from the hand kernel
 and from the CPU design table on a sample of designs. Then a force table: the peak crank
 torque of 10^4 designs of examples/quick_return_forces.py × 10^3 times at level
-"dynamic" (kernel for the kinematics, host for the multipliers) beside the same table on
-the CPU's cores, and their largest difference.
+"dynamic" (the effort reduced in the kernel, mechgen.runtime.cuda_forces; the designs it
+leaves to the host solved there) beside the same table on the CPU's cores, their largest
+difference, and the kernel alone at a few block sizes (how many designs it left to the
+host).
 
     PYTHONPATH=. MECHGEN_TIER=compiled python3 benchmarks/device_cuda.py [--quick]
+    PYTHONPATH=. MECHGEN_TIER=compiled python3 benchmarks/device_cuda.py --forces
+    NUMBA_ENABLE_CUDASIM=1 PYTHONPATH=. python3 benchmarks/device_cuda.py --forces-sim
+        (the force part at 8 designs × 40 times on numba's simulator: it runs)
 """
 import os
 import sys
@@ -49,6 +54,8 @@ def forces(designs=10_000, times=1000):
     a, b = out["cuda"], out["cpu"]
     diff = {n: max(float(np.nanmax(np.abs(getattr(a.reduced(n), w) - getattr(b.reduced(n), w))))
                    for w in ("min", "max")) for n in kw["reduce"]}
+    tdiff = max(float(np.nanmax(np.abs(getattr(a.reduced(n), w) - getattr(b.reduced(n), w))))
+                for n in kw["reduce"] for w in ("tmin", "tmax"))
     scale = float(np.nanmax(np.abs(b.reduced("crank driver").max)))
     pts = designs * times
     print(f"{designs} designs x {times} times, dynamic, reduce crank driver: cuda "
@@ -56,8 +63,69 @@ def forces(designs=10_000, times=1000):
           f"{out['cpu_s']:.3g} s ({pts / out['cpu_s']:.3g} points/s, {os.cpu_count()} cores), "
           f"cpu/cuda time {out['cpu_s'] / out['cuda_s']:.3g}; one thread {single:.3g} s "
           f"(all cores {single / out['cpu_s']:.3g}x faster); max|cuda-cpu| torque "
-          f"{diff['crank driver']:.3g} on a scale of {scale:.3g}, X4 {diff['X4']:.3g}; "
-          f"statuses differing {int(np.sum(a.status != b.status))}", flush=True)
+          f"{diff['crank driver']:.3g} on a scale of {scale:.3g}, X4 {diff['X4']:.3g}, "
+          f"times {tdiff:.3g}; statuses differing {int(np.sum(a.status != b.status))}, "
+          f"done differing {int(np.sum(a.done != b.done))}", flush=True)
+    kernel(mech, a.t, a.P, kw["reduce"])
+    mixed(mech, times=times)
+    if "--old" in sys.argv:
+        kept_points(mech, times, kw, out["cuda_s"], a)
+
+
+def kept_points(mech, times, kw, new_s, new):
+    """The same table the way it ran before the force kernel: the kinematic kernel keeps
+    every point, the host solves the multipliers (the path level "static" still takes)."""
+    import mechgen.runtime.design as design
+    keep = design.cuda_keeps_points
+    design.cuda_keeps_points = lambda *a: True
+    try:
+        mech.sweep(0.0, 1.0, 8, backend="cuda", **dict(kw, params={"longitud": [2.5, 3.0]}))
+        t0 = time.perf_counter()
+        old = mech.sweep(0.0, 1.0, times, backend="cuda", **kw)
+        old_s = time.perf_counter() - t0
+    finally:
+        design.cuda_keeps_points = keep
+    d = float(np.nanmax(np.abs(old.reduced("crank driver").max - new.reduced("crank driver").max)))
+    print(f"  every point back (before): {old_s:.3g} s; force kernel {new_s:.3g} s: "
+          f"{old_s / new_s:.3g}x faster; max|old-new| torque {d:.3g}", flush=True)
+
+
+def mixed(mech, designs=256, times=1000):
+    """Designs that cannot turn (longitud above about 4: the host solves them) among ones
+    that can, cuda against cpu: the largest relative difference of each design's torque
+    extremes, of X4's and of the times, the statuses and solved counts that differ."""
+    kw = dict(params={"longitud": np.linspace(1.0, 6.0, designs)}, level="dynamic",
+              reduce=["crank driver", "X4"], on_fail="ignore")
+    a = mech.sweep(0.0, 1.0, times, backend="cuda", **kw)
+    b = mech.sweep(0.0, 1.0, times, **kw)
+    rel = max(float(np.nanmax(np.abs(getattr(a.reduced("crank driver"), w) -
+                                     getattr(b.reduced("crank driver"), w)) /
+                              np.maximum(np.abs(getattr(b.reduced("crank driver"), w)), 1.0)))
+              for w in ("min", "max"))
+    x4 = max(float(np.nanmax(np.abs(getattr(a.reduced("X4"), w) - getattr(b.reduced("X4"), w))))
+             for w in ("min", "max"))
+    tt = max(float(np.nanmax(np.abs(getattr(a.reduced(n), w) - getattr(b.reduced(n), w))))
+             for n in ("crank driver", "X4") for w in ("tmin", "tmax"))
+    print(f"  mixed: {designs} designs (longitud 1 to 6) x {times} times, {int(np.sum(~b.ok))} "
+          f"failing: max relative |cuda-cpu| torque {rel:.3g}, X4 {x4:.3g}, times {tt:.3g}; "
+          f"statuses differing {int(np.sum(a.status != b.status))}, done differing "
+          f"{int(np.sum(a.done != b.done))}", flush=True)
+
+
+def kernel(mech, ts, P, names):
+    """The force kernel alone (mechgen.runtime.cuda_forces.run_forces_cuda) at a few block
+    sizes: its time and how many designs it left to the host."""
+    from mechgen.runtime.cuda_forces import run_forces_cuda
+    from mechgen.runtime.reduce import reduce_slots
+    slots = reduce_slots(mech, names, 2, "dynamic")[1]
+    args = (mech, ts, P, mech._start(None), mech._tol(None), mech.xtol, mech._maxit(None), slots)
+    for tpb in (128, 64, 32):
+        t0 = time.perf_counter()
+        r = run_forces_cuda(*args, threads=tpb)
+        dt = time.perf_counter() - t0
+        print(f"  force kernel, {tpb} threads a block: {dt:.3g} s "
+              f"({P.shape[0] * ts.shape[0] / dt:.3g} points/s), {r['host'].size} of "
+              f"{P.shape[0]} designs left to the host", flush=True)
 
 
 def main():
@@ -65,6 +133,9 @@ def main():
             (1_000_000, 1000, "position")]
     if "--quick" in sys.argv:
         runs = runs[:2]
+    if "--forces-sim" in sys.argv:
+        forces(designs=8, times=40)
+        return 0
     if "--forces" in sys.argv:
         runs = []
     for i, (designs, times, level) in enumerate(runs):

@@ -18,9 +18,9 @@ import numpy as np
 
 from ..errors import MechgenError
 from ..protocol import JUMP, OK, STATUS_CODE, THROUGH_SINGULAR
-from .chunks import (DESIGN_INFO_COLUMNS, DESIGN_INFO_DTYPE, Collector, TableData, chunks,
-                     guided_chunks, solve_chunk, sweep_chunk)
-from .reduce import design_status
+from .chunks import (DESIGN_INFO_COLUMNS, DESIGN_INFO_DTYPE, Collector, TableData, _fused,
+                     chunks, guided_chunks, solve_chunk, sweep_chunk)
+from .reduce import DRIVER, design_status
 
 BACKENDS = ("cpu", "dask", "cuda")
 
@@ -87,13 +87,39 @@ def run_cpu(module, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=
     return out.table()
 
 
-def run_cuda(mech, ts, q0, P, lev, tol, maxit, slots) -> TableData:
-    """The table as a generated GPU kernel (mechgen.runtime.cuda.run_table_cuda)."""
+def cuda_keeps_points(mech, slots, lev, meth) -> bool:
+    """Whether a CUDA table reducing ``slots`` needs every point back on the host (a
+    driver's effort the GPU cannot reduce: level "static", method "full", a module
+    without the fused quick path; the design table then solves the multipliers here)."""
+    if slots is None or not np.any(np.asarray(slots)[:, 0] == DRIVER):
+        return False
+    return _fused(mech.module, slots, lev, meth) is None
+
+
+def run_cuda(mech, ts, q0, P, lev, tol, maxit, slots, xtol=None, meth=None,
+             workers=None) -> TableData:
+    """The table as a generated GPU kernel (mechgen.runtime.cuda.run_table_cuda); a
+    driver's effort reduced on the GPU where it can (mechgen.runtime.cuda_forces), the
+    designs it leaves to the host solved by the CPU table (run_cpu) and merged in."""
     try:
         from .cuda import run_table_cuda
     except ImportError as exc:
         raise MechgenError("backend='cuda' is not available in this mechgen "
                            f"(mechgen.runtime.cuda could not be imported: {exc})") from None
+    if slots is not None and np.any(slots[:, 0] == DRIVER) and \
+            not cuda_keeps_points(mech, slots, lev, meth):
+        from .cuda_forces import run_forces_cuda
+        res = run_forces_cuda(mech, ts, P, q0, tol, mech.xtol if xtol is None else xtol,
+                              maxit, slots)
+        done, status, host = res["done"], res["status"], res["host"]
+        red = tuple(res[k] for k in ("min", "max", "tmin", "tmax"))
+        if host.size:
+            part = run_cpu(mech.module, ts, q0, P[host], lev, tol,
+                           mech.xtol if xtol is None else xtol, maxit, meth, workers, slots)
+            done[host], status[host] = part.done, part.status
+            for arr, got in zip(red, part.red):
+                arr[host] = got
+        return TableData(None, None, None, None, done, status, red)
     res = run_table_cuda(mech, ts, P, q0, lev, tol, maxit, slots)
     status = np.asarray(res["status"], dtype=np.int64)
     N = ts.shape[0]
@@ -135,7 +161,7 @@ def run_backend(backend, mech, ts, q0, P, lev, tol, xtol, maxit, meth, workers=N
         from .dask_backend import run_dask
         return run_dask(mech.module, ts, q0, P, lev, tol, xtol, maxit, meth, client, slots,
                         progress)
-    return run_cuda(mech, ts, q0, P, lev, tol, maxit, slots)
+    return run_cuda(mech, ts, q0, P, lev, tol, maxit, slots, xtol, meth, workers)
 
 
 def progress_reporter(progress, total):

@@ -19,7 +19,9 @@ back from the module file, translated by a few mechanical rules and compiled wit
   functions (numba.cuda cannot compile the builtins for two numbers);
 - in sweep() and sweep_fast() the rows they write (Q, QD, QDD, STATUS) are indexed
   ``k & mask``: mask -1 keeps every row (the table kernels, nothing changes), mask 0
-  one thread-local row (the reducing kernels);
+  one thread-local row (the reducing kernels); sweep_fast_forces' LAM, FACTORS and FPIV
+  rows too, where mechgen.runtime.cuda_forces translates it (its hook:
+  ``_cu_point_forces``);
 - a hook ``_cu_point`` sees each final point once: at the end of each time step of
   sweep(), one step late in sweep_fast() (whose last accepted point sweep() solves
   again when it takes over, as on the CPU), just before the next point's row is
@@ -41,8 +43,15 @@ import textwrap
 from ..errors import MechgenError
 
 ROOTS = ("sweep_fast", "sweep", "outputs", "outputs_d", "outputs_dd")
-ROW_ARRAYS = ("Q", "QD", "QDD", "STATUS")
-HOOKED = ("sweep_fast", "sweep")
+# the rows a hooked sweep writes (2-D: Q[k, j]; 1-D: FPIV[k]); sweep_fast_forces' λ rows
+# too (mechgen.runtime.cuda_forces)
+ROW_ARRAYS = ("Q", "QD", "QDD", "STATUS", "LAM", "FACTORS")
+ROW_VECTORS = ("FPIV",)
+# hooked function -> (its hook, the row arrays the hook is given)
+HOOKED = {"sweep_fast": ("_cu_point", ("Q", "QD", "QDD", "STATUS")),
+          "sweep": ("_cu_point", ("Q", "QD", "QDD", "STATUS")),
+          "sweep_fast_forces": ("_cu_point_forces",
+                                ("Q", "QD", "QDD", "STATUS", "LAM", "FACTORS", "FPIV"))}
 # x.copy() of these names: the size of the copy
 COPY_SIZES = {"q0": "N_COORDS", "r": "N_EQS"}
 # locals whose value is a size only known from an argument's shape: the size it always
@@ -357,16 +366,19 @@ class _Rewriter(ast.NodeTransformer):
 
 
 class _Rows(ast.NodeTransformer):
-    """Q[k, j] -> Q[k & mask, j] for the row arrays (mask: the context's last entry, -1
-    for full rows, 0 for a single row)."""
+    """Q[k, j] -> Q[k & mask, j] for the row arrays, FPIV[k] -> FPIV[k & mask] for the
+    row vectors (mask: the context's entry MASK, -1 for full rows, 0 for a single row)."""
 
     def visit_Subscript(self, node):
         self.generic_visit(node)
-        if isinstance(node.value, ast.Name) and node.value.id in ROW_ARRAYS and \
-                isinstance(node.slice, ast.Tuple):
-            mask = ast.Subscript(ast.Name("_cu_ctx", ast.Load()), ast.Constant(MASK), ast.Load())
+        if not isinstance(node.value, ast.Name):
+            return node
+        mask = ast.Subscript(ast.Name("_cu_ctx", ast.Load()), ast.Constant(MASK), ast.Load())
+        if node.value.id in ROW_ARRAYS and isinstance(node.slice, ast.Tuple):
             first = ast.BinOp(node.slice.elts[0], ast.BitAnd(), mask)
             node.slice = ast.Tuple([first] + node.slice.elts[1:], ast.Load())
+        elif node.value.id in ROW_VECTORS and not isinstance(node.slice, (ast.Tuple, ast.Slice)):
+            node.slice = ast.BinOp(node.slice, ast.BitAnd(), mask)
         return node
 
 
@@ -388,30 +400,31 @@ def _stores_row(stmt):
     """Whether a statement writes into one of the row arrays."""
     for node in ast.walk(stmt):
         if isinstance(node, ast.Subscript) and isinstance(node.ctx, ast.Store) and \
-                isinstance(node.value, ast.Name) and node.value.id in ROW_ARRAYS:
+                isinstance(node.value, ast.Name) and node.value.id in ROW_ARRAYS + ROW_VECTORS:
             return True
     return False
 
 
 def _hook(fn, module):
-    """Add the _cu_ctx argument and the per-point hook to sweep() or sweep_fast(), and
-    index their rows through the context's mask."""
+    """Add the _cu_ctx argument and the per-point hook (HOOKED) to sweep(), sweep_fast()
+    or sweep_fast_forces(), and index their rows through the context's mask."""
     fn.args.args.append(ast.arg("_cu_ctx"))
     loops = [s for s in fn.body if isinstance(s, ast.For) and isinstance(s.target, ast.Name)
              and s.target.id == "k"]
     if len(loops) != 1:
         raise TranslationError(f"{fn.name}() of '{module.__name__}' has no single loop over "
                                "the times (for k in ...) to hook the reductions into")
-    args = [ast.Name(n, ast.Load()) for n in ("ts", "Q", "QD", "QDD", "STATUS", "p", "_cu_ctx")]
+    hook, rows = HOOKED[fn.name]
+    args = [ast.Name(n, ast.Load()) for n in ("ts",) + rows + ("p", "_cu_ctx")]
     if fn.name == "sweep":
         # sweep()'s points are final: each is seen when it is written
-        loops[0].body.append(ast.Expr(_call(ast.Name("_cu_point", ast.Load()),
+        loops[0].body.append(ast.Expr(_call(ast.Name(hook, ast.Load()),
                                             [ast.Name("k", ast.Load())] + args)))
     else:
         # sweep_fast()'s last accepted point is solved again by sweep() when sweep_fast
         # stops early (the CPU table keeps sweep()'s): a point is seen once the next one
-        # is accepted, just before its row is written over it (so one row is enough); the
-        # driver sees the last one when sweep_fast() went to the end
+        # is accepted, just before its rows are written over it (so one row is enough);
+        # the driver sees the last one when sweep_fast() went to the end
         body = loops[0].body
         at = next((i for i, st in enumerate(body) if _stores_row(st)), None)
         if at is None:
@@ -420,15 +433,15 @@ def _hook(fn, module):
         prev = ast.BinOp(ast.Name("k", ast.Load()), ast.Sub(), ast.Constant(1))
         body.insert(at, ast.If(
             test=ast.Compare(ast.Name("k", ast.Load()), [ast.Gt()], [ast.Constant(0)]),
-            body=[ast.Expr(_call(ast.Name("_cu_point", ast.Load()), [prev] + args))],
+            body=[ast.Expr(_call(ast.Name(hook, ast.Load()), [prev] + args))],
             orelse=[]))
     _Rows().visit(fn)
 
 
-def translate(module) -> str:
+def translate(module, roots=ROOTS) -> str:
     """The CUDA source of every numba function of ``module`` that the roots reach, as
     plain Python text (defined under the names the module's code calls them by)."""
-    todo = list(ROOTS)
+    todo = list(roots)
     seen = set()
     parts = []
     while todo:
@@ -459,13 +472,15 @@ def translate(module) -> str:
     return "\n\n\n".join(parts) + "\n"
 
 
-def build_twin(module, cuda, status_columns=1, max_registers=None):
+def build_twin(module, cuda, status_columns=1, max_registers=None, roots=ROOTS, support="",
+               kernels=()):
     """The namespace of the CUDA twin of ``module``: the translated functions as device
     functions, and the kernels (KERNELS: first and second pass, keeping every point or
     reducing), compiled by numba at their first launch (max_registers: numba.cuda.jit's
-    option)."""
+    option). ``roots``, ``support`` and ``kernels``: more functions of the module to
+    translate, more source and kernels (mechgen.runtime.cuda_forces)."""
     from numba import types
-    text = translate(module) + "\n\n" + SUPPORT
+    text = translate(module, roots) + "\n\n" + SUPPORT + "\n\n" + support
     filename = f"<cuda twin {next(_counter)} of {module.__name__}>"
     linecache.cache[filename] = (len(text), None, text.splitlines(True), filename)
     ns = dict(vars(module))
@@ -480,7 +495,7 @@ def build_twin(module, cuda, status_columns=1, max_registers=None):
     tree = ast.parse(text)
     defined = [n.name for n in tree.body if isinstance(n, ast.FunctionDef)]
     for name in defined:
-        if name in KERNELS:
+        if name in KERNELS or name in kernels:
             opts = {} if max_registers is None else {"max_registers": int(max_registers)}
             ns[name] = cuda.jit(**opts)(ns[name])
         else:

@@ -19,13 +19,13 @@ import numpy as np
 
 from ..errors import MechgenError
 from ..protocol import LEVEL, LEVELS
-from .backends import progress_reporter, run_backend
+from .backends import cuda_keeps_points, progress_reporter, run_backend
 from .chunks import reduce_threads
 from .guards import finite, fits, point_bytes, sweep_times
 from .quantity import _lookup, column_names
 from .forces import attach, is_force_level
 from .forces.lookup import tables
-from .reduce import (DRIVER, Reduction, driver_efforts, driver_slot, reduce_chunk,
+from .reduce import (Reduction, driver_efforts, driver_slot, reduce_chunk,
                      reduce_slots, status_name)
 from .results import Sweep, pandas, write_csv
 
@@ -395,7 +395,8 @@ def design_table(mech, t0, t1, n, params, level="position", guess=None, method=N
     P = make(base, mech._param_index, names, axes)
     if backend == "cpu":    # a big table in the python tier: compiled first (runtime.tiers)
         mech._tiers.expect(mech, P.shape[0] * ts.shape[0], "design")
-    on_host = backend == "cuda" and slots is not None and np.any(slots[:, 0] == DRIVER)
+    # a driver's effort the GPU cannot reduce: the kernel keeps the points (backends)
+    on_host = backend == "cuda" and cuda_keeps_points(mech, slots, lev, meth)
     data = run_backend(backend, mech, ts, q0, P, lev, tol, mech.xtol, maxit, meth,
                        workers=workers, client=client, slots=None if on_host else slots,
                        progress=progress_reporter(progress, P.shape[0]))
