@@ -10,9 +10,12 @@ difference, and the kernel alone at a few block sizes (how many designs it left 
 host).
 
     PYTHONPATH=. MECHGEN_TIER=compiled python3 benchmarks/device_cuda.py [--quick]
-    PYTHONPATH=. MECHGEN_TIER=compiled python3 benchmarks/device_cuda.py --forces
+    PYTHONPATH=. MECHGEN_TIER=compiled python3 benchmarks/device_cuda.py --forces [--old]
+    PYTHONPATH=. MECHGEN_TIER=compiled python3 benchmarks/device_cuda.py --static [--old]
+        (the same force table at level "static": sweep_fast_statics in the kernel;
+        --old: beside the path that brought every point back to the host)
     NUMBA_ENABLE_CUDASIM=1 PYTHONPATH=. python3 benchmarks/device_cuda.py --forces-sim
-        (the force part at 8 designs × 40 times on numba's simulator: it runs)
+        (the force part, both levels, at 8 designs × 40 times on numba's simulator)
 """
 import os
 import sys
@@ -32,12 +35,13 @@ if not hasattr(np, "row_stack"):
 import bench_cuda  # noqa: E402
 
 
-def forces(designs=10_000, times=1000):
-    """backend="cuda" against backend="cpu" for reduce= on the crank driver, dynamic."""
+def forces(designs=10_000, times=1000, level="dynamic"):
+    """backend="cuda" against backend="cpu" for reduce= on the crank driver at ``level``
+    ("dynamic", or "static": sweep_fast_statics in the kernel)."""
     import mechgen
     mech = mechgen.load(os.path.join(os.path.dirname(HERE), "generated",
                                      "quick_return_forces.py"))
-    kw = dict(params={"longitud": np.linspace(2.2, 3.5, designs)}, level="dynamic",
+    kw = dict(params={"longitud": np.linspace(2.2, 3.5, designs)}, level=level,
               reduce=["crank driver", "X4"], on_fail="ignore")
     mech.sweep(0.0, 1.0, 8, backend="cuda", **dict(kw, params={"longitud": [2.5, 3.0]}))
     mech.sweep(0.0, 1.0, 8, **dict(kw, params={"longitud": [2.5, 3.0]}))
@@ -58,7 +62,7 @@ def forces(designs=10_000, times=1000):
                 for n in kw["reduce"] for w in ("tmin", "tmax"))
     scale = float(np.nanmax(np.abs(b.reduced("crank driver").max)))
     pts = designs * times
-    print(f"{designs} designs x {times} times, dynamic, reduce crank driver: cuda "
+    print(f"{designs} designs x {times} times, {level}, reduce crank driver: cuda "
           f"{out['cuda_s']:.3g} s ({pts / out['cuda_s']:.3g} points/s), cpu "
           f"{out['cpu_s']:.3g} s ({pts / out['cpu_s']:.3g} points/s, {os.cpu_count()} cores), "
           f"cpu/cuda time {out['cpu_s'] / out['cuda_s']:.3g}; one thread {single:.3g} s "
@@ -66,8 +70,8 @@ def forces(designs=10_000, times=1000):
           f"{diff['crank driver']:.3g} on a scale of {scale:.3g}, X4 {diff['X4']:.3g}, "
           f"times {tdiff:.3g}; statuses differing {int(np.sum(a.status != b.status))}, "
           f"done differing {int(np.sum(a.done != b.done))}", flush=True)
-    kernel(mech, a.t, a.P, kw["reduce"])
-    mixed(mech, times=times)
+    kernel(mech, a.t, a.P, kw["reduce"], level)
+    mixed(mech, times=times, level=level)
     if "--old" in sys.argv:
         kept_points(mech, times, kw, out["cuda_s"], a)
 
@@ -90,11 +94,11 @@ def kept_points(mech, times, kw, new_s, new):
           f"{old_s / new_s:.3g}x faster; max|old-new| torque {d:.3g}", flush=True)
 
 
-def mixed(mech, designs=256, times=1000):
+def mixed(mech, designs=256, times=1000, level="dynamic"):
     """Designs that cannot turn (longitud above about 4: the host solves them) among ones
     that can, cuda against cpu: the largest relative difference of each design's torque
     extremes, of X4's and of the times, the statuses and solved counts that differ."""
-    kw = dict(params={"longitud": np.linspace(1.0, 6.0, designs)}, level="dynamic",
+    kw = dict(params={"longitud": np.linspace(1.0, 6.0, designs)}, level=level,
               reduce=["crank driver", "X4"], on_fail="ignore")
     a = mech.sweep(0.0, 1.0, times, backend="cuda", **kw)
     b = mech.sweep(0.0, 1.0, times, **kw)
@@ -112,16 +116,16 @@ def mixed(mech, designs=256, times=1000):
           f"{int(np.sum(a.done != b.done))}", flush=True)
 
 
-def kernel(mech, ts, P, names):
+def kernel(mech, ts, P, names, level="dynamic"):
     """The force kernel alone (mechgen.runtime.cuda_forces.run_forces_cuda) at a few block
     sizes: its time and how many designs it left to the host."""
     from mechgen.runtime.cuda_forces import run_forces_cuda
     from mechgen.runtime.reduce import reduce_slots
-    slots = reduce_slots(mech, names, 2, "dynamic")[1]
+    slots = reduce_slots(mech, names, 2 if level == "dynamic" else 0, level)[1]
     args = (mech, ts, P, mech._start(None), mech._tol(None), mech.xtol, mech._maxit(None), slots)
     for tpb in (128, 64, 32):
         t0 = time.perf_counter()
-        r = run_forces_cuda(*args, threads=tpb)
+        r = run_forces_cuda(*args, threads=tpb, level=level)
         dt = time.perf_counter() - t0
         print(f"  force kernel, {tpb} threads a block: {dt:.3g} s "
               f"({P.shape[0] * ts.shape[0] / dt:.3g} points/s), {r['host'].size} of "
@@ -135,6 +139,10 @@ def main():
         runs = runs[:2]
     if "--forces-sim" in sys.argv:
         forces(designs=8, times=40)
+        forces(designs=8, times=40, level="static")
+        return 0
+    if "--static" in sys.argv:            # the static force table alone
+        forces(level="static")
         return 0
     if "--forces" in sys.argv:
         runs = []

@@ -140,13 +140,44 @@ def weak_pivots():
 
 
 def static():
-    """Level "static" (no fused path): the kernel keeps the points, the host solves λ."""
+    """Level "static": the kernel runs sweep_fast_statics and reduces the driver (no point
+    back), the designs it leaves solved on the host; against the CPU table."""
+    import mechgen
+    mech = mechgen.load(os.path.join(ROOT, "generated", "quick_return_forces.py"))
+    params = {"longitud": QR_LONGITUD}
+    names = ["crank driver", "X4"]
+    cpu = _table(mech, 40, params, "static", names)
+    watch = _Watch()
+    try:
+        gpu = _table(mech, 40, params, "static", names, backend="cuda")
+    finally:
+        watch.close()
+    out = _compare(gpu, cpu, names)
+    res = watch.results
+    out["calls"] = len(res)
+    out["host"] = res[0]["host"] if res else None
+    full = _table(mech, 40, params, "static")
+    tau = full.driver("crank driver")
+    out["vs_full"] = max(_diff(gpu.reduced("crank driver").max, np.nanmax(tau, axis=1), True),
+                         _diff(gpu.reduced("crank driver").min, np.nanmin(tau, axis=1), True))
+    return out
+
+
+def static_unfused():
+    """A static table of a module without sweep_fast_statics (method "full": no quick
+    path): the kernel keeps the points, the host solves λ."""
     import mechgen
     mech = mechgen.load(os.path.join(ROOT, "generated", "quick_return_forces.py"))
     params = {"longitud": [2.0, 3.0]}
     names = ["crank driver", "X4"]
-    return _compare(_table(mech, 20, params, "static", names, backend="cuda"),
-                    _table(mech, 20, params, "static", names), names)
+    watch = _Watch(refuse_points=False)
+    try:
+        gpu = _table(mech, 20, params, "static", names, backend="cuda", method="full")
+    finally:
+        watch.close()
+    out = _compare(gpu, _table(mech, 20, params, "static", names, method="full"), names)
+    out["calls"] = len(watch.results)
+    return out
 
 
 def outputs():
@@ -208,6 +239,7 @@ def main():
     from numba.core import config
     assert config.ENABLE_CUDASIM, "run with NUMBA_ENABLE_CUDASIM=1"
     cases = {"quick_return": quick_return, "weak_pivots": weak_pivots, "static": static,
+             "static_unfused": static_unfused,
              "outputs": outputs, "slider_crank": slider_crank}
     names = sys.argv[1:] or list(cases)
     print(json.dumps({n: cases[n]() for n in names}))

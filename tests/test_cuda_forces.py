@@ -51,8 +51,20 @@ def test_weak_multipliers_send_the_design_to_the_host(sim):
     _same_as_cpu(r, ["crank driver", "X4", "Th3d"])
 
 
-def test_static_keeps_the_points_and_solves_on_the_host(sim):
-    _same_as_cpu(sim["static"], ["crank driver", "X4"])
+def test_static_reduces_on_the_gpu_too(sim):
+    """sweep_fast_statics in the kernel: the same designs on the GPU as at level dynamic
+    (3 needs the careful sweep, 4.5 and 6 fail: the host), the CPU table's numbers."""
+    r = sim["static"]
+    _same_as_cpu(r, ["crank driver", "X4"])
+    assert r["calls"] == 1 and r["host"] == [3, 4, 5]
+    assert r["vs_full"] <= 1e-12
+
+
+def test_static_without_the_quick_path_keeps_the_points(sim):
+    r = sim["static_unfused"]
+    assert r["calls"] == 0                      # not the force kernel: every point back
+    assert r["done"] == r["cpu_done"] and r["status"] == r["cpu_status"]
+    assert max(r["diff_crank driver"], r["diff_X4"]) <= 1e-12
 
 
 def test_outputs_reduced_beside_the_driver(sim):
@@ -83,21 +95,25 @@ def test_which_tables_keep_their_points():
     kin = reduce_slots(mech, ["X4"], 2)[1]
     assert not cuda_keeps_points(mech, dyn, 2, METHOD["auto"])
     assert cuda_keeps_points(mech, dyn, 2, METHOD["full"])
-    assert cuda_keeps_points(mech, sta, 0, METHOD["auto"])
+    assert not cuda_keeps_points(mech, sta, 0, METHOD["auto"])  # sweep_fast_statics
+    assert cuda_keeps_points(mech, sta, 0, METHOD["full"])
+    mixed = np.vstack([dyn[:1], sta])                        # two force levels at once
+    assert cuda_keeps_points(mech, mixed, 2, METHOD["auto"])
     assert not cuda_keeps_points(mech, kin, 2, METHOD["auto"])
     assert not cuda_keeps_points(mech, None, 2, METHOD["auto"])
     assert np.any(dyn[:, 0] == 2)
 
 
-def test_sweep_fast_forces_translates_with_its_rows_masked():
-    """The fused quick path of the committed force module: its λ rows indexed through the
-    row mask like Q, its hook before the first row it writes in each step."""
+@pytest.mark.parametrize("name", ["sweep_fast_forces", "sweep_fast_statics"])
+def test_sweep_fast_forces_translates_with_its_rows_masked(name):
+    """The fused quick paths of the committed force module: their λ rows indexed through
+    the row mask like Q, the hook before the first row each writes in each step."""
     import mechgen
     from mechgen.runtime.cuda import numba_module
     from mechgen.runtime.cuda_twin import ROOTS, translate
     mod = numba_module(mechgen.load(os.path.join(ROOT, "generated", "quick_return_forces.py")))
-    text = translate(mod, ROOTS + ("sweep_fast_forces",))
-    fused = text[text.index("def sweep_fast_forces("):]
+    text = translate(mod, ROOTS + (name,))
+    fused = text[text.index(f"def {name}("):]
     fused = fused[:fused.index("\ndef ", 1)]
     assert "LAM[k & _cu_ctx[6], 0] = " in fused and "FPIV[k & _cu_ctx[6]] = " in fused
     assert "FACTORS[k & _cu_ctx[6], 0] = " in fused

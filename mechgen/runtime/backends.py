@@ -17,9 +17,10 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 import numpy as np
 
 from ..errors import MechgenError
-from ..protocol import JUMP, OK, STATUS_CODE, THROUGH_SINGULAR
+from ..protocol import JUMP, METHOD, OK, STATUS_CODE, THROUGH_SINGULAR
 from .chunks import (DESIGN_INFO_COLUMNS, DESIGN_INFO_DTYPE, Collector, TableData, _fused,
                      chunks, guided_chunks, solve_chunk, sweep_chunk)
+from .forces.lookup import FORCE_LEVELS
 from .reduce import DRIVER, design_status
 
 BACKENDS = ("cpu", "dask", "cuda")
@@ -87,13 +88,29 @@ def run_cpu(module, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=
     return out.table()
 
 
+def gpu_force_level(mech, slots, lev, meth):
+    """The force level ("dynamic", "static") whose driver efforts a CUDA table reducing
+    ``slots`` reduces on the GPU (its every driver slot at that level, the module's fused
+    quick path for it: sweep_fast_forces, sweep_fast_statics); None where it cannot."""
+    orders = {int(order) for kind, _, order in np.asarray(slots) if kind == DRIVER}
+    if len(orders) != 1 or meth == METHOD["full"]:
+        return None
+    level = FORCE_LEVELS[orders.pop()]
+    module = mech.module
+    if not (module.SORTED and module.LEVEL >= 2) or lev != (2 if level == "dynamic" else 0):
+        return None
+    if level == "dynamic":
+        return level if _fused(module, slots, lev, meth) is not None else None
+    return level if hasattr(module, "sweep_fast_statics") else None
+
+
 def cuda_keeps_points(mech, slots, lev, meth) -> bool:
     """Whether a CUDA table reducing ``slots`` needs every point back on the host (a
-    driver's effort the GPU cannot reduce: level "static", method "full", a module
-    without the fused quick path; the design table then solves the multipliers here)."""
+    driver's effort the GPU cannot reduce: method "full", a module without the fused
+    quick path of its level; the design table then solves the multipliers here)."""
     if slots is None or not np.any(np.asarray(slots)[:, 0] == DRIVER):
         return False
-    return _fused(mech.module, slots, lev, meth) is None
+    return gpu_force_level(mech, slots, lev, meth) is None
 
 
 def run_cuda(mech, ts, q0, P, lev, tol, maxit, slots, xtol=None, meth=None,
@@ -110,7 +127,7 @@ def run_cuda(mech, ts, q0, P, lev, tol, maxit, slots, xtol=None, meth=None,
             not cuda_keeps_points(mech, slots, lev, meth):
         from .cuda_forces import run_forces_cuda
         res = run_forces_cuda(mech, ts, P, q0, tol, mech.xtol if xtol is None else xtol,
-                              maxit, slots)
+                              maxit, slots, level=gpu_force_level(mech, slots, lev, meth))
         done, status, host = res["done"], res["status"], res["host"]
         red = tuple(res[k] for k in ("min", "max", "tmin", "tmax"))
         if host.size:

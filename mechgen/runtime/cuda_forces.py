@@ -1,6 +1,6 @@
 """Force design tables whose reductions run on the GPU: ``reduce=["crank driver", ...]``
-at level "dynamic" with ``backend="cuda"``, the driver's effort reduced while each design
-is swept, so that no point leaves the GPU.
+at level "dynamic" or "static" with ``backend="cuda"``, the driver's effort reduced while
+each design is swept, so that no point leaves the GPU.
 
 The module's fused quick path ``sweep_fast_forces`` (present where its FORCE_FUSED is
 True: the multipliers written out in the sweep's own step) is translated with the rest of
@@ -10,6 +10,11 @@ hook ``_cu_point_forces`` sees each accepted point once, as ``_cu_point`` does f
 sweep_fast. A driver slot's value at a point is the driver's effort Σ λ_r ∂Φ_r/∂f from
 that point's LAM and FACTORS rows (mechgen.runtime.forces.points.efforts); coordinate and
 output slots are those of the kinematic kernels.
+
+A static table runs the module's sweep_fast_statics (where it is written: the multipliers
+at q̇ = q̈ = 0 after the position code) the same way, with the same hook; its kernel's
+one-row QD and QDD make it take the derivatives at every point too (the position sweep's
+predictor, which reads none, is for a QD without rows), which changes no position.
 
 One kernel runs (one CUDA thread per design): sweep_fast_forces over every time. A design
 it does not take to the end (a hard point: sweep() would go on), or that meets a point
@@ -33,7 +38,9 @@ from .cuda_twin import ROOTS, build_twin
 from .forces.points import driver_rows
 from .reduce import DRIVER
 
-KERNEL = "_cu_forces_reduce"
+# force level -> (the module's fused quick path, the kernel that runs it)
+KERNELS = {"dynamic": ("sweep_fast_forces", "_cu_forces_reduce"),
+           "static": ("sweep_fast_statics", "_cu_statics_reduce")}
 _TWINS = {}                     # (id(module), max_registers) -> (module, twin namespace)
 
 # The hook, the per-design driver and the kernel, compiled into the twin's namespace.
@@ -85,8 +92,10 @@ def _cu_point_forces(k, ts, Q, QD, QDD, S, LAM, FAC, FPIV, p, ctx):
             R[1, i] = v
             R[3, i] = t
     F[1] = 1
+'''
 
-
+# The reducing kernel, once per fused sweep it runs (the names replaced)
+KERNEL_SOURCE = '''
 def _cu_forces_reduce(ts, q0, P, tol, xtol, maxit, SL, nsl, nord, DRV, R, DONE, DSTATUS):
     \"\"\"One thread per design: sweep_fast_forces() over every time, one thread-local
     row of each array, the reductions R[design] = (min, max, tmin, tmax) of the slots SL.
@@ -122,15 +131,28 @@ def _cu_forces_reduce(ts, q0, P, tol, xtol, maxit, SL, nsl, nord, DRV, R, DONE, 
 '''
 
 
+def fused_levels(module):
+    """The force levels whose fused quick path ``module`` has (sweep_fast_forces where its
+    FORCE_FUSED is True, sweep_fast_statics where it is written)."""
+    return [level for level, (fn, _) in KERNELS.items()
+            if (getattr(module, "FORCE_FUSED", False) if level == "dynamic"
+                else hasattr(module, fn))]
+
+
 def twin(module, max_registers=None):
-    """The CUDA twin of ``module`` with sweep_fast_forces and the forces kernel."""
+    """The CUDA twin of ``module`` with its fused quick paths and their kernels."""
     key = (id(module), max_registers)
     hit = _TWINS.get(key)
     if hit is not None and hit[0] is module:
         return hit[1]
     cuda = require_cuda()
+    paths = [KERNELS[level] for level in fused_levels(module)]
+    support = SUPPORT + "".join(
+        "\n\n" + KERNEL_SOURCE.replace("_cu_forces_reduce", kernel)
+        .replace("sweep_fast_forces", fn) for fn, kernel in paths)
     ns = build_twin(module, cuda, STATUS_COLUMNS, max_registers,
-                    roots=ROOTS + ("sweep_fast_forces",), support=SUPPORT, kernels=(KERNEL,))
+                    roots=ROOTS + tuple(fn for fn, _ in paths), support=support,
+                    kernels=tuple(kernel for _, kernel in paths))
     _TWINS[key] = (module, ns)
     return ns
 
@@ -171,8 +193,9 @@ def device_slots(mech, slots):
 
 
 def run_forces_cuda(mech, ts, P, q0, tol, xtol, maxit, slots, threads=None,
-                    max_registers=None) -> dict:
-    """The reductions of a dynamic force table on the GPU (see the module docstring):
+                    max_registers=None, level="dynamic") -> dict:
+    """The reductions of a force table at ``level`` ("dynamic" or "static") on the GPU
+    (see the module docstring):
     ``min``, ``max``, ``tmin``, ``tmax`` (designs, slots; NaN for the designs left to
     the host), ``done`` (designs,) int64 (the count of times, -1 where the host must
     solve the design), ``status`` (designs,) int64 (meaningful where done >= 0), ``host``
@@ -196,7 +219,7 @@ def run_forces_cuda(mech, ts, P, q0, tol, xtol, maxit, slots, threads=None,
     d_R = cuda.to_device(np.full((D, 4, nsl), np.nan))
     d_done = cuda.to_device(np.zeros(D, dtype=np.int64))
     d_status = cuda.to_device(np.zeros(D, dtype=np.int64))
-    ns[KERNEL][-(-D // tpb), tpb](cuda.to_device(ts), cuda.to_device(q0), cuda.to_device(P),
+    ns[KERNELS[level][1]][-(-D // tpb), tpb](cuda.to_device(ts), cuda.to_device(q0), cuda.to_device(P),
                                   float(tol), float(xtol), int(maxit), cuda.to_device(flat),
                                   nsl, nord, cuda.to_device(DRV), d_R, d_done, d_status)
     done = d_done.copy_to_host()

@@ -19,9 +19,9 @@ back from the module file, translated by a few mechanical rules and compiled wit
   functions (numba.cuda cannot compile the builtins for two numbers);
 - in sweep() and sweep_fast() the rows they write (Q, QD, QDD, STATUS) are indexed
   ``k & mask``: mask -1 keeps every row (the table kernels, nothing changes), mask 0
-  one thread-local row (the reducing kernels); sweep_fast_forces' LAM, FACTORS and FPIV
-  rows too, where mechgen.runtime.cuda_forces translates it (its hook:
-  ``_cu_point_forces``);
+  one thread-local row (the reducing kernels); sweep_fast_forces' (and
+  sweep_fast_statics') LAM, FACTORS and FPIV rows too, where mechgen.runtime.cuda_forces
+  translates them (their hook: ``_cu_point_forces``);
 - a hook ``_cu_point`` sees each final point once: at the end of each time step of
   sweep(), one step late in sweep_fast() (whose last accepted point sweep() solves
   again when it takes over, as on the CPU), just before the next point's row is
@@ -51,7 +51,9 @@ ROW_VECTORS = ("FPIV",)
 HOOKED = {"sweep_fast": ("_cu_point", ("Q", "QD", "QDD", "STATUS")),
           "sweep": ("_cu_point", ("Q", "QD", "QDD", "STATUS")),
           "sweep_fast_forces": ("_cu_point_forces",
-                                ("Q", "QD", "QDD", "STATUS", "LAM", "FACTORS", "FPIV"))}
+                                ("Q", "QD", "QDD", "STATUS", "LAM", "FACTORS", "FPIV")),
+          "sweep_fast_statics": ("_cu_point_forces",
+                                 ("Q", "QD", "QDD", "STATUS", "LAM", "FACTORS", "FPIV"))}
 # x.copy() of these names: the size of the copy
 COPY_SIZES = {"q0": "N_COORDS", "r": "N_EQS"}
 # locals whose value is a size only known from an argument's shape: the size it always
