@@ -195,6 +195,33 @@ def test_design_table_of_peak_torque_solves_the_multipliers_in_its_sweeps(qr, mo
             np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-12 * np.nanmax(np.abs(y)))
 
 
+def test_static_design_table_solves_the_multipliers_in_its_sweeps(qr, monkeypatch):
+    """reduce= on the driver of a static table: each design's position quick path solves
+    λ at rest on its way (sweep_designs_statics); the same extremes as the separate pass,
+    designs that cannot turn among them."""
+    import mechgen.runtime.chunks as chunks
+    assert qr.module.STATIC_FUSED
+    kw = dict(params={"longitud": np.linspace(2.0, 6.5, 12)}, on_fail="ignore", workers=1,
+              level="static", reduce=["crank driver", "X4"])
+    assert chunks._fused(qr.module, np.array([[2, 0, 0]]), 0, 0) == 0
+    assert chunks._fused(qr.module, np.array([[2, 0, 0]]), 2, 0) is None
+    calls = []
+    real = qr.module.sweep_designs_statics
+    monkeypatch.setattr(qr.module, "sweep_designs_statics",
+                        lambda *a: calls.append(1) or real(*a))
+    fused = qr.sweep(0.0, 1.0, 201, **kw)
+    assert calls
+    monkeypatch.setattr(chunks, "_fused", lambda *args: None)
+    separate = qr.sweep(0.0, 1.0, 201, **kw)
+    np.testing.assert_array_equal(fused.done, separate.done)
+    assert fused.done.min() < 201 and fused.done.max() == 201
+    for name in ("crank driver", "X4"):
+        a, b = fused.reduced(name), separate.reduced(name)
+        for part in ("min", "max", "tmin", "tmax"):
+            x, y = getattr(a, part), getattr(b, part)
+            np.testing.assert_allclose(x, y, rtol=1e-12, atol=1e-12 * np.nanmax(np.abs(y)))
+
+
 def test_bounds_of_a_row_scale():
     """_bound: |sin|, |cos| <= 1 and nothing else; a coordinate's size is not bounded."""
     import sympy as sp

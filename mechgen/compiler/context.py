@@ -177,6 +177,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         forces=dict(functions=force_functions(text, FUSED), driver_rows=driver_rows,
                     point=text("multipliers_point") is not None,
                     fused=text("sweep_fast_forces") is not None,
+                    static=text("sweep_fast_statics") is not None,
                     blocks=force_blocks(plan, eq))
         if force_parts else None,
         pivot_rtol=repr(PIVOT_RTOL),

@@ -250,6 +250,9 @@ FUNCTIONS = (
 FUSED_STUB = ("Not written for this model (its multipliers are not written out, or its",
               "derivative pass is too long for one function): FORCE_FUSED is False and a",
               "dynamic sweep solves the multipliers after its kinematics (force_rows).")
+STATIC_STUB = ("Not written for this model (its position solver is not written into the",
+               "sweep, or its multipliers are not written out): STATIC_FUSED is False and a",
+               "static sweep solves the multipliers after its positions (force_rows).")
 POINT_STUB = ("Not written out for this model (a block of three or more rows, or no sorted",
               "build): FORCE_POINT is False and force_rows solves the multipliers otherwise.")
 
@@ -258,8 +261,9 @@ def force_functions(text, fused=()) -> list:
     """The template's force functions: dict(name, args, doc, zero, lines, options), the
     lines of each from ``text(name)`` (multipliers_point a stub that returns 0.0 where it
     is not written out); then ``fused``: (name, args, doc lines) of the functions of
-    dynamics_code that the model has (numpy's error model; sweep_fast_forces a stub that
-    accepts no point where the model has not, FORCE_FUSED False)."""
+    dynamics_code that the model has (numpy's error model; sweep_fast_forces and
+    sweep_fast_statics stubs that accept no point where the model has not them,
+    FORCE_FUSED and STATIC_FUSED False)."""
     out = []
     for name, args, doc, zero in FUNCTIONS:
         lines = text(name)
@@ -269,8 +273,10 @@ def force_functions(text, fused=()) -> list:
                         lines=lines, options=""))
     for name, args, doc in fused:
         lines = text(name)
-        if lines is None and name == "sweep_fast_forces":   # the library names it
+        if lines is None and name == "sweep_fast_forces":   # the library names them
             doc, lines = FUSED_STUB, ["return 0"]
+        if lines is None and name == "sweep_fast_statics":
+            doc, lines = STATIC_STUB, ["return 0"]
         if lines is not None:
             out.append(dict(name=name, args=args, doc="\n    ".join(doc), zero=False,
                             lines=lines, options=', error_model="numpy"'))

@@ -17,7 +17,7 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 import numpy as np
 
 from ..errors import MechgenError
-from ..protocol import JUMP, METHOD, OK, STATUS_CODE, THROUGH_SINGULAR
+from ..protocol import JUMP, OK, STATUS_CODE, THROUGH_SINGULAR
 from .chunks import (DESIGN_INFO_COLUMNS, DESIGN_INFO_DTYPE, Collector, TableData, _fused,
                      chunks, guided_chunks, solve_chunk, sweep_chunk)
 from .forces.lookup import FORCE_LEVELS
@@ -91,17 +91,9 @@ def run_cpu(module, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=
 def gpu_force_level(mech, slots, lev, meth):
     """The force level ("dynamic", "static") whose driver efforts a CUDA table reducing
     ``slots`` reduces on the GPU (its every driver slot at that level, the module's fused
-    quick path for it: sweep_fast_forces, sweep_fast_statics); None where it cannot."""
-    orders = {int(order) for kind, _, order in np.asarray(slots) if kind == DRIVER}
-    if len(orders) != 1 or meth == METHOD["full"]:
-        return None
-    level = FORCE_LEVELS[orders.pop()]
-    module = mech.module
-    if not (module.SORTED and module.LEVEL >= 2) or lev != (2 if level == "dynamic" else 0):
-        return None
-    if level == "dynamic":
-        return level if _fused(module, slots, lev, meth) is not None else None
-    return level if hasattr(module, "sweep_fast_statics") else None
+    quick path for it: chunks._fused); None where it cannot."""
+    order = _fused(mech.module, np.asarray(slots), lev, meth)
+    return None if order is None else FORCE_LEVELS[order]
 
 
 def cuda_keeps_points(mech, slots, lev, meth) -> bool:

@@ -156,8 +156,13 @@ def _solve_forces(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, Q, QD, 
             LAM = np.empty((b - a, N, int(module.N_EQS)))
             FACTORS = np.empty((b - a, N, len(module.DRIVER_ROWS)))
             PIV = np.empty((b - a, N))
-            done[a:b] = module.sweep_designs_forces(ts, q0, P[a:b], meth, tol, xtol, maxit,
-                                                    *part, FACTORS, PIV, LAM)
+            if FORCE_LEVELS[fused] == "dynamic":
+                done[a:b] = module.sweep_designs_forces(ts, q0, P[a:b], meth, tol, xtol,
+                                                        maxit, *part, FACTORS, PIV, LAM)
+            else:                   # static: a position sweep, λ at q̇ = q̈ = 0
+                done[a:b] = module.sweep_designs_statics(ts, q0, P[a:b], meth, tol, xtol,
+                                                         maxit, part[0], part[3], FACTORS,
+                                                         PIV, LAM)
             forces = {fused: repaired(module, ts, P[a:b], *part[:3], done[a:b], LAM, FACTORS,
                                       PIV)}
         else:
@@ -171,16 +176,19 @@ def _solve_forces(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, Q, QD, 
 
 
 def _fused(module, slots, lev, meth):
-    """The FORCE_LEVELS index of "dynamic" where every driver slot asks for it and the
-    module's dynamic quick path can solve the multipliers on its way
-    (sweep_designs_forces), else None."""
-    dynamic = FORCE_LEVELS.index("dynamic")
+    """The FORCE_LEVELS index of the force level every driver slot asks for where the
+    module's quick path at it can solve the multipliers on its way: "dynamic" in an
+    acceleration table (FORCE_FUSED: sweep_designs_forces), "static" in a position one
+    (STATIC_FUSED: sweep_designs_statics); else None."""
     orders = {int(order) for kind, _, order in slots if kind == DRIVER}
-    if orders != {dynamic} or lev != 2 or meth == METHOD["full"]:
+    if len(orders) != 1 or meth == METHOD["full"] or not (module.SORTED and module.LEVEL >= 2):
         return None
-    if not (getattr(module, "FORCE_FUSED", False) and module.SORTED and module.LEVEL >= 2):
+    order = orders.pop()
+    level = FORCE_LEVELS[order]
+    flag, need = ("FORCE_FUSED", 2) if level == "dynamic" else ("STATIC_FUSED", 0)
+    if lev != need or not getattr(module, flag, False):
         return None
-    return dynamic
+    return order
 
 
 class Collector:

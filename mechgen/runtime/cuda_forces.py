@@ -133,10 +133,9 @@ def _cu_forces_reduce(ts, q0, P, tol, xtol, maxit, SL, nsl, nord, DRV, R, DONE, 
 
 def fused_levels(module):
     """The force levels whose fused quick path ``module`` has (sweep_fast_forces where its
-    FORCE_FUSED is True, sweep_fast_statics where it is written)."""
-    return [level for level, (fn, _) in KERNELS.items()
-            if (getattr(module, "FORCE_FUSED", False) if level == "dynamic"
-                else hasattr(module, fn))]
+    FORCE_FUSED is True, sweep_fast_statics where its STATIC_FUSED is)."""
+    flags = {"dynamic": "FORCE_FUSED", "static": "STATIC_FUSED"}
+    return [level for level in KERNELS if getattr(module, flags[level], False)]
 
 
 def twin(module, max_registers=None):

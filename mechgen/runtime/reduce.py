@@ -167,6 +167,8 @@ def repaired(module, ts, P, Q, QD, QDD, done, LAM, FACTORS, PIV):
     solve."""
     D, N, n = Q.shape
     m = LAM.shape[2]
+    if QD is None:                  # a static table: at rest
+        QD = QDD = np.zeros((D, N, n))
     solved = np.arange(N)[None, :] < done[:, None]
     LAM[~solved] = np.nan
     weak = solved & ~((PIV >= SING_RTOL) & np.all(np.isfinite(LAM), axis=2))

@@ -193,7 +193,7 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
     first point the careful sweep solved: len(ts) when it did not run). Only the careful
     sweep writes the report and marks points JUMP or THROUGH_SINGULAR. ``forces`` (a
     dict; an acceleration sweep of a module with FORCE_FUSED, or a position sweep of one
-    with sweep_fast_statics: a dynamic or a static sweep): the quick path solves the
+    with STATIC_FUSED: a dynamic or a static sweep): the quick path solves the
     multipliers too, and the dict receives "LAM", "FACTORS", "FPIV" and "count", the
     points before which they hold (the careful sweep's are not solved)."""
     mod = mech.module
@@ -205,8 +205,8 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
     fused = None
     if forces is not None and lev == _ACC and getattr(mod, "FORCE_FUSED", False):
         fused = mod.sweep_fast_forces
-    elif forces is not None and lev == 0:
-        fused = getattr(mod, "sweep_fast_statics", None)
+    elif forces is not None and lev == 0 and getattr(mod, "STATIC_FUSED", False):
+        fused = mod.sweep_fast_statics
     if meth != METHOD_FULL and mod.SORTED and mod.LEVEL >= 2:
         start = -1
         if fused is not None:

@@ -22,7 +22,7 @@ from .solve import pivot_ratio
 from .toy import (FORCE_BLOCK_COLS, FORCE_BLOCK_ROWS, FORCE_BLOCK_START, FORCE_POINT,
                   FORCE_SORTED, N_COORDS, N_EQS, REPORT_SIZE, SING_RTOL, driver_factors,
                   energies, force_terms, gamma, mass_matrix, multipliers_point, njit, phi_q,
-                  sweep_fast_forces)
+                  sweep_fast_forces, sweep_fast_statics)
 
 # -- module body: below this line, the text as a generated module holds it --
 # ---------------------------------------------------------------------------------------
@@ -540,6 +540,35 @@ def sweep_designs_forces(ts, q0, P, method, tol, xtol, maxit, Q, QD, QDD, STATUS
         start = max(fast - 1, 0)            # where sweep() went on (its points: not yet)
         if fast < ts.shape[0] and k > start:
             force_rows(ts[start:k], Q[d, start:k], QD[d, start:k], QDD[d, start:k], P[d],
+                       _jac, _terms, _nu, _energy, FACTORS[d, start:k], PIV[d, start:k],
+                       LAM[d, start:k])
+    return done
+
+
+@njit(cache=True, nogil=True)
+def sweep_designs_statics(ts, q0, P, method, tol, xtol, maxit, Q, STATUS, FACTORS, PIV, LAM):
+    """sweep_designs at level position with the multipliers of a static table: each
+    design's quick path solves them on its way (sweep_fast_statics), the careful rest of
+    it by force_rows (q̇ = q̈ = 0) after sweep(); rows as sweep_designs_forces'. Only for
+    a module whose STATIC_FUSED is True. Returns the count of solved times of each
+    design; releases the GIL."""
+    done = np.zeros(P.shape[0], dtype=np.int64)
+    report = np.zeros(REPORT_SIZE)
+    _none = np.zeros((0, N_COORDS))         # a position sweep: no derivative rows
+    _still = np.zeros((ts.shape[0], N_COORDS))
+    _jac = np.empty((1, LAM.shape[2], N_COORDS))
+    _terms = np.empty((0, 3, N_COORDS))
+    _nu = np.empty((0, LAM.shape[2]))
+    _energy = np.empty((0, 3))
+    for d in range(P.shape[0]):
+        fast = sweep_fast_statics(ts, q0, P[d], tol, xtol, maxit, Q[d], _none, _none,
+                                  STATUS[d], LAM[d], FACTORS[d], PIV[d])
+        k = sweep_on(ts, q0, P[d], 0, tol, xtol, maxit, method, Q[d], _none, _none,
+                     STATUS[d], fast, report)
+        done[d] = k
+        start = max(fast - 1, 0)            # where sweep() went on (its points: not yet)
+        if fast < ts.shape[0] and k > start:
+            force_rows(ts[start:k], Q[d, start:k], _still[start:k], _still[start:k], P[d],
                        _jac, _terms, _nu, _energy, FACTORS[d, start:k], PIV[d, start:k],
                        LAM[d, start:k])
     return done

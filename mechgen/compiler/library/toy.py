@@ -55,7 +55,7 @@ __all__ = [
 FORCE_NAMES = [
     "FORCE_SORTED", "FORCE_POINT", "FORCE_BLOCK_START", "FORCE_BLOCK_ROWS",
     "FORCE_BLOCK_COLS", "force_terms", "energies", "driver_factors", "mass_matrix",
-    "multipliers_point", "sweep_fast_forces",
+    "multipliers_point", "sweep_fast_forces", "sweep_fast_statics",
 ]
 __all__ += FORCE_NAMES
 
@@ -327,5 +327,18 @@ def sweep_fast_forces(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS, LAM, FACT
     for k in range(done):
         driver_factors(Q[k], ts[k], p, FACTORS[k])
         piv = multipliers_point(Q[k], QD[k], QDD[k], ts[k], p, LAM[k])
+        FPIV[k] = 1.0 if piv >= SING_RTOL else 0.0
+    return done
+
+
+@njit(cache=True)
+def sweep_fast_statics(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS, LAM, FACTORS, FPIV):
+    """sweep_fast_forces for a static sweep (QD, QDD without rows): the multipliers at
+    q̇ = q̈ = 0 of every point it accepts."""
+    done = sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS)
+    zero = np.zeros(Q.shape[1])
+    for k in range(done):
+        driver_factors(Q[k], ts[k], p, FACTORS[k])
+        piv = multipliers_point(Q[k], zero, zero, ts[k], p, LAM[k])
         FPIV[k] = 1.0 if piv >= SING_RTOL else 0.0
     return done
