@@ -173,6 +173,25 @@ def flat_slots(mech, slots, lev):
     return flat, nord
 
 
+def table_inputs(mech, ts, P, q0):
+    """(ts, P, q0) as a kernel takes them (contiguous float64), or a MechgenError that
+    says which is not: ts a non-empty 1-D array of times, P designs × parameters, q0 the
+    coordinates, all finite."""
+    ts = np.ascontiguousarray(ts, dtype=np.float64)
+    P = np.ascontiguousarray(np.atleast_2d(P), dtype=np.float64)
+    q0 = np.ascontiguousarray(q0, dtype=np.float64)
+    if ts.ndim != 1 or ts.size == 0:
+        raise MechgenError("ts: give a non-empty 1-D array of times")
+    if P.ndim != 2 or P.shape[1] != len(mech.parameter_names) or P.shape[0] == 0:
+        raise MechgenError(f"P: give an array of designs × {len(mech.parameter_names)} "
+                           f"parameters ({', '.join(mech.parameter_names)}), got {P.shape}")
+    if q0.shape != (len(mech.coordinates),):
+        raise MechgenError(f"q0: give {len(mech.coordinates)} coordinates, got {q0.shape}")
+    if not (np.all(np.isfinite(P)) and np.all(np.isfinite(ts)) and np.all(np.isfinite(q0))):
+        raise MechgenError("ts, P and q0 must be finite")
+    return ts, P, q0
+
+
 def run_table_cuda(mech, ts, P, q0, lev, tol, maxit, slots=None, method=None, threads=None,
                    max_registers=None) -> dict:
     """A design table on the GPU: row d of ``P`` (designs × parameters) swept over ``ts``
@@ -198,18 +217,7 @@ def run_table_cuda(mech, ts, P, q0, lev, tol, maxit, slots=None, method=None, th
     cuda = require_cuda()
     lev = mech._level(LEVELS[_level_of(lev)])
     meth = mech._method(method)
-    ts = np.ascontiguousarray(ts, dtype=np.float64)
-    P = np.ascontiguousarray(np.atleast_2d(P), dtype=np.float64)
-    q0 = np.ascontiguousarray(q0, dtype=np.float64)
-    if ts.ndim != 1 or ts.size == 0:
-        raise MechgenError("ts: give a non-empty 1-D array of times")
-    if P.ndim != 2 or P.shape[1] != len(mech.parameter_names) or P.shape[0] == 0:
-        raise MechgenError(f"P: give an array of designs × {len(mech.parameter_names)} "
-                           f"parameters ({', '.join(mech.parameter_names)}), got {P.shape}")
-    if q0.shape != (len(mech.coordinates),):
-        raise MechgenError(f"q0: give {len(mech.coordinates)} coordinates, got {q0.shape}")
-    if not (np.all(np.isfinite(P)) and np.all(np.isfinite(ts)) and np.all(np.isfinite(q0))):
-        raise MechgenError("ts, P and q0 must be finite")
+    ts, P, q0 = table_inputs(mech, ts, P, q0)
     D, N, n = P.shape[0], ts.shape[0], q0.shape[0]
     reducing = slots is not None
     if reducing:

@@ -33,7 +33,7 @@ import numpy as np
 from ..errors import MechgenError
 from ..protocol import LEVEL
 from .cuda import OUTPUT, STATUS_COLUMNS, THREADS, SIM_THREADS, flat_slots, numba_module, \
-    require_cuda, simulated
+    require_cuda, simulated, table_inputs
 from .cuda_twin import ROOTS, build_twin
 from .forces.points import driver_rows
 from .reduce import DRIVER
@@ -201,16 +201,7 @@ def run_forces_cuda(mech, ts, P, q0, tol, xtol, maxit, slots, threads=None,
     (the indices of the designs left to the host), ``slots`` and their ``names``. No
     point comes back: only these per-design arrays."""
     cuda = require_cuda()
-    ts = np.ascontiguousarray(ts, dtype=np.float64)
-    P = np.ascontiguousarray(np.atleast_2d(P), dtype=np.float64)
-    q0 = np.ascontiguousarray(q0, dtype=np.float64)
-    if ts.ndim != 1 or ts.size == 0:
-        raise MechgenError("ts: give a non-empty 1-D array of times")
-    if P.ndim != 2 or P.shape[1] != len(mech.parameter_names) or P.shape[0] == 0:
-        raise MechgenError(f"P: give an array of designs × {len(mech.parameter_names)} "
-                           f"parameters ({', '.join(mech.parameter_names)}), got {P.shape}")
-    if q0.shape != (len(mech.coordinates),):
-        raise MechgenError(f"q0: give {len(mech.coordinates)} coordinates, got {q0.shape}")
+    ts, P, q0 = table_inputs(mech, ts, P, q0)
     flat, nord, DRV, names = device_slots(mech, slots)
     ns = twin(numba_module(mech), max_registers)
     D, nsl = P.shape[0], flat.size
