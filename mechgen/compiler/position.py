@@ -430,10 +430,10 @@ def position_body(plan, eq):
     return top, helpers
 
 
-def _one_point(eq, pieces, loaded=()):
+def _one_point(eq, pieces):
     """The statements that solve ``pieces`` at one point, after the loads of the
-    coordinates and parameters: the time, the blocks' code, q stored whole (the
-    coordinates ``loaded`` solved before), the reach margin handed over."""
+    coordinates and parameters: the time, the blocks' code, q stored whole, the reach
+    margin handed over."""
     st = [time_local()] if T in free(list(eq.phi)) else []
     st.append(Code("_iters = 0"))
     st += _margin_start(pieces)
@@ -502,5 +502,5 @@ def _margin_end(pieces, value):
                         tail="  # the margin, for sweep()"),), ())]
 
 
-__all__ = ["position_code", "position_body", "position_in_sweep", "solved_once", "PositionCode", "Piece", "Rows",
-           "trig_pair", "block_comment", "NEWTON"]
+__all__ = ["position_code", "position_body", "position_in_sweep", "solved_once",
+           "PositionCode", "Piece", "Rows", "trig_pair", "block_comment", "NEWTON"]
