@@ -107,3 +107,48 @@ def test_cli_sweep_dynamic_writes_force_columns(tmp_path, monkeypatch):
         ne = newton_euler(closed_form(t))
         got = [float(row[f"C on slider {k}"]) for k in ("fx", "fy", "m")]
         np.testing.assert_allclose(got, [*ne["FC"], 0.0], rtol=1e-9, atol=1e-7)
+
+
+def test_cli_sweep_takes_force_columns_and_reduces_a_driver(tmp_path, capsys, monkeypatch):
+    """`--columns` at a force level takes a driver's effort and a reaction by their table
+    names (against the closed form and Newton–Euler); `--reduce` takes a driver's name in
+    a design table (the peak torque of each design, as the Python table's); without a
+    force level they are refused with the level to ask for."""
+    import csv
+    import os
+    from mechgen.cli import main
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+    path = tmp_path / "cli_forces.py"
+    path.write_text(MODEL_FILE)
+    gen = str(tmp_path / "gen")
+    out = str(tmp_path / "forces.csv")
+    assert main(["sweep", str(path), "--t0", "0", "--t1", "0.5", "-n", "6", "--level",
+                 "dynamic", "--columns", "crank driver,C on slider fx", "--outdir", gen,
+                 "-o", out]) == 0
+    with open(out) as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == ["T", "crank driver", "C on slider fx"] and len(rows) == 7
+    for row in rows[1:]:
+        t, torque, fx = (float(v) for v in row)
+        k = closed_form(t)
+        np.testing.assert_allclose(torque, power_torque(k), rtol=1e-9)
+        np.testing.assert_allclose(fx, newton_euler(k)["FC"][0], rtol=1e-9, atol=1e-7)
+    capsys.readouterr()
+    assert main(["sweep", str(path), "-n", "3", "--columns", "crank driver",
+                 "--outdir", gen]) != 0
+    assert "'crank driver' is a force column" in capsys.readouterr().err
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    example = os.path.join(root, "examples", "quick_return_forces.py")
+    table = str(tmp_path / "table.csv")
+    assert main(["sweep", example, "--t0", "0", "--t1", "1", "-n", "41", "--level", "static",
+                 "--param", "longitud=2,3", "--reduce", "crank driver", "--outdir", gen,
+                 "-o", table]) == 0
+    with open(table) as fh:
+        rows = list(csv.reader(fh))
+    col = rows[0].index("crank driver_max")
+    import mechgen
+    tab = mechgen.load(os.path.join(gen, "quick_return_forces.py"), tier="python").sweep(
+        0.0, 1.0, 41, params={"longitud": [2.0, 3.0]}, level="static",
+        reduce=["crank driver"])
+    np.testing.assert_allclose([float(r[col]) for r in rows[1:]],
+                               tab.reduced("crank driver").max, rtol=1e-12)

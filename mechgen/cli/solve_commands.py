@@ -185,7 +185,8 @@ def add_commands(sub, common, solve_options):
                    help="--backend dask: the dask.distributed scheduler to use")
     p.add_argument("--reduce", action="append", metavar="NAMES",
                    help="a design table of reductions: per design the min, max and their "
-                        "times of these quantities (comma-separated, e.g. X4,X4d), not "
+                        "times of these quantities (comma-separated, e.g. X4,X4d; a "
+                        "driver's name at --level static or dynamic: its effort), not "
                         "every point")
     solve_options(p)
     p.set_defaults(func=cmd_sweep)

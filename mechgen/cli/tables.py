@@ -38,7 +38,8 @@ def needed_level(mech, names, asked=None) -> str:
     every named column. Unknown names, or names the level asked for cannot give, raise
     MechgenError listing what there is."""
     if asked in FORCE_LEVELS:       # the forces' levels hold every kinematic column
-        needed_level(mech, names, "position" if asked == "static" else "acceleration")
+        kinematic = [n for n in names or () if not force_column(mech, n)]
+        needed_level(mech, kinematic, "position" if asked == "static" else "acceleration")
         return asked
     low = LEVELS.index(asked) if asked else 0
     need = low
@@ -48,12 +49,29 @@ def needed_level(mech, names, asked=None) -> str:
                 need = max(need, k)
                 break
         else:
+            if force_column(mech, name):
+                raise MechgenError(f"{name!r} is a force column of '{mech.name}' (a driver's "
+                                   "effort or a reaction): it needs --level static or dynamic")
             known = ", ".join(column_names(mech, len(LEVELS) - 1))
             raise MechgenError(f"no column {name!r} in '{mech.name}' (columns: T, {known})")
     if asked and need > low:
         raise MechgenError(f"column(s) {', '.join(names)} need --level {LEVELS[need]} "
                            f"(asked for {asked})")
     return LEVELS[need]
+
+
+def force_column(mech, name) -> bool:
+    """Whether ``name`` is a column of the force levels' tables: a driver's name (its
+    effort; --reduce takes it too) or "<constraint> on <body> fx" (fy, m: a reaction)."""
+    from ..runtime.forces.lookup import tables
+    tab = tables(mech)
+    entry = tab.constraints.get(name)
+    if entry is not None:
+        return entry[2]
+    head, _, part = name.rpartition(" ")
+    constraint, on, body = head.rpartition(" on ")
+    return bool(on) and part in ("fx", "fy", "m") and constraint in tab.constraints and \
+        body in tab.bodies
 
 
 def select(header, data, names, keep=1):
