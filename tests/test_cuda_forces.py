@@ -122,3 +122,23 @@ def test_sweep_fast_forces_translates_with_its_rows_masked(name):
     assert hook < fused.index("LAM[k & _cu_ctx[6]") < fused.index("Q[k & _cu_ctx[6], 0] = ")
     assert "np.zeros" not in fused and ".copy()" not in fused
     assert translate(mod) == translate(mod, ROOTS)          # the kinematic twin: as before
+
+
+def test_the_twin_s_source_file_is_written_once_per_text_module_and_options(tmp_path):
+    """numba's cache of the kernels needs their source in a file, checked against its time
+    stamp: the same text, module and options give the same file, written once; another
+    option, or another module file, another file."""
+    import shutil
+    import types
+    from mechgen.runtime.cuda_twin import source_file
+    shutil.copy(os.path.join(ROOT, "generated", "quick_return.py"), tmp_path / "qr.py")
+    module = types.SimpleNamespace(__name__="qr", __file__=str(tmp_path / "qr.py"))
+    first = source_file(module, "def f():\n    return 1\n", (1, None))
+    assert first.startswith(str(tmp_path / "__pycache__"))
+    assert open(first).read() == "def f():\n    return 1\n"
+    stamp = os.stat(first).st_mtime_ns
+    assert source_file(module, "def f():\n    return 1\n", (1, None)) == first
+    assert os.stat(first).st_mtime_ns == stamp
+    assert source_file(module, "def f():\n    return 1\n", (1, 64)) != first
+    (tmp_path / "qr.py").write_text(open(tmp_path / "qr.py").read() + "\nN = 1\n")
+    assert source_file(module, "def f():\n    return 1\n", (1, None)) != first

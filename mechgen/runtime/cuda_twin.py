@@ -29,15 +29,24 @@ back from the module file, translated by a few mechanical rules and compiled wit
   THROUGH_SINGULAR) and the running minimum and maximum (and their times) of the
   requested quantity slots.
 
+The twin's text is written to a file (``source_file``: in the module's ``__pycache__``,
+else the temporary folder, named by a hash of the text, the module's file and the
+options) and the kernels are compiled with numba's on-disk cache: a later process loads
+them instead of compiling again (the first compile of a kernel takes tens of seconds).
+Where no file can be written, or numba cannot cache, they are compiled in every process.
+
 Nothing here imports numba.cuda: ``build_twin(module, cuda)`` is given it by
 mechgen.runtime.cuda, which imports it only when a CUDA table is asked for.
 """
 from __future__ import annotations
 
 import ast
+import hashlib
 import inspect
 import itertools
 import linecache
+import os
+import tempfile
 import textwrap
 
 from ..errors import MechgenError
@@ -483,7 +492,9 @@ def build_twin(module, cuda, status_columns=1, max_registers=None, roots=ROOTS, 
     translate, more source and kernels (mechgen.runtime.cuda_forces)."""
     from numba import types
     text = translate(module, roots) + "\n\n" + SUPPORT + "\n\n" + support
-    filename = f"<cuda twin {next(_counter)} of {module.__name__}>"
+    filename = source_file(module, text, (status_columns, max_registers))
+    if filename is None:
+        filename = f"<cuda twin {next(_counter)} of {module.__name__}>"
     linecache.cache[filename] = (len(text), None, text.splitlines(True), filename)
     ns = dict(vars(module))
     ns.update(cuda=cuda, _cu_f8=types.float64, _cu_i8=types.int64, _cu_b1=types.boolean,
@@ -496,10 +507,54 @@ def build_twin(module, cuda, status_columns=1, max_registers=None, roots=ROOTS, 
     exec(compile(text, filename, "exec"), ns)   # noqa: S102 - our own translation
     tree = ast.parse(text)
     defined = [n.name for n in tree.body if isinstance(n, ast.FunctionDef)]
+    cache = os.path.isfile(filename)
     for name in defined:
         if name in KERNELS or name in kernels:
             opts = {} if max_registers is None else {"max_registers": int(max_registers)}
-            ns[name] = cuda.jit(**opts)(ns[name])
+            ns[name] = _kernel(cuda, ns[name], opts, cache)
         else:
             ns[name] = cuda.jit(device=True)(ns[name])
     return ns
+
+
+def _kernel(cuda, fn, opts, cache):
+    """cuda.jit(**opts)(fn), with numba's on-disk cache where its source is a file and
+    numba takes it (else without: compiled in every process)."""
+    if cache:
+        try:
+            return cuda.jit(cache=True, **opts)(fn)
+        except Exception:           # noqa: BLE001 - a numba that cannot cache this kernel
+            pass
+    return cuda.jit(**opts)(fn)
+
+
+def source_file(module, text, options=()):
+    """The path of a file holding the twin's ``text`` (numba's cache of a kernel needs its
+    source in a file: an index is kept beside it, checked against its time stamp), named
+    by a hash of the text, of the module's own file (its constants are the twin's
+    globals) and of ``options``; written once, atomically, in the module's
+    ``__pycache__`` or else the temporary folder. None where neither can be written."""
+    key = hashlib.sha256(text.encode())
+    path = getattr(module, "__file__", None)
+    if path and os.path.isfile(path):
+        with open(path, "rb") as fh:
+            key.update(fh.read())
+    key.update(repr(options).encode())
+    name = f"{module.__name__}_cuda_{key.hexdigest()[:20]}.py"
+    folders = [os.path.join(tempfile.gettempdir(), "mechgen_cuda")]
+    if path:
+        folders.insert(0, os.path.join(os.path.dirname(os.path.abspath(path)), "__pycache__"))
+    for folder in folders:
+        target = os.path.join(folder, name)
+        if os.path.isfile(target):
+            return target
+        try:
+            os.makedirs(folder, exist_ok=True)
+            tmp = f"{target}.{os.getpid()}.tmp"
+            with open(tmp, "w", encoding="utf-8") as fh:
+                fh.write(text)
+            os.replace(tmp, target)
+            return target
+        except OSError:
+            continue
+    return None
