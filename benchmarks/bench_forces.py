@@ -151,7 +151,7 @@ def table_speed(mech, designs=2000, n=1000):
     ta = _best(lambda: mech.sweep(0, 1, n, level="acceleration", reduce=["X4"], **kw), 2)
     td = _best(lambda: mech.sweep(0, 1, n, level="dynamic", reduce=["crank driver"], **kw), 2)
     red = mech.sweep(0, 1, n, level="dynamic", reduce=["crank driver"], **kw).reduced("crank driver")
-    import mechgen.runtime.chunks as chunks         # the separate pass, for comparison
+    import mechgen.runtime.tables.chunks as chunks         # the separate pass, for comparison
     fused, chunks._fused = chunks._fused, (lambda *args: None)
     try:
         ts = _best(lambda: mech.sweep(0, 1, n, level="dynamic", reduce=["crank driver"], **kw),

@@ -166,14 +166,14 @@ def run_once(code_root, api, path, outdir, cache, tier=None, timeout=900) -> dic
 
 
 def wait_for_workers(limit=600.0, stop_in=None):
-    """Wait until no background compile worker (python -m mechgen.runtime.warmup, started
+    """Wait until no background compile worker (python -m mechgen.runtime.loading.warmup, started
     by a cold run in the auto tier) is running, so that the next run is neither slowed by
     it nor finds a half-written cache. ``stop_in``: a folder of ours whose workers (their
     module is in it) are stopped instead, by their process id (a cold run repeated: its
     cache is thrown away)."""
     end = time.monotonic() + limit
     while time.monotonic() < end:
-        found = subprocess.run(["pgrep", "-f", "mechgen.runtime.warmup"], capture_output=True,
+        found = subprocess.run(["pgrep", "-f", "mechgen.runtime.loading.warmup"], capture_output=True,
                                text=True)
         if found.returncode != 0:
             return

@@ -5,7 +5,7 @@ report their registers and stack per thread (what occupancy they allow).
     CUDA_HOME=$(python -c "import nvidia.cuda_nvcc, os; print(os.path.dirname(nvidia.cuda_nvcc.__file__))") \\
         python benchmarks/cuda_ptx_check.py [generated/quick_return.py] [--cc 90]
     ... python benchmarks/cuda_ptx_check.py generated/quick_return_forces.py --forces
-        (the force table's kernel, mechgen.runtime.cuda_forces)
+        (the force table's kernel, mechgen.runtime.gpu.cuda_forces)
 
 numba compiles a device function for the current device; with no device this script
 tells it one of compute capability --cc exists (a stand-in used here only, for typing).
@@ -52,7 +52,7 @@ def main(argv=None):
     ap.add_argument("--kernels", default=None, help="(default: the four kinematic kernels, "
                     "or with --forces the force kernel)")
     ap.add_argument("--forces", action="store_true", help="the force kernel of a module with "
-                    "FORCE_FUSED (mechgen.runtime.cuda_forces)")
+                    "FORCE_FUSED (mechgen.runtime.gpu.cuda_forces)")
     args = ap.parse_args(argv)
     cc = (int(args.cc[:-1]), int(args.cc[-1]))
     import numba.cuda.dispatcher as dispatcher
@@ -60,12 +60,12 @@ def main(argv=None):
     dispatcher.get_current_device = lambda: types.SimpleNamespace(compute_capability=cc)
 
     import mechgen
-    from mechgen.runtime.cuda import STATUS_COLUMNS, numba_module
-    from mechgen.runtime.cuda_twin import build_twin
+    from mechgen.runtime.gpu.cuda import STATUS_COLUMNS, numba_module
+    from mechgen.runtime.gpu.cuda_twin import build_twin
     mech = mechgen.load(args.module)
     if args.forces:
-        from mechgen.runtime import cuda_forces
-        from mechgen.runtime.cuda_twin import ROOTS
+        from mechgen.runtime.gpu import cuda_forces
+        from mechgen.runtime.gpu.cuda_twin import ROOTS
         ns = build_twin(numba_module(mech), cuda, STATUS_COLUMNS, roots=ROOTS + ("sweep_fast_forces",),
                         support=cuda_forces.SUPPORT, kernels=(cuda_forces.KERNEL,))
     else:

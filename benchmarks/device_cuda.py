@@ -4,7 +4,7 @@ benchmarks/bench_cuda.py, at 10^5 designs × 10^3 times, positions and all level
 10^6 designs × 10^3 times in positions; each with its difference from the hand kernel
 and from the CPU design table on a sample of designs. Then a force table: the peak crank
 torque of 10^4 designs of examples/quick_return_forces.py × 10^3 times at level
-"dynamic" (the effort reduced in the kernel, mechgen.runtime.cuda_forces; the designs it
+"dynamic" (the effort reduced in the kernel, mechgen.runtime.gpu.cuda_forces; the designs it
 leaves to the host solved there) beside the same table on the CPU's cores, their largest
 difference, and the kernel alone at a few block sizes (how many designs it left to the
 host).
@@ -79,7 +79,7 @@ def forces(designs=10_000, times=1000, level="dynamic"):
 def kept_points(mech, times, kw, new_s, new):
     """The same table the way it ran before the force kernel: the kinematic kernel keeps
     every point, the host solves the multipliers (the path level "static" still takes)."""
-    import mechgen.runtime.design as design
+    import mechgen.runtime.tables.design as design
     keep = design.cuda_keeps_points
     design.cuda_keeps_points = lambda *a: True
     try:
@@ -117,10 +117,10 @@ def mixed(mech, designs=256, times=1000, level="dynamic"):
 
 
 def kernel(mech, ts, P, names, level="dynamic"):
-    """The force kernel alone (mechgen.runtime.cuda_forces.run_forces_cuda) at a few block
+    """The force kernel alone (mechgen.runtime.gpu.cuda_forces.run_forces_cuda) at a few block
     sizes: its time and how many designs it left to the host."""
-    from mechgen.runtime.cuda_forces import run_forces_cuda
-    from mechgen.runtime.reduce import reduce_slots
+    from mechgen.runtime.gpu.cuda_forces import run_forces_cuda
+    from mechgen.runtime.tables.reduce import reduce_slots
     slots = reduce_slots(mech, names, 2 if level == "dynamic" else 0, level)[1]
     args = (mech, ts, P, mech._start(None), mech._tol(None), mech.xtol, mech._maxit(None), slots)
     for tpb in (128, 64, 32):

@@ -69,7 +69,7 @@ def main():
         if not args.only_big:
             rows.append((label, "cold", run(root, model, out, cache, False)))
         if label == "now" and not args.only_big:          # let the background worker finish its cache
-            subprocess.run([sys.executable, "-m", "mechgen.runtime.warmup",
+            subprocess.run([sys.executable, "-m", "mechgen.runtime.loading.warmup",
                             os.path.join(out, "quick_return.py")],
                            env=dict(os.environ, PYTHONPATH=root, NUMBA_CACHE_DIR=cache))
         if not args.only_big:

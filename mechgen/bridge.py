@@ -330,7 +330,7 @@ def compile_file(path, outdir=None, name=None, tier=None, **kwargs):
     without sympy or the compiler, and its symbolic side (``mech.evaluate``) loads the
     model on first use; otherwise the model is built as ``compile(model)`` does and the
     manifest written."""
-    from .runtime.loader import verify
+    from .runtime.loading.loader import verify
     if outdir is None:
         outdir = cache_folder()
     path = os.path.abspath(path)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import mechgen
-from mechgen.runtime.assembly import angle_coordinates
+from mechgen.runtime.analysis.assembly import angle_coordinates
 from closed_forms import quick_return
 from conftest import ROOT, example_model
 

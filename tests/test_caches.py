@@ -1,6 +1,6 @@
 """Every cache is checked against the module it came from; a damaged one is rebuilt, never
-loaded: the plain-Python tier's bytecode (runtime/plain.py) and numba's on-disk cache
-(runtime/caches.py), each edited and truncated, and the numbers checked against the
+loaded: the plain-Python tier's bytecode (runtime/loading/plain.py) and numba's on-disk cache
+(runtime/loading/caches.py), each edited and truncated, and the numbers checked against the
 four-bar's closed form (crank a = 0.8, coupler b = 2.5, rocker c = 2, ground d = 3,
 θ2 = π/3 + 2πt)."""
 import glob
@@ -15,7 +15,7 @@ import warnings
 import pytest
 
 import mechgen
-from mechgen.runtime import plain
+from mechgen.runtime.loading import plain
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 GENERATED = os.path.join(ROOT, "generated")

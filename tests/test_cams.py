@@ -135,7 +135,7 @@ def _emitted(model, tmp_path):
     """The module built from ``model``, its helpers and model functions as plain Python
     (no numba compile: the code as emitted)."""
     from mechgen.compiler.build import build
-    from mechgen.runtime.loader import import_path
+    from mechgen.runtime.loading.loader import import_path
     mod = import_path(build(model, str(tmp_path)))
     for name in dir(mod):
         fn = getattr(mod, name)

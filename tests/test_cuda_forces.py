@@ -87,8 +87,8 @@ def test_which_tables_keep_their_points():
     static, method full) keeps the points."""
     import mechgen
     from mechgen.protocol import METHOD
-    from mechgen.runtime.backends import cuda_keeps_points
-    from mechgen.runtime.reduce import reduce_slots
+    from mechgen.runtime.tables.backends import cuda_keeps_points
+    from mechgen.runtime.tables.reduce import reduce_slots
     mech = mechgen.load(os.path.join(ROOT, "generated", "quick_return_forces.py"))
     dyn = reduce_slots(mech, ["crank driver", "X4"], 2, "dynamic")[1]
     sta = reduce_slots(mech, ["crank driver"], 0, "static")[1]
@@ -109,8 +109,8 @@ def test_sweep_fast_forces_translates_with_its_rows_masked(name):
     """The fused quick paths of the committed force module: their λ rows indexed through
     the row mask like Q, the hook before the first row each writes in each step."""
     import mechgen
-    from mechgen.runtime.cuda import numba_module
-    from mechgen.runtime.cuda_twin import ROOTS, translate
+    from mechgen.runtime.gpu.cuda import numba_module
+    from mechgen.runtime.gpu.cuda_twin import ROOTS, translate
     mod = numba_module(mechgen.load(os.path.join(ROOT, "generated", "quick_return_forces.py")))
     text = translate(mod, ROOTS + (name,))
     fused = text[text.index(f"def {name}("):]
@@ -130,7 +130,7 @@ def test_the_twin_s_source_file_is_written_once_per_text_module_and_options(tmp_
     option, or another module file, another file."""
     import shutil
     import types
-    from mechgen.runtime.cuda_twin import source_file
+    from mechgen.runtime.gpu.cuda_twin import source_file
     shutil.copy(os.path.join(ROOT, "generated", "quick_return.py"), tmp_path / "qr.py")
     module = types.SimpleNamespace(__name__="qr", __file__=str(tmp_path / "qr.py"))
     first = source_file(module, "def f():\n    return 1\n", (1, None))

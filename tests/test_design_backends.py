@@ -1,4 +1,4 @@
-"""Design tables on every backend (mechgen.runtime.backends, dask_backend, reduce, refine,
+"""Design tables on every backend (mechgen.runtime.tables.backends, dask_backend, reduce, refine,
 synthesis): all cores == one core bit for bit, dask == cpu, reductions == the full table's,
 failed designs marked, bad input refused, exact extremes, dimensional synthesis, the CLI."""
 import math
@@ -246,7 +246,7 @@ def test_dask_force_table_equals_cpu(client):
 
 def test_cuda_backend_on_the_simulator():
     """backend="cuda" through the design-table dispatch into the real kernels of
-    mechgen.runtime.cuda, on numba's CUDA simulator (a subprocess: numba reads
+    mechgen.runtime.gpu.cuda, on numba's CUDA simulator (a subprocess: numba reads
     NUMBA_ENABLE_CUDASIM when first imported; tests/cuda_sim_check.py contract): its full
     table and its reductions equal the CPU's, the design that fails in mid-sweep included."""
     import json
@@ -267,7 +267,7 @@ def test_cuda_backend_on_the_simulator():
 
 def test_a_table_in_the_python_tier(qr, monkeypatch):
     """A mechanism still on the plain-Python tier asks its tiers first (a big table switches
-    to the compiled module: mechgen.runtime.tiers.expect), then gives the compiled numbers."""
+    to the compiled module: mechgen.runtime.loading.tiers.expect), then gives the compiled numbers."""
     py = mechgen.load(os.path.join(ROOT, "generated", "quick_return.py"), tier="python")
     assert py.tier == "python"
     asked = []
@@ -283,7 +283,7 @@ def test_a_table_in_the_python_tier(qr, monkeypatch):
 
 
 def test_guided_chunks_cover_every_design_once_big_ones_first():
-    from mechgen.runtime.chunks import CHUNK_POINTS, guided_chunks
+    from mechgen.runtime.tables.chunks import CHUNK_POINTS, guided_chunks
     for D, N, workers, most in ((2000, 1000, 2, None), (7, 1000, 2, None), (1, 5, 16, None),
                                 (100000, 10, 2, None), (2000, 1000, 2, 40), (0, 10, 2, None)):
         spans = guided_chunks(D, N, workers, most)

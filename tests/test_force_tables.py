@@ -139,9 +139,9 @@ print(json.dumps({{n: max(float(np.max(np.abs(getattr(a.reduced(n), w) - getattr
 def test_the_hosts_force_reduction_on_threads_is_the_one_pass(sc, monkeypatch):
     """What the GPU's table hands the host (every design's points) is reduced a few
     designs at a time on threads: the same minima, maxima and their times as one pass."""
-    import mechgen.runtime.chunks as chunks
-    from mechgen.runtime.chunks import reduce_threads
-    from mechgen.runtime.reduce import reduce_chunk, reduce_slots
+    import mechgen.runtime.tables.chunks as chunks
+    from mechgen.runtime.tables.chunks import reduce_threads
+    from mechgen.runtime.tables.reduce import reduce_chunk, reduce_slots
     tab = sc.sweep(0.0, PERIOD, 40, params={"mass4": np.linspace(0.5, 6.0, 7)},
                    level="acceleration")
     slots = reduce_slots(sc, ["crank driver", "X4"], 2, "dynamic")[1]

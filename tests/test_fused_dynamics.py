@@ -179,7 +179,7 @@ def test_design_table_of_peak_torque_solves_the_multipliers_in_its_sweeps(qr, mo
     """reduce= on the driver of a dynamic table: each design's quick path solves λ on its
     way (sweep_designs_forces), the careful rest after it; the same extremes and times as
     the separate pass (force_rows_designs), designs that cannot turn among them."""
-    import mechgen.runtime.chunks as chunks
+    import mechgen.runtime.tables.chunks as chunks
     kw = dict(params={"longitud": np.linspace(2.0, 6.5, 12)}, on_fail="ignore", workers=1,
               level="dynamic", reduce=["crank driver", "X4"])
     assert chunks._fused(qr.module, np.array([[2, 0, 1]]), 2, 0) == 1
@@ -199,7 +199,7 @@ def test_static_design_table_solves_the_multipliers_in_its_sweeps(qr, monkeypatc
     """reduce= on the driver of a static table: each design's position quick path solves
     λ at rest on its way (sweep_designs_statics); the same extremes as the separate pass,
     designs that cannot turn among them."""
-    import mechgen.runtime.chunks as chunks
+    import mechgen.runtime.tables.chunks as chunks
     assert qr.module.STATIC_FUSED
     kw = dict(params={"longitud": np.linspace(2.0, 6.5, 12)}, on_fail="ignore", workers=1,
               level="static", reduce=["crank driver", "X4"])

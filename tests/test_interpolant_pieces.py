@@ -3,7 +3,7 @@ scipy's piece-by-piece constructions, and root searches restricted to a bracket.
 import numpy as np
 from scipy.interpolate import BPoly, PPoly
 
-from mechgen.runtime.interpolate import Interpolant, _lagrange_ppoly, _quintic_hermite
+from mechgen.runtime.analysis.interpolate import Interpolant, _lagrange_ppoly, _quintic_hermite
 
 
 def _data(n, seed):

@@ -1,11 +1,11 @@
-"""The plain-Python tier's whole-row elimination (runtime/plain_linalg.py) against the
+"""The plain-Python tier's whole-row elimination (runtime/loading/plain_linalg.py) against the
 library's own loop run as Python: bit for bit, on full, rank-deficient, tied, wide, tall,
 NaN and infinite systems."""
 import numpy as np
 import pytest
 
 from mechgen.compiler.library.linalg import _fp_eliminate
-from mechgen.runtime.plain_linalg import fp_eliminate
+from mechgen.runtime.loading.plain_linalg import fp_eliminate
 
 loop = getattr(_fp_eliminate, "py_func", _fp_eliminate)
 
@@ -50,8 +50,8 @@ def test_the_python_tier_uses_it(monkeypatch, qr):
     """The plain-Python module calls the whole-row form, and its pivot ratio is the
     compiled module's."""
     import os
-    from mechgen.runtime import plain_linalg
-    from mechgen.runtime.plain import python_module
+    from mechgen.runtime.loading import plain_linalg
+    from mechgen.runtime.loading.plain import python_module
     from conftest import GENERATED
     calls = []
 

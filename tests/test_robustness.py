@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import mechgen
-from mechgen.runtime.locks import Singularity
+from mechgen.runtime.analysis.locks import Singularity
 
 # -- the slider-driven quick-return of seed 001, section 3B ------------------------------
 # X4 = C + A sin 2πT overshoots the stroke [XMIN, XMAX] the linkage can reach: the crank
@@ -413,7 +413,7 @@ def test_angles_are_continuous_along_sweeps(qr, fourbar_loop):
 
 
 def test_singularity_analysis_stays_on_the_runtime_side():
-    """mechgen.runtime.singular runs on the generated module with numpy: sympy is never imported."""
+    """mechgen.runtime.analysis.singular runs on the generated module with numpy: sympy is never imported."""
     import subprocess
     import sys
     code = ("import sys, mechgen; m = mechgen.load(%r); "

@@ -8,8 +8,8 @@ import pytest
 
 import mechgen
 from mechgen import Model, T, pi
-from mechgen.runtime import locks
-from mechgen.runtime.singular import NullSpace
+from mechgen.runtime.analysis import locks
+from mechgen.runtime.analysis.singular import NullSpace
 
 A, B, C, D, THETA0 = 1.8, 2.5, 2.0, 3.0, 0.3
 

@@ -9,15 +9,15 @@ import sys
 import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-LATER = ("mechgen.runtime.design", "mechgen.runtime.backends", "mechgen.runtime.forces.solution",
-         "mechgen.runtime.forces.sweep", "mechgen.runtime.stages", "mechgen.runtime.events",
-         "mechgen.runtime.locks", "mechgen.runtime.assembly", "importlib.metadata", "sympy",
+LATER = ("mechgen.runtime.tables.design", "mechgen.runtime.tables.backends", "mechgen.runtime.forces.solution",
+         "mechgen.runtime.forces.sweep", "mechgen.runtime.stages", "mechgen.runtime.analysis.events",
+         "mechgen.runtime.analysis.locks", "mechgen.runtime.analysis.assembly", "importlib.metadata", "sympy",
          "numba", "scipy")
 
 
 def test_the_runtime_imports_only_what_a_first_solve_needs(tmp_path):
     code = ("import sys, mechgen.bridge, mechgen.runtime.mechanism\n"
-            "from mechgen.runtime.tiers import cache_ready, numba_version\n"
+            "from mechgen.runtime.loading.tiers import cache_ready, numba_version\n"
             "numba_version()\n"
             f"print(' '.join(m for m in {LATER!r} if m in sys.modules))")
     env = dict(os.environ, PYTHONPATH=ROOT, MECHGEN_CACHE=str(tmp_path))
@@ -38,7 +38,7 @@ def test_the_lazy_names_are_the_same_objects():
 def test_numba_version_matches_importlib_metadata():
     pytest.importorskip("numba")
     from importlib.metadata import version
-    from mechgen.runtime.tiers import _version_beside, numba_version
+    from mechgen.runtime.loading.tiers import _version_beside, numba_version
     import importlib.util
     assert numba_version() == version("numba")
     assert _version_beside(importlib.util.find_spec("numba").origin) == version("numba")

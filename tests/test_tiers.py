@@ -1,4 +1,4 @@
-"""The tiers of a loaded module (mechgen.runtime.tiers): the generated module run as plain
+"""The tiers of a loaded module (mechgen.runtime.loading.tiers): the generated module run as plain
 Python answers exactly as numba's compiled code does (values bit for bit, statuses, the
 errors raised), the background worker fills numba's cache and the switch to it happens,
 two workers on one module are safe, and a model file whose module is built loads
@@ -196,7 +196,7 @@ def test_tiers_agree_on_redundant_constraints(redundant):
 
 
 def test_plain_math_answers_as_numba_does():
-    from mechgen.runtime.plain import MATH
+    from mechgen.runtime.loading.plain import MATH
     assert math.isnan(MATH.sqrt(-1.0)) and math.isnan(MATH.sin(math.inf))
     assert math.isnan(MATH.acos(2.0)) and math.isnan(MATH.log(-1.0))
     assert MATH.exp(1e6) == math.inf and MATH.log(0.0) == -math.inf
@@ -207,7 +207,7 @@ def test_tier_knob():
     path = os.path.join(GENERATED, "fourbar_loop.py")
     with pytest.raises(ValueError, match="tier must be one of"):
         mechgen.load(path, tier="fast")
-    from mechgen.runtime.loader import import_path
+    from mechgen.runtime.loading.loader import import_path
     assert mechgen.load(import_path(path)).tier == "compiled"   # an imported module
     assert mechgen.load(path, tier="python").tier == "python"
 
@@ -230,7 +230,7 @@ def fresh(tmp_path):
 
 def test_two_workers_then_the_switch(fresh):
     path, env = fresh
-    cmd = [sys.executable, "-m", "mechgen.runtime.warmup", path, "position"]
+    cmd = [sys.executable, "-m", "mechgen.runtime.loading.warmup", path, "position"]
     workers = [subprocess.Popen(cmd, env=env, stderr=subprocess.PIPE, text=True) for _ in range(2)]
     for w in workers:
         _, err = w.communicate(timeout=300)
@@ -238,7 +238,7 @@ def test_two_workers_then_the_switch(fresh):
     code = f"""
         import os, sys
         import numpy as np
-        from mechgen.runtime.tiers import cache_ready
+        from mechgen.runtime.loading.tiers import cache_ready
         import mechgen
         assert cache_ready({path!r})
         m = mechgen.load({path!r})                  # auto: the cache is ready, no worker
@@ -265,7 +265,7 @@ def test_a_large_call_compiles_what_it_needs(fresh):
     code = f"""
         import numpy as np
         import mechgen
-        from mechgen.runtime import tiers
+        from mechgen.runtime.loading import tiers
         m = mechgen.load({path!r})
         assert m.tier == "python" and m._tiers.worker is not None
         small = m.sweep(0, 1, 50, level="acceleration")

@@ -95,7 +95,7 @@ def _start(mech, tol, maxit, meth) -> Path:
     info = np.zeros(POINT_INFO_SIZE)
     status = solve_point(mech.module, q, t0, mech.p, tol, mech.xtol, maxit, meth, info)
     if status != 0:
-        from .locks import convergence_error     # an error path: imported when needed
+        from .analysis.locks import convergence_error     # an error path: imported when needed
         exc = convergence_error(mech, status, t0, q, info)
         exc.args = (f"the guess does not assemble at its time t={t0:.10g}, from which "
                     f"solve(t) follows the motion (pass guess= to solve from a guess at t, "

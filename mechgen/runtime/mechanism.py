@@ -22,7 +22,7 @@ from .follow import follow
 from .forces.lookup import is_force_level
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
                      point_bytes, sweep_count, sweep_times)
-from .tiers import Tiers
+from .loading.tiers import Tiers
 from .quantity import symbolic_side
 from .results import Solution, Sweep
 from .sweeping import times as sweep_times_of
@@ -34,11 +34,11 @@ from .sweeping import run as run_sweep
 
 def load(path_or_module, tier=None, **kwargs) -> "Mechanism":
     """A :class:`Mechanism` from a generated module: a path or an imported module
-    (checked by mechgen.runtime.loader: content stamp, format, mechgen version).
+    (checked by mechgen.runtime.loading.loader: content stamp, format, mechgen version).
 
     tier: "auto" (default, or $MECHGEN_TIER): plain Python at once, numba's compiled
     code once a background process has compiled it; "python"; "compiled" (numba at once;
-    an imported module is always compiled). See mechgen.runtime.tiers; ``mech.tier``
+    an imported module is always compiled). See mechgen.runtime.loading.tiers; ``mech.tier``
     says which answers now. The numbers are the same."""
     return Mechanism(Tiers.open(path_or_module, tier), **kwargs)
 
@@ -47,7 +47,7 @@ class Mechanism:
     """A loaded kinematic solver: positions, velocities, accelerations, sweeps."""
 
     def __init__(self, module, params=None, tol=1e-10, xtol=1e-10, maxit=50, method="auto"):
-        self._tiers = Tiers.of(module)      # the module answering now (mechgen.runtime.tiers)
+        self._tiers = Tiers.of(module)      # the module answering now (mechgen.runtime.loading.tiers)
         module = self._tiers.module
         self.name = module.MODEL_NAME
         self.coordinates = tuple(module.COORDINATES)
@@ -234,7 +234,7 @@ class Mechanism:
         d = q - start
         if d.dot(d) <= _PI2 or not np.any(np.abs(d) > np.pi):
             return False            # the common case (no coordinate moved π): nothing to do
-        from .assembly import angle_coordinates
+        from .analysis.assembly import angle_coordinates
         for j in angle_coordinates(self):
             k = round((q[j] - start[j]) / (2 * np.pi))
             if k:
@@ -304,7 +304,7 @@ class Mechanism:
         if self.m <= self.n or getattr(self.module, "_mechgen_redundancy_reported", False):
             return
         self.module._mechgen_redundancy_reported = True     # the runtime's own mark
-        from .singular import null_space
+        from .analysis.singular import null_space
         null = null_space(self, q, t)
         extra = self.m - min(null.rank, self.n)
         warnings.warn(
@@ -328,8 +328,8 @@ class Mechanism:
     def rank_loss(self, q, t, rtol=None):
         """(rank, labels of the constraint rows in the left null space) of the
         row-equilibrated Φ_q at (q, t): the equations that become dependent at a singular
-        or redundant configuration (mechgen.runtime.singular.null_space says more)."""
-        from .singular import null_space
+        or redundant configuration (mechgen.runtime.analysis.singular.null_space says more)."""
+        from .analysis.singular import null_space
         null = null_space(self, q, t, rtol=rtol)
         return null.rank, null.constraints
 
@@ -337,7 +337,7 @@ class Mechanism:
         """Times in [t0, t1] where the Jacobian loses rank along the branch the guess starts
         on: lock (toggle) positions, located to ~1e-12 in t by Newton on Φ = 0, det Φ_q = 0,
         and crossings of dead centres. Each is a float (the time) carrying ``q``,
-        ``solution``, ``kind``, ``constraints`` and ``coordinates`` (mechgen.runtime.locks)."""
+        ``solution``, ``kind``, ``constraints`` and ``coordinates`` (mechgen.runtime.analysis.locks)."""
         t0, t1 = finite(t0, "t0"), finite(t1, "t1")
         if isinstance(n, bool) or int(n) != n or n < 2:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
@@ -345,7 +345,7 @@ class Mechanism:
         if getattr(self.module, "SWITCH_TIMES", ()):     # stage by stage (runtime.stages)
             from .stages import staged_singularities
             return staged_singularities(self, ts, self._start(guess))
-        from .locks import singularities
+        from .analysis.locks import singularities
         return singularities(self, ts, self._start(guess))
 
     # -- sweeps -----------------------------------------------------------------------
@@ -378,7 +378,7 @@ class Mechanism:
         if params is not None:
             if out is not None:
                 raise ValueError("out= is for a single sweep, not a design table (params=)")
-            from .design import design_table
+            from .tables.design import design_table
             return design_table(self, t0, t1, n, params, level=level, guess=guess,
                                 method=method, tol=tol, maxit=maxit, times=times,
                                 backend=backend, workers=workers, client=client,
@@ -447,7 +447,7 @@ class Mechanism:
         over designs compiled; arrays come back indexed by parameter(s) and time. Each
         design starts from the same guess, as Mech's Table[SetGuess[]; SolveMech[{t0, t1},
         n], {param, ...}] does, and is swept on its own: the numbers do not depend on the
-        backend or the count of workers (mechgen.runtime.design, .backends).
+        backend or the count of workers (mechgen.runtime.tables.design, .backends).
 
         backend: "cpu" (this machine's cores; ``workers=k`` uses k threads, 1 runs in this
         thread, None every core), "dask" (chunks of designs over the dask.distributed
@@ -460,7 +460,7 @@ class Mechanism:
         ``progress(done, total)`` called as chunks of designs finish.
         on_fail: "warn" (default), "raise" or "ignore" for designs that fail to solve.
         """
-        from .design import design_table
+        from .tables.design import design_table
         return design_table(self, t0, t1, n, params, level=level, guess=guess, method=method,
                             tol=tol, maxit=maxit, times=times, progress=progress,
                             on_fail=on_fail, backend=backend, workers=workers, client=client,
@@ -477,8 +477,8 @@ class Mechanism:
         numbers, scored +inf). Options: workers, client, guess, times, popsize, maxiter,
         tol, seed, polish, polish_tol and differential_evolution's own keywords. Returns
         an OptimizeResult (params, fun, mechanism, evaluated, seconds, ...;
-        mechgen.runtime.synthesis)."""
-        from .synthesis import optimize
+        mechgen.runtime.tables.synthesis)."""
+        from .tables.synthesis import optimize
         return optimize(self, objective, bounds, t0, t1, n, backend=backend, level=level,
                         **options)
 
@@ -491,7 +491,7 @@ class Mechanism:
         t = finite(t, "t")
         if isinstance(starts, bool) or int(starts) != starts or starts < 0:
             raise ValueError(f"starts must be a non-negative integer, got {starts!r}")
-        from .assembly import assemblies
+        from .analysis.assembly import assemblies
         return assemblies(self, t, self._start(guess), int(starts), level,
                                self._tol(None), self._method(None), flips=flips)
 
@@ -539,14 +539,14 @@ def _force_solve():
 
 
 def convergence_error(*args, **kwargs):
-    """mechgen.runtime.locks.convergence_error, imported when a solve first fails."""
-    from .locks import convergence_error as error
+    """mechgen.runtime.analysis.locks.convergence_error, imported when a solve first fails."""
+    from .analysis.locks import convergence_error as error
     return error(*args, **kwargs)
 
 
 def singular_error(*args, **kwargs):
-    """mechgen.runtime.locks.singular_error, imported when a solve first fails."""
-    from .locks import singular_error as error
+    """mechgen.runtime.analysis.locks.singular_error, imported when a solve first fails."""
+    from .analysis.locks import singular_error as error
     return error(*args, **kwargs)
 
 

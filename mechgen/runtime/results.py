@@ -1,6 +1,6 @@
 """Solutions and sweeps: arrays indexed by coordinate name (``"X4"``, ``"X4d"``, ``"X4dd"``)
 and by declared output name; CSV and pandas export. A sweep's interpolation, extremes and
-roots are computed by mechgen.runtime.interpolate and mechgen.runtime.events."""
+roots are computed by mechgen.runtime.analysis.interpolate and mechgen.runtime.analysis.events."""
 from __future__ import annotations
 
 import csv
@@ -261,13 +261,13 @@ class Sweep:
         out.simulation = self.simulation
         return out
 
-    # -- analysis (mechgen.runtime.interpolate, mechgen.runtime.events: imported when first
+    # -- analysis (mechgen.runtime.analysis.interpolate, mechgen.runtime.analysis.events: imported when first
     # used, not by a process that only solves) ----------------------------------------------
     def interpolate(self, name, method="auto", degree=3, extrapolate=False):
         """A callable of t (Mech's TimeInterpolate) using the derivatives the sweep holds:
         quintic Hermite with accelerations, cubic Hermite with velocities, a cubic spline
         on positions; method="lagrange" is Mathematica's default InterpolatingFunction."""
-        from .interpolate import interpolate
+        from .analysis.interpolate import interpolate
         return interpolate(self, name, method=method, degree=degree, extrapolate=extrapolate)
 
     def extrema(self, name, method="auto", xtol=1e-12):
@@ -276,13 +276,13 @@ class Sweep:
         sweep's ends are extremes too (``e.at`` "start"/"end"); a sweep over exactly one
         period is a closed cycle (``.periodic``), whose extremes through its ends are
         found once, as interior ones."""
-        from .events import extrema
+        from .analysis.events import extrema
         return extrema(self, name, method=method, xtol=xtol)
 
     def roots(self, name, method="auto", xtol=1e-12):
         """Times where a quantity crosses zero, refined on exact solves; a zero at an end
         of the sweep counts (``e.at``), except through the ends of a closed cycle."""
-        from .events import roots
+        from .analysis.events import roots
         return roots(self, name, method=method, xtol=xtol)
 
     def singularities(self):

@@ -22,8 +22,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import MechgenError, ModelError
-from .events import Event, Events
-from .locks import singularities as find_singularities
+from .analysis.events import Event, Events
+from .analysis.locks import singularities as find_singularities
 from .quantity import Quantity
 from .results import Sweep
 

@@ -317,8 +317,8 @@ def failure(mech, ts, done, Q, report, q0) -> MechgenError:
     are not determined, else ConvergenceError (with the lock the branch ran into, where
     there is one). The careful sweep left the last configuration it reached in Q[done],
     its time and the time that failed in the report."""
-    from .locks import convergence_error, singular_error    # an error path: imported here
-    from .singular import solve_q
+    from .analysis.locks import convergence_error, singular_error    # an error path: imported here
+    from .analysis.singular import solve_q
     status = int(report[REPORT_STATUS])
     t = float(ts[done])
     t_last, t_try = float(report[REPORT_REACHED]), float(report[REPORT_FAILED])

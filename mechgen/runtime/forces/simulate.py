@@ -96,7 +96,7 @@ class _System:
         """(constraints, text) of a rank loss of the equations of motion at (q, t): the
         constraints still acting whose equations become dependent (a lock or toggle, or
         redundant constraints), else the coordinates free to move without mass."""
-        from ..singular import _support, _unique, constraint_of_rows, scaled_jacobian
+        from ..analysis.singular import _support, _unique, constraint_of_rows, scaled_jacobian
         J = scaled_jacobian(self.mech, q, t)[self.keep]
         rows = np.flatnonzero(self.keep)
         u, sv, vt = np.linalg.svd(J)

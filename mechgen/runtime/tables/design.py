@@ -1,13 +1,13 @@
 """Design tables: a sweep over time for every combination of parameter values (Mech's
 Table[SetGuess[]; SolveMech[{t0, t1}, n], {param, ...}]), the loop over designs run
-inside the compiled module (its sweep_designs()) on a backend (mechgen.runtime.backends:
+inside the compiled module (its sweep_designs()) on a backend (mechgen.runtime.tables.backends:
 every core, a dask cluster or a GPU).
 
 design_table (Mechanism.design_sweep) checks the arguments and calls the functions here in
 order: split_params (which parameters vary), design_grid or design_list (one parameter
 vector per design), the backend, then builds the DesignTable and report_failures says
 which designs did not solve. With ``reduce`` the table keeps per design only the minimum,
-maximum and their times of the named quantities (mechgen.runtime.reduce).
+maximum and their times of the named quantities (mechgen.runtime.tables.reduce).
 """
 from __future__ import annotations
 
@@ -17,17 +17,17 @@ import warnings
 
 import numpy as np
 
-from ..errors import MechgenError
-from ..protocol import LEVEL, LEVELS
+from ...errors import MechgenError
+from ...protocol import LEVEL, LEVELS
 from .backends import cuda_keeps_points, progress_reporter, run_backend
 from .chunks import reduce_threads
-from .guards import finite, fits, point_bytes, sweep_times
-from .quantity import _lookup, column_names
-from .forces import attach, is_force_level
-from .forces.lookup import tables
+from ..guards import finite, fits, point_bytes, sweep_times
+from ..quantity import _lookup, column_names
+from ..forces import attach, is_force_level
+from ..forces.lookup import tables
 from .reduce import (Reduction, driver_efforts, driver_slot, reduce_chunk,
                      reduce_slots, status_name)
-from .results import Sweep, pandas, write_csv
+from ..results import Sweep, pandas, write_csv
 
 ON_FAIL = ("warn", "raise", "ignore")
 
@@ -139,7 +139,7 @@ class DesignTable:
     def extremes(self, name) -> Reduction:
         """The exact minimum and maximum of ``name`` for every design and their times, as
         ``reduced`` gives them but refined off the time grid by Newton's method on the
-        compiled solver (mechgen.runtime.refine; needs the table's points)."""
+        compiled solver (mechgen.runtime.tables.refine; needs the table's points)."""
         from .refine import extremes
         return extremes(self, name)
 

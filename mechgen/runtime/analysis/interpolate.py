@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..protocol import LEVEL, LEVELS
-from .quantity import Quantity
+from ...protocol import LEVEL, LEVELS
+from ..quantity import Quantity
 
 METHODS = ("auto", "hermite", "cubic", "lagrange", "linear")
 

@@ -1,7 +1,7 @@
 """Where a design table runs: ``backend="cpu"`` (chunks of designs on a pool of threads,
 each chunk one call of the module's compiled sweep_designs, which releases the GIL),
-``"dask"`` (chunks over a dask.distributed cluster, mechgen.runtime.dask_backend) or
-``"cuda"`` (a generated GPU kernel, mechgen.runtime.cuda). Every backend returns a
+``"dask"`` (chunks over a dask.distributed cluster, mechgen.runtime.tables.dask_backend) or
+``"cuda"`` (a generated GPU kernel, mechgen.runtime.gpu.cuda). Every backend returns a
 TableData: the full arrays, or only the reductions when ``slots`` is given, and the
 count of solved times and the status of every design. Each design is swept on its own
 (the same warm-started continuation and branch keeping as a single sweep), so the
@@ -16,11 +16,11 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 
 import numpy as np
 
-from ..errors import MechgenError
-from ..protocol import JUMP, OK, STATUS_CODE, THROUGH_SINGULAR
+from ...errors import MechgenError
+from ...protocol import JUMP, OK, STATUS_CODE, THROUGH_SINGULAR
 from .chunks import (DESIGN_INFO_COLUMNS, DESIGN_INFO_DTYPE, Collector, TableData, _fused,
                      chunks, guided_chunks, solve_chunk, sweep_chunk)
-from .forces.lookup import FORCE_LEVELS
+from ..forces.lookup import FORCE_LEVELS
 from .reduce import DRIVER, design_status
 
 BACKENDS = ("cpu", "dask", "cuda")
@@ -107,17 +107,17 @@ def cuda_keeps_points(mech, slots, lev, meth) -> bool:
 
 def run_cuda(mech, ts, q0, P, lev, tol, maxit, slots, xtol=None, meth=None,
              workers=None) -> TableData:
-    """The table as a generated GPU kernel (mechgen.runtime.cuda.run_table_cuda); a
-    driver's effort reduced on the GPU where it can (mechgen.runtime.cuda_forces), the
+    """The table as a generated GPU kernel (mechgen.runtime.gpu.cuda.run_table_cuda); a
+    driver's effort reduced on the GPU where it can (mechgen.runtime.gpu.cuda_forces), the
     designs it leaves to the host solved by the CPU table (run_cpu) and merged in."""
     try:
-        from .cuda import run_table_cuda
+        from ..gpu.cuda import run_table_cuda
     except ImportError as exc:
         raise MechgenError("backend='cuda' is not available in this mechgen "
-                           f"(mechgen.runtime.cuda could not be imported: {exc})") from None
+                           f"(mechgen.runtime.gpu.cuda could not be imported: {exc})") from None
     if slots is not None and np.any(slots[:, 0] == DRIVER) and \
             not cuda_keeps_points(mech, slots, lev, meth):
-        from .cuda_forces import run_forces_cuda
+        from ..gpu.cuda_forces import run_forces_cuda
         res = run_forces_cuda(mech, ts, P, q0, tol, mech.xtol if xtol is None else xtol,
                               maxit, slots, level=gpu_force_level(mech, slots, lev, meth))
         done, status, host = res["done"], res["status"], res["host"]

@@ -1,7 +1,7 @@
 """Locating singular configurations along a branch, and saying why a solve failed.
 
 A configuration is singular when the row-equilibrated Jacobian Φ_q loses rank
-(mechgen.runtime.singular measures that). Along a sweep two kinds of singular point occur:
+(mechgen.runtime.analysis.singular measures that). Along a sweep two kinds of singular point occur:
 
 - a *lock* (fold, toggle position): the driven motion cannot go on; the mechanism has no
   assembly on the far side near it. It is located by solving the augmented system
@@ -26,11 +26,11 @@ import math
 
 import numpy as np
 
-from ..errors import ConvergenceError, SingularError
-from ..protocol import (GAVE_UP, METHOD_AUTO, INFO_ITERATIONS, INFO_RESIDUAL, LEVEL,
+from ...errors import ConvergenceError, SingularError
+from ...protocol import (GAVE_UP, METHOD_AUTO, INFO_ITERATIONS, INFO_RESIDUAL, LEVEL,
                         NO_CONVERGENCE, NOT_FINITE, REPORT_REACHED, REPORT_SIZE, SING_RTOL,
                         STATUS_COLUMNS)
-from .results import Solution
+from ..results import Solution
 from .singular import (NullSpace, assemble_near, det_indicator, independent_rows,
                        least_squares, null_space, residual_vector, smallest_sv, solve_q)
 

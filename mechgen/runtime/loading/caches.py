@@ -35,7 +35,7 @@ _WATCHED: dict = {}          # module path -> (digest, start time) to record at 
 
 def state_dir(path: str) -> str:
     """Where mechgen keeps what it knows of the module at ``path`` (its bytecode, the marks
-    and lock of mechgen.runtime.tiers): beside numba's cache of it."""
+    and lock of mechgen.runtime.loading.tiers): beside numba's cache of it."""
     cache = os.environ.get("NUMBA_CACHE_DIR")
     if cache:
         return os.path.join(cache, "mechgen-tiers")

@@ -2,7 +2,7 @@
 sweeping its times warm-started exactly as the CPU design table does (the module's
 sweep_designs(): sweep_fast(), then sweep() from its last accepted point: two kernels,
 the second only for the designs the first left unfinished), with the module's own solver
-functions compiled for the GPU (mechgen.runtime.cuda_twin).
+functions compiled for the GPU (mechgen.runtime.gpu.cuda_twin).
 
 :func:`run_table_cuda` runs it two ways:
 
@@ -14,7 +14,7 @@ functions compiled for the GPU (mechgen.runtime.cuda_twin).
   10^6 designs × 1,000 times never leave the GPU as points.
 
 A quantity slot is a row ``[kind, index, order]`` (the design table's reduction slots,
-mechgen.runtime.reduce): kind 0 a coordinate (index into the coordinates, order 0, 1, 2:
+mechgen.runtime.tables.reduce): kind 0 a coordinate (index into the coordinates, order 0, 1, 2:
 position, velocity, acceleration), kind 1 an output (index into the outputs, order: which
 time derivative). :func:`quantity_slots` makes them from names ("X4", "X4d", "stroke_x");
 :func:`slot_names` is the inverse.
@@ -32,11 +32,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import MechgenError
-from ..protocol import JUMP, LEVEL, LEVELS, OK, STATUS_CODE, THROUGH_SINGULAR
-from .quantity import _lookup
+from ...errors import MechgenError
+from ...protocol import JUMP, LEVEL, LEVELS, OK, STATUS_CODE, THROUGH_SINGULAR
+from ..quantity import _lookup
 
-# A slot's kind (the design table's reduction slots, mechgen.runtime.reduce)
+# A slot's kind (the design table's reduction slots, mechgen.runtime.tables.reduce)
 COORDINATE, OUTPUT = 0, 1
 # columns of the per-point STATUS a CUDA table keeps: the status code only (2 bytes a point)
 STATUS_COLUMNS = STATUS_CODE + 1
@@ -74,7 +74,7 @@ def simulated() -> bool:
 
 def numba_module(mech):
     """The generated module whose numba functions the twin translates: the mechanism's
-    own, or, while it answers in the plain-Python tier (mechgen.runtime.tiers), the same
+    own, or, while it answers in the plain-Python tier (mechgen.runtime.loading.tiers), the same
     file imported with numba (nothing is compiled for the CPU by that)."""
     module = mech.module
     if getattr(getattr(module, "sweep", None), "py_func", None) is not None:
@@ -85,7 +85,7 @@ def numba_module(mech):
         raise MechgenError(f"backend='cuda' translates the numba functions of '{mech.name}''s "
                            "generated module, and this mechanism has neither them nor the "
                            "module's file: load it from its path")
-    from .loader import check_version, import_path
+    from ..loading.loader import check_version, import_path
     compiled = import_path(path)
     check_version(compiled)
     return compiled
@@ -152,7 +152,7 @@ def flat_slots(mech, slots, lev):
     arr = np.asarray(slots)
     if arr.dtype.kind not in "iu" or arr.ndim != 2 or arr.shape[1] != 3 or arr.shape[0] == 0:
         raise MechgenError("slots: give a non-empty int64 array of rows [kind, index, order] "
-                           "(see mechgen.runtime.cuda.quantity_slots)")
+                           "(see mechgen.runtime.gpu.cuda.quantity_slots)")
     flat = np.zeros(arr.shape[0], dtype=np.int64)
     nord = 0
     for j, (kind, index, order) in enumerate(arr.tolist()):

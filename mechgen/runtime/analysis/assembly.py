@@ -10,8 +10,8 @@ import weakref
 
 import numpy as np
 
-from ..protocol import OK, POINT_INFO_SIZE
-from ..turns import meshed_alike, turn_coefficients
+from ...protocol import OK, POINT_INFO_SIZE
+from ...turns import meshed_alike, turn_coefficients
 
 # angle_coordinates() of each mechanism, with the module and parameters it was found for
 _ANGLES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()

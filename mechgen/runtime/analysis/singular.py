@@ -7,7 +7,7 @@ dependent there and which coordinates they stop fixing; ``det_indicator`` and
 ``smallest_sv`` measure how far a configuration is from that along a branch.
 
 The search for lock positions and crossings along a branch, and the explanation of a
-failed solve, build on these in mechgen.runtime.locks. numpy only, on the functions of a
+failed solve, build on these in mechgen.runtime.analysis.locks. numpy only, on the functions of a
 generated module (never sympy).
 """
 from __future__ import annotations
@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from ..protocol import METHOD_AUTO, OK, POINT_INFO_SIZE, SING_RTOL
+from ...protocol import METHOD_AUTO, OK, POINT_INFO_SIZE, SING_RTOL
 
 
 # -- rank analysis ------------------------------------------------------------------------

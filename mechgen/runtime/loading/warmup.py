@@ -1,6 +1,6 @@
-"""``python -m mechgen.runtime.warmup PATH [STAGE ...]``: the background worker of the
-``auto`` tier (mechgen.runtime.tiers). Imports the generated module at PATH with numba,
-calls its entry points once each (mechgen.runtime.warm, all stages unless named), so
+"""``python -m mechgen.runtime.loading.warmup PATH [STAGE ...]``: the background worker of the
+``auto`` tier (mechgen.runtime.loading.tiers). Imports the generated module at PATH with numba,
+calls its entry points once each (mechgen.runtime.loading.warm, all stages unless named), so
 that numba's on-disk cache holds them, then leaves the mark that says the cache is
 ready (a stage not in it is compiled where it is first called, as without the worker). Runs at a lowered priority; exits at once when another process holds the
 module's lock (it is doing the same) or the mark is already there.
@@ -11,7 +11,7 @@ import os
 import sys
 
 from .loader import check_version, import_path
-from .mechanism import Mechanism
+from ..mechanism import Mechanism
 from .tiers import Lock, cache_ready, dump_mark, state_paths
 from .warm import STAGES, warm
 

@@ -7,7 +7,7 @@ imports that one and shares the client's numba cache). Workers on one machine sh
 on-disk cache of it: a file lock around the import and the first compiled call (which
 compiles, or loads numba's cache) keeps two processes from writing the cache at once.
 Each chunk returns its designs' solved counts and statuses with their points or their
-reductions, computed on the worker (mechgen.runtime.chunks.solve_chunk), so failed
+reductions, computed on the worker (mechgen.runtime.tables.chunks.solve_chunk), so failed
 designs come back marked, never dropped. dask is imported only here, only when used.
 """
 from __future__ import annotations
@@ -19,8 +19,8 @@ import threading
 
 import numpy as np
 
-from ..errors import MechgenError
-from ..protocol import content_digest
+from ...errors import MechgenError
+from ...protocol import content_digest
 from .chunks import Collector, chunks, solve_chunk
 
 _MODULES = {}                 # content stamp -> the module imported in this process
@@ -65,7 +65,7 @@ def worker_module(text, digest, source, warm):
         module = _MODULES.get(digest)
         if module is not None:
             return module
-        from .loader import import_path
+        from ..loading.loader import import_path
         folder = _folder(digest)
         os.makedirs(folder, exist_ok=True)
         path = os.path.join(folder, os.path.basename(source))

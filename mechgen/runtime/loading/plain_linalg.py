@@ -1,5 +1,5 @@
 """Whole-row numpy forms of the generated module's O(n³) library loops, for the plain-Python
-tier (runtime/plain.py puts them in place of the module's own).
+tier (runtime/loading/plain.py puts them in place of the module's own).
 
 Interpreted, the library's elimination with full pivoting (``_fp_eliminate``) costs a
 Python bytecode loop per multiply: 9 s for the 450 × 450 Jacobian of a chain of 50

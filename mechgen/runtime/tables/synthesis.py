@@ -15,7 +15,7 @@ import time
 
 import numpy as np
 
-from ..errors import MechgenError
+from ...errors import MechgenError
 
 
 class OptimizeResult:

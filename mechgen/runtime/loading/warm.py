@@ -1,7 +1,7 @@
 """Calling a compiled module's entry points once each, through a Mechanism, so that numba
 compiles them (and writes its on-disk cache) with exactly the argument types the runtime
-passes later. Used by the background worker (mechgen.runtime.warmup) and by a large call
-that cannot wait for it (mechgen.runtime.tiers).
+passes later. Used by the background worker (mechgen.runtime.loading.warmup) and by a large call
+that cannot wait for it (mechgen.runtime.loading.tiers).
 
 A stage whose solve fails (a model that does not assemble at the times tried, a singular
 configuration) has still compiled what it called.
@@ -14,8 +14,8 @@ import warnings
 
 import numpy as np
 
-from ..errors import MechgenError
-from ..protocol import LEVEL, LEVELS
+from ...errors import MechgenError
+from ...protocol import LEVEL, LEVELS
 
 # in the order users need them: a position, its derivatives, a sweep (the quick path,
 # then the careful continuation), what pictures and diagnostics call, a design table, and

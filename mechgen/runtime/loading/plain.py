@@ -21,7 +21,7 @@ from time import perf_counter
 
 import numpy as np
 
-from ..errors import MechgenError
+from ...errors import MechgenError
 from .caches import state_dir  # noqa: F401 - where the tiers keep their files
 from .loader import checked_text
 from .plain_linalg import REPLACEMENTS

@@ -24,10 +24,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..protocol import LEVEL, LEVELS
+from ...protocol import LEVEL, LEVELS
 from .cycle import one_cycle
 from .interpolate import interpolate
-from .quantity import Quantity
+from ..quantity import Quantity
 
 
 class _Exact:

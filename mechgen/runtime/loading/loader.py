@@ -10,8 +10,8 @@ import os
 import sys
 import types
 
-from ..errors import MechgenError
-from ..protocol import FORMAT_VERSION, MECHGEN_VERSION, content_digest, stamp_of
+from ...errors import MechgenError
+from ...protocol import FORMAT_VERSION, MECHGEN_VERSION, content_digest, stamp_of
 
 
 def verify(path: str) -> str:

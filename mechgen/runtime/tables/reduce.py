@@ -11,11 +11,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..protocol import JUMP, OK, SING_RTOL, STATUS_CODE, STATUS_NAMES, THROUGH_SINGULAR
-from .forces.lookup import FORCE_LEVELS, tables
-from .forces.points import (by_blocks, driver_rows, efforts, has_forces, solve_points,
+from ...protocol import JUMP, OK, SING_RTOL, STATUS_CODE, STATUS_NAMES, THROUGH_SINGULAR
+from ..forces.lookup import FORCE_LEVELS, tables
+from ..forces.points import (by_blocks, driver_rows, efforts, has_forces, solve_points,
                             svd_point)
-from .quantity import _lookup
+from ..quantity import _lookup
 
 # A reduction slot: [kind, index, order]; kind COORDINATE (index into the coordinates,
 # order 0/1/2: Q, QD, QDD), OUTPUT (index into the outputs, order: which derivative) or

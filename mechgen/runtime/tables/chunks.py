@@ -1,7 +1,7 @@
 """Chunks of a design table: one call of the generated module's sweep_designs over a
 slice of the designs (it releases the GIL), its designs' statuses and, when asked, its
 reductions, and the table the chunks are gathered into. Shared by the backends that run
-the compiled loop (mechgen.runtime.backends' threads, mechgen.runtime.dask_backend's
+the compiled loop (mechgen.runtime.tables.backends' threads, mechgen.runtime.tables.dask_backend's
 workers).
 """
 from __future__ import annotations
@@ -11,8 +11,8 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from ..protocol import METHOD, OK, STATUS_CODE
-from .forces.lookup import FORCE_LEVELS
+from ...protocol import METHOD, OK, STATUS_CODE
+from ..forces.lookup import FORCE_LEVELS
 from .reduce import DRIVER, design_status, reduce_chunk, repaired
 
 # A design table's per-point record: the first column of a sweep's STATUS rows (int16: the
@@ -39,7 +39,7 @@ class TableData:
     the table's level) and INFO (designs, times, DESIGN_INFO_COLUMNS; int16), or None each
     when only reductions were kept; ``red``: (min, max, tmin, tmax), each (designs,
     slots), or None; ``done``: solved times per design; ``status``: per design
-    (mechgen.runtime.reduce.design_status)."""
+    (mechgen.runtime.tables.reduce.design_status)."""
 
     def __init__(self, Q, QD, QDD, INFO, done, status, red=None):
         self.Q, self.QD, self.QDD, self.INFO = Q, QD, QDD, INFO

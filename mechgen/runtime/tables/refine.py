@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import MechgenError
-from ..protocol import OK
+from ...errors import MechgenError
+from ...protocol import OK
 from .reduce import COORDINATE, Reduction, reduce_chunk, reduce_slots
 
 NEWTON_STEPS = 12

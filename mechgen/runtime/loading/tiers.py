@@ -3,7 +3,7 @@
 point once compiled). Both give the same numbers; only the speed differs.
 
 ``tier="auto"`` (the default; or ``$MECHGEN_TIER``) starts in the plain-Python tier and
-starts a worker process (mechgen.runtime.warmup) that imports the module with numba and
+starts a worker process (mechgen.runtime.loading.warmup) that imports the module with numba and
 calls its entry points once, in the order users need them, so that numba's on-disk cache
 holds them all; it then leaves a mark beside the cache. Once the mark is there and the
 plain-Python calls of this process have cost SWITCH_AFTER seconds, the next call loads
@@ -25,8 +25,8 @@ import json
 import os
 import sys
 
-from ..errors import MechgenError
-from ..protocol import MECHGEN_VERSION
+from ...errors import MechgenError
+from ...protocol import MECHGEN_VERSION
 from .loader import import_path, open_module, check_version
 from .plain import Clock, NoPlainTier, python_module, state_dir
 
@@ -195,9 +195,10 @@ class Tiers:
 
     # -- the background compile ----------------------------------------------------------
     def start_worker(self):
-        """Start ``python -m mechgen.runtime.warmup PATH``, detached (it outlives us)."""
+        """Start ``python -m mechgen.runtime.loading.warmup PATH``, detached (it outlives us)."""
         import subprocess
-        root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+        here = os.path.abspath(__file__)                 # mechgen/runtime/loading/tiers.py
+        root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(here))))
         env = dict(os.environ)
         env["PYTHONPATH"] = os.pathsep.join(x for x in (root, env.get("PYTHONPATH")) if x)
         log = os.path.splitext(state_paths(self.path)[1])[0] + ".log"
@@ -205,7 +206,7 @@ class Tiers:
             os.makedirs(os.path.dirname(log), exist_ok=True)
             with open(log, "ab") as err:
                 self.worker = subprocess.Popen(
-                    [sys.executable, "-m", "mechgen.runtime.warmup", self.path], env=env,
+                    [sys.executable, "-m", "mechgen.runtime.loading.warmup", self.path], env=env,
                     stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=err,
                     start_new_session=True, close_fds=True)
             _STARTED.append(self.worker)    # kept: no "still running" warning when dropped
