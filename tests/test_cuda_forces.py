@@ -142,3 +142,28 @@ def test_the_twin_s_source_file_is_written_once_per_text_module_and_options(tmp_
     assert source_file(module, "def f():\n    return 1\n", (1, 64)) != first
     (tmp_path / "qr.py").write_text(open(tmp_path / "qr.py").read() + "\nN = 1\n")
     assert source_file(module, "def f():\n    return 1\n", (1, None)) != first
+
+
+def test_a_kernel_numba_cannot_cache_is_compiled_without_the_cache():
+    """cuda_twin._kernel: with its source in a file, the kernel asks numba for its on-disk
+    cache; where numba refuses (here: a jit that raises for cache=True), it is compiled
+    without, the options kept; without a file it never asks."""
+    from mechgen.runtime.gpu.cuda_twin import _kernel
+    calls = []
+
+    class FakeCuda:
+        @staticmethod
+        def jit(**opts):
+            calls.append(opts)
+            if opts.get("cache"):
+                raise RuntimeError("cannot cache function: no locator available")
+            return lambda fn: ("compiled", fn, opts)
+
+    def kernel():
+        pass
+    got = _kernel(FakeCuda, kernel, {"max_registers": 64}, cache=True)
+    assert got == ("compiled", kernel, {"max_registers": 64})
+    assert calls == [{"cache": True, "max_registers": 64}, {"max_registers": 64}]
+    calls.clear()
+    assert _kernel(FakeCuda, kernel, {}, cache=False) == ("compiled", kernel, {})
+    assert calls == [{}]
