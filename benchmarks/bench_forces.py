@@ -152,12 +152,12 @@ def table_speed(mech, designs=2000, n=1000):
     td = _best(lambda: mech.sweep(0, 1, n, level="dynamic", reduce=["crank driver"], **kw), 2)
     red = mech.sweep(0, 1, n, level="dynamic", reduce=["crank driver"], **kw).reduced("crank driver")
     import mechgen.runtime.tables.chunks as chunks         # the separate pass, for comparison
-    fused, chunks._fused = chunks._fused, (lambda *args: None)
+    fused, chunks.fused_level = chunks.fused_level, (lambda *args: None)
     try:
         ts = _best(lambda: mech.sweep(0, 1, n, level="dynamic", reduce=["crank driver"], **kw),
                    2)
     finally:
-        chunks._fused = fused
+        chunks.fused_level = fused
     print(f"design table, {designs} designs x {n} times, all cores: kinematic {ta:.2f} s, "
           f"peak torque {td:.2f} s ({td / ta:.2f}x; λ after the sweeps instead: {ts:.2f} s, "
           f"{ts / ta:.2f}x); peak torque from {np.nanmin(red.max):.4g} to "

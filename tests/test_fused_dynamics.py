@@ -182,9 +182,9 @@ def test_design_table_of_peak_torque_solves_the_multipliers_in_its_sweeps(qr, mo
     import mechgen.runtime.tables.chunks as chunks
     kw = dict(params={"longitud": np.linspace(2.0, 6.5, 12)}, on_fail="ignore", workers=1,
               level="dynamic", reduce=["crank driver", "X4"])
-    assert chunks._fused(qr.module, np.array([[2, 0, 1]]), 2, 0) == 1
+    assert chunks.fused_level(qr.module, np.array([[2, 0, 1]]), 2, 0) == 1
     fused = qr.sweep(0.0, 1.0, 201, **kw)
-    monkeypatch.setattr(chunks, "_fused", lambda *args: None)
+    monkeypatch.setattr(chunks, "fused_level", lambda *args: None)
     separate = qr.sweep(0.0, 1.0, 201, **kw)
     np.testing.assert_array_equal(fused.done, separate.done)
     assert fused.done.min() < 201 and fused.done.max() == 201
@@ -203,15 +203,15 @@ def test_static_design_table_solves_the_multipliers_in_its_sweeps(qr, monkeypatc
     assert qr.module.STATIC_FUSED
     kw = dict(params={"longitud": np.linspace(2.0, 6.5, 12)}, on_fail="ignore", workers=1,
               level="static", reduce=["crank driver", "X4"])
-    assert chunks._fused(qr.module, np.array([[2, 0, 0]]), 0, 0) == 0
-    assert chunks._fused(qr.module, np.array([[2, 0, 0]]), 2, 0) is None
+    assert chunks.fused_level(qr.module, np.array([[2, 0, 0]]), 0, 0) == 0
+    assert chunks.fused_level(qr.module, np.array([[2, 0, 0]]), 2, 0) is None
     calls = []
     real = qr.module.sweep_designs_statics
     monkeypatch.setattr(qr.module, "sweep_designs_statics",
                         lambda *a: calls.append(1) or real(*a))
     fused = qr.sweep(0.0, 1.0, 201, **kw)
     assert calls
-    monkeypatch.setattr(chunks, "_fused", lambda *args: None)
+    monkeypatch.setattr(chunks, "fused_level", lambda *args: None)
     separate = qr.sweep(0.0, 1.0, 201, **kw)
     np.testing.assert_array_equal(fused.done, separate.done)
     assert fused.done.min() < 201 and fused.done.max() == 201

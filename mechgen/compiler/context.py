@@ -21,7 +21,7 @@ from ..protocol import MECHGEN_VERSION as __version__
 from .blocks import EXPLICIT
 from .equations_code import (gamma_body, mesh_turns_body, nu_body, outputs_bodies, phi_body,
                              phi_q_body, point_list, points_body)
-from .dynamics_code import FUSED, dynamics_sorted_body, written_forces, written_statics
+from .dynamics_code import FUSED, dynamics_sorted_body, written_forces
 from .forces_code import force_blocks, force_functions, forces_bodies, multipliers_point_body
 from .ir import Options, code_words, render, symbols
 from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
@@ -121,10 +121,10 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         made = dynamics_sorted_body(plan, eq, model, derivatives) if force_parts else None
         if made is not None:
             put("dynamics_sorted", made)
-            forces = written_forces(plan, eq, model) if step is not None else True
+            forces, statics = written_forces(plan, eq, model) if step is not None else \
+                (True, None)
             bodies["sweep_fast_forces"] = sweep_fast_body(step, pairs, signs, guessed, tangent,
                                                           watch, angles, forces, checked)
-            statics = written_statics(plan, eq, model) if step is not None else None
             if statics is not None:     # a static sweep's quick path with the multipliers
                 bodies["sweep_fast_statics"] = sweep_fast_body(
                     step, pairs, signs, guessed, tangent, watch, angles, checked=checked,

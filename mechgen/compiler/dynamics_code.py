@@ -62,25 +62,19 @@ def dynamics_sorted_body(plan, eq, model, derivatives):
 
 
 def written_forces(plan, eq, model):
-    """The multipliers written into the fast sweep's loop after its derivative code: the
-    sin and cos (and other calls) of the position code shared, the parameters it does not
-    read loaded, λ, the factors and the pivots' verdict stored into row k of LAM,
-    FACTORS, FPIV."""
+    """(dynamic, static): the multipliers written into the fast sweep's loop, the sin and
+    cos (and other calls) of the position code shared, the parameters it does not read
+    loaded, λ, the factors and the pivots' verdict stored into row k of LAM, FACTORS,
+    FPIV. ``dynamic`` after the derivative code, ``static`` the same step at q̇ = q̈ = 0
+    (a static sweep's, after its position code at every point: nothing of the derivative
+    code read). (None, None) where the multipliers are not written out."""
     step = force_step(plan, eq, model, "LAM[k, {}]", "FACTORS[k, {}]", "FPIV[k]")
     if step is None:
-        return None
-    return in_loop(plan, eq, step, "_f", known=(*eq.qd, *eq.qdd))
-
-
-def written_statics(plan, eq, model):
-    """written_forces at q̇ = q̈ = 0 (a static sweep's multipliers, after its position
-    code at every point): nothing of the derivative code read."""
-    step = force_step(plan, eq, model, "LAM[k, {}]", "FACTORS[k, {}]", "FPIV[k]")
-    if step is None:
-        return None
+        return None, None
     still = {s: sp.Integer(0) for s in (*eq.qd, *eq.qdd)}
-    step = [replaced(x, lambda e: sp.sympify(e).xreplace(still)) for x in step]
-    return in_loop(plan, eq, step, "_f")
+    rest = [replaced(x, lambda e: sp.sympify(e).xreplace(still)) for x in step]
+    return (in_loop(plan, eq, step, "_f", known=(*eq.qd, *eq.qdd)),
+            in_loop(plan, eq, rest, "_f"))
 
 
 # (name, arguments, docstring lines) of the functions above, for the template

@@ -296,7 +296,7 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
     derivatives at every point (with ``step``: the statements of
     dynamics_code.written_forces; else True: a call of dynamics_sorted). ``statics``: the
     body of sweep_fast_statics instead (with ``step``), the multipliers at q̇ = q̈ = 0
-    after the position code at every point (dynamics_code.written_statics)."""
+    after the position code at every point (dynamics_code.written_forces)."""
     init, keep = _memory(pairs) if step is not None else ([], [])
     if step is not None:
         init += [Code("{0} = 1.0  # a dyad's assembly sign, from the first point", (s,))

@@ -21,6 +21,7 @@ from ..errors import BranchJumpWarning, MechgenError
 from ..protocol import (ACCELERATION, JUMP, LEVEL, METHOD_FULL, REPORT_FAILED, REPORT_JUMP,
                         REPORT_REACHED, REPORT_SIZE, REPORT_STATUS, STATUS_CODE,
                         STATUS_COLUMNS, THROUGH_SINGULAR, VELOCITY)
+from .forces.lookup import FUSED_PATHS, fused_path
 from .results import Sweep
 
 _VEL, _ACC = LEVEL["velocity"], LEVEL["acceleration"]
@@ -203,10 +204,9 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
     if unwrap is not None and N:
         unwrap(q0, ts[0], mech.p)       # the guess's angles as its drivers ask (q0 is ours)
     fused = None
-    if forces is not None and lev == _ACC and getattr(mod, "FORCE_FUSED", False):
-        fused = mod.sweep_fast_forces
-    elif forces is not None and lev == 0 and getattr(mod, "STATIC_FUSED", False):
-        fused = mod.sweep_fast_statics
+    if forces is not None:          # the force level whose fused path sweeps at lev
+        fused = next((f for f in (fused_path(mod, level, lev) for level in FUSED_PATHS)
+                      if f is not None), None)
     if meth != METHOD_FULL and mod.SORTED and mod.LEVEL >= 2:
         start = -1
         if fused is not None:

@@ -5,8 +5,22 @@ from __future__ import annotations
 FORCE_LEVELS = ("static", "dynamic")
 
 
+# a force level's fused quick path, the sweep that solves the multipliers on its way
+# (compiler/dynamics_code.py): the module's flag that says it is written (else a stub),
+# the kinematic level (protocol.LEVEL) its sweep runs at, its name
+FUSED_PATHS = {"static": ("STATIC_FUSED", 0, "sweep_fast_statics"),
+               "dynamic": ("FORCE_FUSED", 2, "sweep_fast_forces")}
+
+
 def is_force_level(level) -> bool:
     return level.__class__ is str and level in FORCE_LEVELS
+
+
+def fused_path(module, level, lev):
+    """The quick path of ``module`` that solves force level ``level``'s multipliers on its
+    way in a sweep at kinematic level ``lev`` (FUSED_PATHS), or None."""
+    flag, need, name = FUSED_PATHS[level]
+    return getattr(module, name) if lev == need and getattr(module, flag, False) else None
 
 
 # -- the model's tables -------------------------------------------------------------------

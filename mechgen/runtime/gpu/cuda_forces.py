@@ -35,12 +35,14 @@ from ...protocol import LEVEL
 from .cuda import OUTPUT, STATUS_COLUMNS, THREADS, SIM_THREADS, flat_slots, numba_module, \
     require_cuda, simulated, table_inputs
 from .cuda_twin import ROOTS, build_twin
+from ..forces.lookup import FUSED_PATHS
 from ..forces.points import driver_rows
 from ..tables.reduce import DRIVER
 
-# force level -> (the module's fused quick path, the kernel that runs it)
-KERNELS = {"dynamic": ("sweep_fast_forces", "_cu_forces_reduce"),
-           "static": ("sweep_fast_statics", "_cu_statics_reduce")}
+# force level -> (the module's fused quick path, forces.lookup.FUSED_PATHS, the kernel
+# that runs it: sweep_fast_forces -> _cu_forces_reduce)
+KERNELS = {level: (fn, "_cu_" + fn.replace("sweep_fast_", "") + "_reduce")
+           for level, (_, _, fn) in FUSED_PATHS.items()}
 _TWINS = {}                     # (id(module), max_registers) -> (module, twin namespace)
 
 # The hook, the per-design driver and the kernel, compiled into the twin's namespace.
@@ -132,10 +134,8 @@ def _cu_forces_reduce(ts, q0, P, tol, xtol, maxit, SL, nsl, nord, DRV, R, DONE, 
 
 
 def fused_levels(module):
-    """The force levels whose fused quick path ``module`` has (sweep_fast_forces where its
-    FORCE_FUSED is True, sweep_fast_statics where its STATIC_FUSED is)."""
-    flags = {"dynamic": "FORCE_FUSED", "static": "STATIC_FUSED"}
-    return [level for level in KERNELS if getattr(module, flags[level], False)]
+    """The force levels whose fused quick path ``module`` has (its FUSED_PATHS flag)."""
+    return [level for level in KERNELS if getattr(module, FUSED_PATHS[level][0], False)]
 
 
 def twin(module, max_registers=None):

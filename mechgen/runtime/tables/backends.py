@@ -18,8 +18,8 @@ import numpy as np
 
 from ...errors import MechgenError
 from ...protocol import JUMP, OK, STATUS_CODE, THROUGH_SINGULAR
-from .chunks import (DESIGN_INFO_COLUMNS, DESIGN_INFO_DTYPE, Collector, TableData, _fused,
-                     chunks, guided_chunks, solve_chunk, sweep_chunk)
+from .chunks import (DESIGN_INFO_COLUMNS, DESIGN_INFO_DTYPE, Collector, TableData,
+                     chunks, fused_level, guided_chunks, solve_chunk, sweep_chunk)
 from ..forces.lookup import FORCE_LEVELS
 from .reduce import DRIVER, design_status
 
@@ -91,8 +91,8 @@ def run_cpu(module, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=
 def gpu_force_level(mech, slots, lev, meth):
     """The force level ("dynamic", "static") whose driver efforts a CUDA table reducing
     ``slots`` reduces on the GPU (its every driver slot at that level, the module's fused
-    quick path for it: chunks._fused); None where it cannot."""
-    order = _fused(mech.module, np.asarray(slots), lev, meth)
+    quick path for it: chunks.fused_level); None where it cannot."""
+    order = fused_level(mech.module, np.asarray(slots), lev, meth)
     return None if order is None else FORCE_LEVELS[order]
 
 

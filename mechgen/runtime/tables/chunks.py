@@ -12,7 +12,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from ...protocol import METHOD, OK, STATUS_CODE
-from ..forces.lookup import FORCE_LEVELS
+from ..forces.lookup import FORCE_LEVELS, fused_path
 from .reduce import DRIVER, design_status, reduce_chunk, repaired
 
 # A design table's per-point record: the first column of a sweep's STATUS rows (int16: the
@@ -147,7 +147,7 @@ def _solve_forces(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, Q, QD, 
     done = np.zeros(D, dtype=np.int64)
     status = np.zeros(D, dtype=np.int64)
     red = [np.empty((D, slots.shape[0])) for _ in range(4)]
-    fused = _fused(module, slots, lev, meth)
+    fused = fused_level(module, slots, lev, meth)
     for a in range(0, D, step):
         b = min(D, a + step)
         part = [None if x is None else x[:b - a] for x in (Q, QD, QDD, INFO)]
@@ -175,20 +175,16 @@ def _solve_forces(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, Q, QD, 
     return (done, status) + tuple(red)
 
 
-def _fused(module, slots, lev, meth):
+def fused_level(module, slots, lev, meth):
     """The FORCE_LEVELS index of the force level every driver slot asks for where the
-    module's quick path at it can solve the multipliers on its way: "dynamic" in an
-    acceleration table (FORCE_FUSED: sweep_designs_forces), "static" in a position one
-    (STATIC_FUSED: sweep_designs_statics); else None."""
+    module's quick path at it can solve the multipliers on its way in a table at
+    kinematic level ``lev`` (forces.lookup.fused_path: "dynamic" in an acceleration table,
+    sweep_designs_forces; "static" in a position one, sweep_designs_statics); else None."""
     orders = {int(order) for kind, _, order in slots if kind == DRIVER}
     if len(orders) != 1 or meth == METHOD["full"] or not (module.SORTED and module.LEVEL >= 2):
         return None
     order = orders.pop()
-    level = FORCE_LEVELS[order]
-    flag, need = ("FORCE_FUSED", 2) if level == "dynamic" else ("STATIC_FUSED", 0)
-    if lev != need or not getattr(module, flag, False):
-        return None
-    return order
+    return order if fused_path(module, FORCE_LEVELS[order], lev) is not None else None
 
 
 class Collector:
