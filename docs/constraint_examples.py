@@ -83,7 +83,7 @@ m19.point_on_line(b.at(1, 2), Line(base[1], direction=(1, 1)))
 m20, base, a, b, L = parts("named")
 m20.revolute(a[2], b[1], name="elbow")
 
-# cams (mechgen.model.cams): body a carries the profile, b follows; one constraint each
+# cams (mechgen.model.library2d.cams): body a carries the profile, b follows; one constraint each
 cam1, base, a, b, L = parts("cam_to_point")
 disc = cam1.profile("disc", polar=lambda th: L / 2 + sin(th) / 2)
 cam1.cam_to_point(a, disc, b[1], contact="s", guess=1.5)

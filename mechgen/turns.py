@@ -1,7 +1,7 @@
 """Whole turns of gears (a base module, numpy only: the compiler's ``mechgen check`` and the
 runtime's ``assemblies`` share it).
 
-A gear's rolling row is written wrapped (model/gears.py: mesh_angle), so it vanishes on
+A gear's rolling row is written wrapped (model/library2d/gears.py: mesh_angle), so it vanishes on
 every meshing whole turns of the centre line apart: at one time, with the driven angles
 where their drivers put them, those are other assemblies in name only, the same gears
 meshed teeth further on, which the driver reaches at other times. What tells them apart

@@ -15,7 +15,7 @@ import mechgen
 from mechgen import Model, Piecewise, cos, pi, sin
 from mechgen.model.dag import Differentiator, replace
 from mechgen.model.numpy_eval import evaluate
-from mechgen.model.profiles import Profile, derivative, wrap
+from mechgen.model.library2d.profiles import Profile, derivative, wrap
 
 S = sp.Symbol("_prof_s", real=True)
 A, B = sp.symbols("a b", real=True)
@@ -174,7 +174,7 @@ def test_a_cusp_in_a_piecewise_profile_is_refused_as_before():
 # -- the forward-mode code of a profile's derivatives ---------------------------------------
 def _run(statements, values):
     """The value the statements store in _v, each statement evaluated with lambdify."""
-    from mechgen.compiler.ir import Assign, Store
+    from mechgen.compiler.codegen.ir import Assign, Store
     env = dict(values)
     for st in statements:
         free = sorted(sp.sympify(st.expr).free_symbols, key=str)
@@ -191,7 +191,7 @@ def _run(statements, values):
 def test_forward_mode_derivatives_against_sympys(k):
     """The statements a module's profile helper is printed from (orders 1..3, one program)
     against lambdify of sympy's own derivative, at random points and parameters."""
-    from mechgen.compiler.profile_derivatives import Derivatives
+    from mechgen.compiler.functions.profile_derivatives import Derivatives
     expr, var = PROFILES[k]
     params = sorted(sp.sympify(expr).free_symbols - {var}, key=str)
     rng = np.random.default_rng(11 + k)

@@ -17,7 +17,7 @@ import sympy as sp
 import mechgen
 from conftest import GENERATED, ROOT
 from mechgen import Line, Model, T, cos, pi, sin
-from mechgen.model.profiles import ProfileFunction, periodic_spline
+from mechgen.model.library2d.profiles import ProfileFunction, periodic_spline
 
 
 # -- small models, one per follower ------------------------------------------------------
@@ -287,7 +287,7 @@ def test_table_profile_evaluates_like_its_emitted_code():
     prof = [c for c in m.constraints if c.kind == "cam_to_point"][0]
     fx = [f for f in sp.sympify(prof.exprs[0]).atoms(ProfileFunction)
           if f.func.__name__ == "table_x"][0].func
-    from mechgen.compiler.printer import pycode
+    from mechgen.compiler.codegen.printer import pycode
     s = sp.Symbol("s", real=True)
     code = pycode(fx.diffed().subs(fx.var, s))
     import math  # noqa: F401  (the code uses it)
@@ -360,8 +360,8 @@ print(json.dumps(out))
 def test_the_profile_is_drawn_turning_with_its_cam(tmp_path):
     """The eccentric cam's outline, at two times, is the circle of radius R about the
     turned centre (e cos θ, e sin θ); the picture is written."""
-    from mechgen.model.cams import PROFILE_POINTS
-    from mechgen.plot import cams as plot_cams
+    from mechgen.model.library2d.cams import PROFILE_POINTS
+    from mechgen.plot.glyphs import cams as plot_cams
     assert plot_cams.PROFILE_POINTS == PROFILE_POINTS
     png = str(tmp_path / "cam.png")
     env = dict(os.environ, NUMBA_DISABLE_JIT="1", PYTHONPATH=ROOT)
@@ -379,7 +379,7 @@ def test_the_profile_is_drawn_turning_with_its_cam(tmp_path):
 
 def test_the_reference_documents_every_cam_kind():
     import re
-    from mechgen.model.cams import CAM_KINDS, CamsMixin
+    from mechgen.model.library2d.cams import CAM_KINDS, CamsMixin
     text = open(os.path.join(ROOT, "docs", "constraints.md"), encoding="utf-8").read()
     sections = dict(re.findall(r"^## (\w+)\n(.*?)(?=^## |\Z)", text, re.S | re.M))
     for kind in CAM_KINDS:

@@ -1,4 +1,4 @@
-"""RRR dyad blocks (mechgen.compiler.dyads): the four-bar's coupler and rocker solved as a
+"""RRR dyad blocks (mechgen.compiler.solver.dyads): the four-bar's coupler and rocker solved as a
 circle-circle intersection against the same model's Newton block (closed_forms="none")
 and against the intersection written out here, at random configurations, in both
 assembly modes, where the circles do not meet and across a toggle.
@@ -203,7 +203,7 @@ def test_a_toggle_is_met_as_newton_meets_it(pair):
 def test_every_example_and_the_chain_build_their_dyads():
     """Where a two-angle block has the loop form, the plan solves it as a dyad: the
     Strandbeest's three, the four-bars', a chain of 50 four-bars' 50."""
-    from mechgen.compiler.plan import make_plan
+    from mechgen.compiler.solver.plan import make_plan
     sys.path.insert(0, os.path.join(ROOT, "benchmarks"))
     from chain_model import chain
     expect = {"strandbeest.py": 3, "fourbar.py": 1, "fourbar_loop.py": 1,

@@ -9,8 +9,8 @@ import pytest
 import sympy as sp
 
 import mechgen
-from mechgen.compiler.ir import Assign, Guard, render
-from mechgen.compiler.schedule import emit
+from mechgen.compiler.codegen.ir import Assign, Guard, render
+from mechgen.compiler.codegen.schedule import emit
 
 from conftest import example_model
 

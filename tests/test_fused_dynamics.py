@@ -1,4 +1,4 @@
-"""The multipliers solved in the kinematics' own pass (compiler/dynamics_code.py): a
+"""The multipliers solved in the kinematics' own pass (compiler/functions/dynamics_code.py): a
 dynamic sweep's quick path (sweep_fast_forces), a static sweep's (sweep_fast_statics) and
 a dynamic solve (dynamics_sorted) against the separate pass over the solved points
 (force_rows), numpy's dense solve of Φ_qᵀ λ = Q_a + Q_c − I written here and, at rest,
@@ -225,7 +225,7 @@ def test_static_design_table_solves_the_multipliers_in_its_sweeps(qr, monkeypatc
 def test_bounds_of_a_row_scale():
     """_bound: |sin|, |cos| <= 1 and nothing else; a coordinate's size is not bounded."""
     import sympy as sp
-    from mechgen.compiler.forces_code import _bound, _never_small
+    from mechgen.compiler.functions.forces_code import _bound, _never_small
     x, X = sp.symbols("x X", real=True)
     scale = sp.Max(1, sp.Abs(2.6 * sp.cos(x) - 40.0 * sp.sin(x)))
     assert _bound(scale) == pytest.approx(42.6)

@@ -110,7 +110,7 @@ def test_the_rolling_row_is_the_wrapped_rolling_relation(r1, r2, c):
 def test_mesh_angle_derivatives_are_those_of_its_atan2():
     """The derivatives mesh_angle states (those of ψ − β) against sympy's derivatives of
     the atan2 it prints as, at random points, for k = 1, −1 and a symbol."""
-    from mechgen.model.gears import mesh_angle
+    from mechgen.model.library2d.gears import mesh_angle
     ux, uy, psi, k = sp.symbols("ux uy psi k", real=True)
     rng = np.random.default_rng(3)
     for kk in (1, -1, k):

@@ -176,7 +176,7 @@ assert numba.config.DISABLE_JIT
 import numpy as np
 import mechgen
 from mechgen.compiler.build import build
-from mechgen.compiler.equations_code import point_list
+from mechgen.compiler.functions.equations_code import point_list
 from conftest import example_model, GENERATED
 import test_codegen_numbers as C
 import sympy as sp

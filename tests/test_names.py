@@ -190,7 +190,7 @@ def test_the_module_reads_with_the_model_names(built):
 
 
 def test_names_of_the_module_are_read_from_its_sources():
-    from mechgen.compiler.names import identifiers, module_words
+    from mechgen.compiler.codegen.names import identifiers, module_words
     words = module_words()
     for name in ("q", "t", "p", "out", "tol", "xtol", "maxit", "info", "piv", "ts", "q0",
                  "Q", "QD", "QDD", "STATUS", "math", "np", "njit", "abs", "range", "N_COORDS",
@@ -205,7 +205,7 @@ def test_names_of_the_module_are_read_from_its_sources():
 
 def test_mangled_names_are_unique():
     from sympy import Symbol
-    from mechgen.compiler.names import Names
+    from mechgen.compiler.codegen.names import Names
     syms = [Symbol(x, real=True) for x in ("q", "q_", "_q", "k")]
     names = Names(syms, {"q", "k", "k_"})
     idents = [names.ident(s) for s in syms]

@@ -8,11 +8,11 @@ import sys
 
 import pytest
 
-from mechgen.compiler.blocks import (CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, EXPLICIT,
+from mechgen.compiler.solver.blocks import (CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, EXPLICIT,
                                      NEWTON)
 from mechgen.compiler.build import render
 from mechgen.compiler.context import module_context
-from mechgen.compiler.plan import BlockPlan, make_plan
+from mechgen.compiler.solver.plan import BlockPlan, make_plan
 
 from conftest import ROOT, example_model
 

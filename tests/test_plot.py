@@ -349,7 +349,7 @@ def test_drawing_never_imports_sympy():
 
 # -- the parts of the layer: plane geometry, the scene, the level a plot needs -----------------
 def test_plane_geometry():
-    from mechgen.plot.shapes import hatch, hull, rot, rounded
+    from mechgen.plot.glyphs.shapes import hatch, hull, rot, rounded
     square = np.array([(0, 0), (2, 0), (2, 2), (0, 2), (1, 1), (1, 0)])  # an inner, an edge point
     h = hull(square)
     assert len(h) == 4 and set(map(tuple, h)) == {(0, 0), (2, 0), (2, 2), (0, 2)}

@@ -7,11 +7,11 @@ import re
 
 import sympy as sp
 
-from mechgen.compiler.ir import (Assign, Break, Code, Comment, Guard, If, Loop, Options, Return,
-                                 Store, TrigPair, code_words, count_lines, render)
-from mechgen.compiler.names import Names
-from mechgen.compiler.printer import Alias, Derived, Local, pycode
-from mechgen.compiler.schedule import TempNames, emit
+from mechgen.compiler.codegen.ir import (Assign, Break, Code, Comment, Guard, If, Loop, Options,
+                                         Return, Store, TrigPair, code_words, count_lines, render)
+from mechgen.compiler.codegen.names import Names
+from mechgen.compiler.codegen.printer import Alias, Derived, Local, pycode
+from mechgen.compiler.codegen.schedule import TempNames, emit
 
 x, y, z, q, k = sp.symbols("x y z q k", real=True)
 

@@ -1,4 +1,4 @@
-"""Blocks that stay the same at every point of a sweep (mechgen.compiler.plan: steady):
+"""Blocks that stay the same at every point of a sweep (mechgen.compiler.solver.plan: steady):
 they lead the solving order, and the fast sweep solves them once, before its loop
 (position.position_in_sweep), with the parameters loaded there. The numbers are those of
 the point-by-point solver: a sweep_fast of the quick-return, its slider's angle solved
@@ -13,7 +13,7 @@ import pytest
 import mechgen
 from mechgen import Model, T, pi
 from mechgen.compiler.build import build
-from mechgen.compiler.plan import make_plan
+from mechgen.compiler.solver.plan import make_plan
 from mechgen.protocol import OK, POINT_INFO_SIZE
 
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import mechgen
-from mechgen.compiler.blocks import sort_blocks
+from mechgen.compiler.solver.blocks import sort_blocks
 from mechgen.compiler.build import build, render
 
 from conftest import ROOT, example_model
@@ -37,7 +37,7 @@ def test_quick_return_sorts_like_the_hand_written_solver():
     assert ("torn", ["X4", "Y4"], ["X4"]) in kinds
     assert len(blocks) == 8 and sum(b.size for b in blocks) == 9
     # every block only uses unknowns solved by itself or earlier blocks
-    from mechgen.compiler.blocks import incidence
+    from mechgen.compiler.solver.blocks import incidence
     inc = incidence(eq.phi, eq.q)
     known = set()
     for b in blocks:
@@ -103,7 +103,7 @@ def test_pruning_rejects_unknown_names():
 def chain6_path(build_dir):
     """A chain of 4 four-bar loops, built with small parts so that every solver is split
     (as a 10-loop chain is with the default sizes)."""
-    import mechgen.compiler.plan as cg
+    import mechgen.compiler.solver.plan as cg
     sizes = cg.CHUNK_LINES, cg.CHUNK_STORES
     cg.CHUNK_LINES, cg.CHUNK_STORES = 60, 16
     try:

@@ -40,7 +40,7 @@ def cmd_build(args):
 
 
 def cmd_equations(args):
-    from ..model.holds import held
+    from ..model.forces.holds import held
     from ..model.printing import equations_text
     for model in models(args):
         sys.stdout.write(equations_text(held(model), numeric=args.numeric, latex=args.latex,

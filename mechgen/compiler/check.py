@@ -13,11 +13,11 @@ import numpy as np
 import sympy as sp
 
 from ..model.geometry import T
-from ..model.holds import held
+from ..model.forces.holds import held
 from ..model.symbolic import rank_analysis
 from ..turns import meshed_alike, turn_coefficients
-from .blocks import sort_blocks
-from .equations_code import mesh_counts
+from .solver.blocks import sort_blocks
+from .functions.equations_code import mesh_counts
 
 TOL = 1e-9          # max |Φ| below which a configuration counts as assembled
 STARTS = 128        # quasi-random starts of the assembly-mode search

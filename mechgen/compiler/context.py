@@ -2,9 +2,9 @@
 model and its solvers (mechgen.compiler.render adds the header constants and the library).
 
 ``module_context`` is the compiler's one entry point from a model to that dict: it plans
-the solver once (mechgen.compiler.plan), has the emitters write each function body as
-statements (mechgen.compiler.ir), chooses the identifiers of the model's symbols against
-every name the module uses (mechgen.compiler.names) and prints the bodies as lines.
+the solver once (mechgen.compiler.solver.plan), has the emitters write each function body as
+statements (mechgen.compiler.codegen.ir), chooses the identifiers of the model's symbols against
+every name the module uses (mechgen.compiler.codegen.names) and prints the bodies as lines.
 """
 from __future__ import annotations
 
@@ -12,27 +12,29 @@ import hashlib
 
 import sympy as sp
 
+from ..model.forces.holds import held
 from ..model.geometry import T
 from ..model.stages import constraint_table, stages_context
-from ..model.holds import held
 from ..model.symbolic import check_square
 from ..protocol import FORMAT_VERSION, PIVOT_RTOL, SING_RTOL
 from ..protocol import MECHGEN_VERSION as __version__
-from .blocks import EXPLICIT
-from .equations_code import (gamma_body, mesh_turns_body, nu_body, outputs_bodies, phi_body,
-                             phi_q_body, point_list, points_body)
-from .dynamics_code import FUSED, dynamics_sorted_body, written_forces
-from .forces_code import force_blocks, force_functions, forces_bodies, multipliers_point_body
-from .ir import Options, code_words, render, symbols
-from .linear import derivative_code, derivatives_sorted_body, jacobian_det_body, linear_sorted_body
-from .names import Names, emitter_symbols, identifiers, module_words
-from .dyads import reach_body
-from .plan import SHARE_MAX, make_plan, summary
-from .printer import Derived
-from .position import position_body, solved_once, trig_pair
-from .profiles_code import profile_helpers
-from .sweep import options as sweep_options
-from .sweep import sweep_fast_body, written_det, written_step
+from .codegen.ir import Options, code_words, render, symbols
+from .codegen.names import Names, emitter_symbols, identifiers, module_words
+from .codegen.printer import Derived
+from .functions.dynamics_code import FUSED, dynamics_sorted_body, written_forces
+from .functions.equations_code import (gamma_body, mesh_turns_body, nu_body, outputs_bodies,
+                                       phi_body, phi_q_body, point_list, points_body)
+from .functions.forces_code import (force_blocks, force_functions, forces_bodies,
+                                    multipliers_point_body)
+from .functions.profiles_code import profile_helpers
+from .solver.blocks import EXPLICIT
+from .solver.dyads import reach_body
+from .solver.linear import (derivative_code, derivatives_sorted_body, jacobian_det_body,
+                            linear_sorted_body)
+from .solver.plan import SHARE_MAX, make_plan, summary
+from .solver.position import position_body, solved_once, trig_pair
+from .solver.sweep import options as sweep_options
+from .solver.sweep import sweep_fast_body, written_det, written_step
 
 
 def module_context(model, sort=True, level="acceleration", outputs=None, cse=True,

@@ -28,15 +28,15 @@ def _source_digest() -> str:
     """A digest of the code that decides a module's text (computed once a process)."""
     global _SOURCES
     if _SOURCES is None:
-        from .render import _template_dir
+        from .codegen.names import template_dir
         files = sorted(glob.glob(os.path.join(_PACKAGE, "compiler", "**", "*.py"), recursive=True)
-                       + glob.glob(os.path.join(_PACKAGE, "model", "*.py"))
+                       + glob.glob(os.path.join(_PACKAGE, "model", "**", "*.py"), recursive=True)
                        + [os.path.join(_PACKAGE, "protocol.py")]
-                       + glob.glob(os.path.join(_template_dir(), "*.j2")))
+                       + glob.glob(os.path.join(template_dir(), "*.j2")))
         h = hashlib.sha256()
         for path in files:
             with open(path, "rb") as fh:
-                h.update(os.path.basename(path).encode() + b"\0" + fh.read() + b"\0")
+                h.update(os.path.relpath(path, _PACKAGE).encode() + b"\0" + fh.read() + b"\0")
         _SOURCES = h.hexdigest()
     return _SOURCES
 
@@ -68,7 +68,7 @@ def fingerprint(model, **options) -> str:
             [_point(pt) for pt in getattr(c, "points", ())])
     for name, expr in model.outputs.items():
         put("output", name, sp.srepr(expr))
-    # mass properties and loads (mechgen.model.loads): the force functions read them
+    # mass properties and loads (mechgen.model.forces.loads): the force functions read them
     for b in model.moving_bodies:
         put("mass", b.name, *(_part(getattr(b, k, 0)) for k in ("mass", "inertia", "centroid")))
     if model.gravity_vector is not None:

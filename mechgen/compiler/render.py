@@ -5,11 +5,11 @@ options give the same bytes."""
 from __future__ import annotations
 
 import os
-from importlib import resources
 
 import jinja2
 import sympy
 
+from .codegen.names import template_dir
 from .context import module_context as solver_context
 from .library import library_text
 from ..protocol import STAMP, content_digest, header_constants
@@ -21,20 +21,10 @@ PREAMBLE = ("# -----------------------------------------------------------------
             "# ----------------------------------------------------------------------------\n")
 
 
-def _template_dir() -> str:
-    """templates/ of this checkout (beside the mechgen package), else the installed copy
-    (the package data mechgen.templates of a wheel)."""
-    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-    here = os.path.join(root, "templates")
-    if os.path.isfile(os.path.join(here, "module.py.j2")):
-        return here
-    return str(resources.files("mechgen.templates"))
-
-
 def environment() -> jinja2.Environment:
     """The strict jinja environment of the templates: a missing field fails at render time."""
     return jinja2.Environment(
-        loader=jinja2.FileSystemLoader(_template_dir()),
+        loader=jinja2.FileSystemLoader(template_dir()),
         undefined=jinja2.StrictUndefined,
         trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True,
         autoescape=False,

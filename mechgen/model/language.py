@@ -13,10 +13,10 @@ from .constraints import (Constraint, Expression, Orthogonal, Parallel, PointOnL
                           RelativeAngle, RelativeDistance, RelativeX, RelativeY, Revolute,
                           RotationLock, Translate)
 from ..errors import ModelError, _user_frame
-from .cams import CamsMixin
+from .library2d.cams import CamsMixin
 from .geometry import Body, T
-from .library2d import Mech2D
-from .loads import LoadsMixin
+from .library2d.methods import Mech2D
+from .forces.loads import LoadsMixin
 from .quantities import register_coordinates
 from .stages import StageMixin
 
@@ -141,7 +141,7 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
              centroid=None) -> Body:
         """A moving body, numbered 2, 3, ... in declaration order, coordinates X<n>, Y<n>, Th<n>.
         ``mass``, ``inertia`` (polar, about the centroid) and ``centroid`` (local; default
-        the origin) are its mass properties (mechgen.model.loads)."""
+        the origin) are its mass properties (mechgen.model.forces.loads)."""
         # validate everything first: a rejected body leaves the model as it was
         self._check_name(name, "body")
         number = 2 + sum(1 for b in self.bodies.values() if not b.is_ground)

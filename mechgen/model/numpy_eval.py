@@ -1,6 +1,6 @@
 """Sympy expressions evaluated with numpy on arrays, each distinct subexpression once.
 
-The contact-geometry check of a cam (mechgen.model.profiles.check_contact) needs a
+The contact-geometry check of a cam (mechgen.model.library2d.profiles.check_contact) needs a
 profile's coordinates and their first two derivatives at a few thousand parameter values.
 ``lambdify`` prints each expression as one Python expression first: a profile's second
 derivative is a tree of tens of thousands of operations whose subtrees repeat, and its

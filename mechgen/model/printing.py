@@ -127,8 +127,8 @@ def equations_text(model, numeric=False, latex=False, mathematica_style=False) -
     lines += _rows([((tag(i), show(eq.nu[i])), eq.labels[i]) for i in range(m)])
     lines += ["", "gamma: Phi_q qdd = gamma            [Mech: AccelerationTerms[All] = -gamma]"]
     lines += _rows([((tag(i), show(eq.gamma[i])), eq.labels[i]) for i in range(m)])
-    if model.has_dynamics:          # masses and loads (mechgen.model.dynamics)
-        from .dynamics import forces_lines
+    if model.has_dynamics:          # masses and loads (mechgen.model.forces.dynamics)
+        from .forces.dynamics import forces_lines
         short = (lambda e: sp.sstr(_numeric(sp.sympify(e), model, numeric), full_prec=False)) \
             if fmt is sp.sstr else show
         lines += forces_lines(model, eq, short, _rows)

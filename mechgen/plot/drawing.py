@@ -16,14 +16,14 @@ from matplotlib.patches import Patch
 from ..errors import MechgenError
 from ..runtime.results import Solution
 from .arrows import force_arrows
-from .cams import KINDS as CAM_KINDS
-from .cams import draw as draw_cam
-from .gears import draw_library
-from .glyphs import Builder
-from .ground import lift_cam_pivots
+from .glyphs.cams import KINDS as CAM_KINDS
+from .glyphs.cams import draw as draw_cam
+from .glyphs.gears import draw_library
+from .glyphs.builder import Builder
+from .glyphs.ground import lift_cam_pivots
 from .scene import Scene
-from .shapes import AUTO
-from .springs import draw_loads
+from .glyphs.shapes import AUTO
+from .glyphs.springs import draw_loads
 from .style import INK, MARGIN
 
 MOTION_POINTS = 41   # solves of the sweep that frames a single drawing
@@ -280,9 +280,9 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
             bld.rod(*used)
         elif kind in CAM_KINDS:
             draw_cam(bld, kind, used)
-    draw_library(bld)        # gears, racks, gen_revolute, ... (plot/gears.py)
-    draw_loads(bld)          # springs and dampers (plot/springs.py)
-    lift_cam_pivots(bld)     # a pivot under a cam's plate drawn over it (plot/ground.py)
+    draw_library(bld)        # gears, racks, gen_revolute, ... (plot/glyphs/gears.py)
+    draw_loads(bld)          # springs and dampers (plot/glyphs/springs.py)
+    lift_cam_pivots(bld)     # a pivot under a cam's plate drawn over it (plot/glyphs/ground.py)
     for b in st.bodies:
         if b.ground and (b.name not in custom or AUTO in _listed(custom[b.name])):
             bld.ground_link(b)

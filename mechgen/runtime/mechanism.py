@@ -433,7 +433,7 @@ class Mechanism:
         Sweep at level "dynamic" (mechgen.runtime.forces.simulate): power() and energy()
         show what the integration conserved. A model built without a driver for every
         degree of freedom has its free coordinates held at the guess (``hold`` rows,
-        mechgen.model.holds): simulate always lets those go. ``progress(t)`` is called
+        mechgen.model.forces.holds): simulate always lets those go. ``progress(t)`` is called
         after each output time is reached."""
         from .forces.simulate import simulate
         return simulate(self, t0, t1, n, free=free, q0=q0, qd0=qd0, rtol=rtol, atol=atol,

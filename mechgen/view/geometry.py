@@ -30,7 +30,7 @@ from matplotlib.artist import Artist
 from matplotlib.patches import Circle, Patch
 
 from ..plot.drawing import draw
-from ..plot.glyphs import Builder
+from ..plot.glyphs.builder import Builder
 from ..runtime.results import Solution
 
 PT_PX = 96.0 / 72.0      # a matplotlib point in CSS pixels

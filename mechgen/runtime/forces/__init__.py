@@ -1,7 +1,7 @@
 """Statics and inverse dynamics on a solved configuration (levels "static" and "dynamic").
 
 The generated module of a model with mass or loads holds ``force_terms`` (Q_a, Q_c, I),
-``energies`` and ``driver_factors`` (mechgen.compiler.forces_code); at every solved point
+``energies`` and ``driver_factors`` (mechgen.compiler.functions.forces_code); at every solved point
 the multipliers solve Φ_qᵀ λ = Q_a + Q_c − I (q̇ = q̈ = 0 at level "static"). A model
 without mass or loads has no such functions: its right side is zero, so are its λ.
 

@@ -6,7 +6,7 @@ FORCE_LEVELS = ("static", "dynamic")
 
 
 # a force level's fused quick path, the sweep that solves the multipliers on its way
-# (compiler/dynamics_code.py): the module's flag that says it is written (else a stub),
+# (compiler/functions/dynamics_code.py): the module's flag that says it is written (else a stub),
 # the kinematic level (protocol.LEVEL) its sweep runs at, its name
 FUSED_PATHS = {"static": ("STATIC_FUSED", 0, "sweep_fast_statics"),
                "dynamic": ("FORCE_FUSED", 2, "sweep_fast_forces")}

@@ -63,7 +63,7 @@ class _System:
         if isinstance(free, str):
             free = [free]
         # the rows the build added to hold a model's undriven coordinates at the guess
-        # (mechgen.model.holds) always let go: they are no drivers of the user's
+        # (mechgen.model.forces.holds) always let go: they are no drivers of the user's
         for k, (_, kind, *_rest) in enumerate(mech.module.CONSTRAINTS):
             if kind == "hold":
                 self.keep[list(tab.constraint(_rest[0], mech)[1])] = False

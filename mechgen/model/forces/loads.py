@@ -1,0 +1,193 @@
+"""Mass properties and loads (Mech's Body[..., Mass, Inertia, Centroid], Gravity, SetLoads):
+the ``Model`` methods that declare them (``LoadsMixin``, inherited by ``Model``).
+
+They leave the kinematics alone: Φ and its derivatives do not read them, and a model
+without mass or loads builds exactly the module it built before. mechgen.model.forces.dynamics
+turns them into the generalized forces of Φ_qᵀ λ = Q_a + Q_c − I.
+
+Every value may be a number, a parameter or an expression; a load may also read the
+coordinates, their velocities (``dt(...)``, ``velocity(p)``) and T. A negative mass or
+inertia (at the parameters' defaults) is a ModelError naming the body.
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from ...errors import ModelError
+from ..geometry import Body, Line, Point, T, as_pair
+
+
+def _s(expr) -> str:
+    """An expression as a label shows it (1.5, not 1.50000000000000)."""
+    return sp.sstr(expr, full_prec=False)
+
+
+class Load:
+    """One load: ``kind`` ("force", "moment", "spring", "damper"), its ``name`` (or None)
+    and the parts dynamics reads: points, bodies, a vector or a value."""
+
+    def __init__(self, kind, name, **parts):
+        self.kind = kind
+        self.name = name
+        self.__dict__.update(parts)
+
+    @property
+    def label(self) -> str:
+        """``kind(arguments)``, prefixed by ``name: `` when the load has a name."""
+        text = getattr(self, "text", self.kind)
+        return f"{self.name}: {text}" if self.name else text
+
+    def __repr__(self):
+        return f"<load {self.label}>"
+
+
+class LoadsMixin:
+    """Mass properties on bodies, gravity, forces, moments, springs and dampers."""
+
+    @property
+    def loads(self) -> list:
+        """The loads in declaration order ([] for a model without them)."""
+        return self.__dict__.setdefault("_loads", [])
+
+    @property
+    def gravity_vector(self):
+        """(g_x, g_y): the acceleration of gravity, or None without m.gravity."""
+        return self.__dict__.get("_gravity")
+
+    # -- mass properties (read by Model.body) ------------------------------------------
+    def _mass_properties(self, name, mass, inertia, centroid):
+        """(mass, inertia, centroid) of body ``name`` as sympy values, checked."""
+        m = self._property(mass, f"body '{name}': mass")
+        j = self._property(inertia, f"body '{name}': inertia")
+        for value, what in ((m, "mass"), (j, "inertia")):
+            number = value.subs({s: v for s, v in self.params.values()})
+            if number.is_number and float(number) < 0:
+                raise ModelError(f"body '{name}': {what} {value} is negative "
+                                 f"({float(number):g} at the parameters' defaults)")
+        c = as_pair((0, 0) if centroid is None else centroid, f"body '{name}': centroid")
+        c = tuple(self._property(v, f"body '{name}': centroid") for v in c)
+        return m, j, c
+
+    def _property(self, value, what):
+        expr = self._expr(value, what)
+        if T in expr.free_symbols:
+            raise ModelError(f"{what} may not depend on T")
+        return expr
+
+    @property
+    def has_dynamics(self) -> bool:
+        """True when the model has a mass, an inertia or a load (its module then holds the
+        force functions)."""
+        massive = any(getattr(b, "mass", 0) != 0 or getattr(b, "inertia", 0) != 0
+                      for b in self.bodies.values() if not b.is_ground)
+        return massive or bool(self.loads) or self.gravity_vector is not None
+
+    # -- loads ------------------------------------------------------------------------
+    def gravity(self, g, direction=(0, -1)):
+        """Mech's Gravity: m·g on every body at its centroid along ``direction`` (a
+        vector, made unit; downwards unless given)."""
+        if self.gravity_vector is not None:
+            raise ModelError(f"model '{self.name}' already has gravity; declare it once")
+        g = self._property(g, "gravity: g")
+        d = [self._property(v, "gravity: direction") for v in as_pair(direction,
+                                                                       "gravity: direction")]
+        size = sp.sqrt(d[0] ** 2 + d[1] ** 2)
+        if size.is_number and float(size) == 0:
+            raise ModelError("gravity: direction must not be the zero vector")
+        if size.is_number and abs(float(size) - 1.0) == 0:
+            size = sp.Integer(1)
+        self.__dict__["_gravity"] = (g * d[0] / size, g * d[1] / size)
+        self._equations = None
+
+    def force(self, point, f, along=None, name=None):
+        """A force at ``point``: ``force(p, (fx, fy))`` in global components, or
+        ``force(p, f, along=axis)``: magnitude f along the axis' direction (turning with
+        the axis' body)."""
+        p = self._load_point(point, "force", 1)
+        if along is not None:
+            if not isinstance(along, Line):
+                raise ModelError(f"force: along= must be an axis such as body.line(1, 2), "
+                                 f"got {along!r}")
+            mag = self._load_value(f, "force: magnitude")
+            u = along.u
+            vec = sp.Matrix([mag * u[0], mag * u[1]]) / sp.sqrt(u[0] ** 2 + u[1] ** 2)
+            text = f"force({p.label}, {_s(mag)}, along={along!r})"
+        else:
+            fx, fy = as_pair(f, "force: (fx, fy)")
+            vec = sp.Matrix([self._load_value(fx, "force: fx"),
+                             self._load_value(fy, "force: fy")])
+            text = f"force({p.label}, ({_s(vec[0])}, {_s(vec[1])}))"
+        return self._add_load(Load("force", self._load_name(name, "force"), point=p,
+                                   vector=vec, text=text))
+
+    def moment(self, b1, b2_or_value, value=None, name=None):
+        """A pure moment: ``moment(body, M)`` on one body (counter-clockwise positive),
+        or ``moment(b1, b2, M)``: +M on b1 and −M on b2 (a motor between them)."""
+        if value is None:
+            bodies, value = (self._load_body(b1, "moment", 1),), b2_or_value
+        else:
+            bodies = (self._load_body(b1, "moment", 1), self._load_body(b2_or_value, "moment", 2))
+        m = self._load_value(value, "moment: M")
+        text = f"moment({', '.join(b.name for b in bodies)}, {_s(m)})"
+        return self._add_load(Load("moment", self._load_name(name, "moment"), bodies=bodies,
+                                   value=m, text=text))
+
+    def spring(self, p1, p2, k, length, name=None):
+        """A spring between two points: tension k·(distance − length) along p1–p2
+        (conservative: its energy ½k(distance − length)² is the model's potential)."""
+        a = self._load_point(p1, "spring", 1)
+        b = self._load_point(p2, "spring", 2)
+        k = self._load_value(k, "spring: k", velocities=False)
+        length = self._load_value(length, "spring: length", velocities=False)
+        return self._add_load(Load("spring", self._load_name(name, "spring"), points=(a, b),
+                                   k=k, length=length,
+                                   text=f"spring({a.label}, {b.label}, k={_s(k)}, length={_s(length)})"))
+
+    def damper(self, p1, p2, c, name=None):
+        """A damper between two points: tension c·(rate of change of their distance)."""
+        a = self._load_point(p1, "damper", 1)
+        b = self._load_point(p2, "damper", 2)
+        c = self._load_value(c, "damper: c")
+        return self._add_load(Load("damper", self._load_name(name, "damper"), points=(a, b),
+                                   c=c, text=f"damper({a.label}, {b.label}, c={_s(c)})"))
+
+    # -- checks -----------------------------------------------------------------------
+    def _add_load(self, load):
+        self.loads.append(load)
+        self._equations = None
+        return load
+
+    def _load_name(self, name, kind):
+        if name is None:
+            return None
+        if not isinstance(name, str) or not name:
+            raise ModelError(f"{kind}: name= must be a non-empty string, got {name!r}")
+        if any(x.name == name for x in self.loads):
+            raise ModelError(f"{kind}: a load named {name!r} exists already")
+        return name
+
+    def _load_point(self, value, kind, pos):
+        if not isinstance(value, Point):
+            raise ModelError(f"{kind}: argument {pos} must be a point such as body[1], "
+                             f"got {value!r}")
+        if value.body.model is not self:
+            raise ModelError(f"{kind}: argument {pos} ({value}) belongs to another model")
+        return value
+
+    def _load_body(self, value, kind, pos):
+        if isinstance(value, str):
+            value = self[value]
+        if not isinstance(value, Body) or value.model is not self:
+            raise ModelError(f"{kind}: argument {pos} must be a body of this model, "
+                             f"got {value!r}")
+        return value
+
+    def _load_value(self, value, what, velocities=True):
+        """A load's value: coordinates, velocities (not accelerations), T and parameters."""
+        expr = self._expr(value, what, allow_coordinates=True, allow_derivatives=velocities)
+        from ..symbolic import derivative_symbols
+        _, qdd = derivative_symbols(self.coords)
+        if expr.free_symbols & set(qdd):
+            raise ModelError(f"{what}: a load may not read accelerations "
+                             f"({', '.join(sorted(str(s) for s in expr.free_symbols & set(qdd)))})")
+        return expr
