@@ -156,6 +156,24 @@ def test_check_quick_return(capsys):
     assert out.rstrip().endswith("check: True")
 
 
+def test_check_counts_the_blocks_as_the_module_solves_them(capsys):
+    """check's structure line and the generated module's solving order agree: the
+    quick-return's eight blocks, five explicit, three closed forms (two of them a sign kept
+    from the guess), read here off the committed module's docstring."""
+    code, out, _ = run(capsys, "check", QR)
+    assert code == 0
+    with open(os.path.join(os.path.dirname(EXAMPLES), "generated", "quick_return.py"),
+              encoding="utf-8") as fh:
+        doc = fh.read().split('"""')[1]
+    order = re.findall(r"^  \d+\. [^(]* \((.*)\)$", doc, re.M)
+    explicit = sum(o == "explicit" for o in order)
+    closed = sum(o.startswith("closed form") for o in order)
+    signs = sum("sign" in o for o in order)
+    assert (len(order), explicit, closed, signs) == (8, 5, 3, 2)
+    assert (f"structure: {len(order)} blocks as the module solves them ({explicit} explicit, "
+            f"{closed} closed form); {signs} with an assembly mode the guess picks") in out
+
+
 MISSING_DRIVER = """
     from mechgen import Model
     m = Model("free4")

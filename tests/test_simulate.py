@@ -474,3 +474,18 @@ def test_extremes_of_a_simulated_motion_are_refined_on_the_motion_not_the_kinema
     stops = sw.roots("Th2d").interior
     assert np.allclose(np.diff(stops.t), stops.t[0], rtol=1e-8)   # half periods, even
     assert sw.at_level("velocity").simulation == sw.simulation
+
+
+def test_a_simulated_motion_reads_like_any_sweep(tmp_path):
+    """Its statuses (all OK), the table of earlier versions, its CSV and its repr: a
+    simulated Sweep gave a status vector of the wrong shape, and sw.status raised."""
+    mech = _compile(pendulum(), tmp_path)
+    sw = mech.simulate(0.0, 1.0, 11, free=["hold"])
+    assert sw.status.shape == (11,) and np.all(sw.status == 0)
+    assert sw.iterations is None and sw.info.shape[0] == 11
+    sw.to_csv(str(tmp_path / "swing.csv"))
+    with open(tmp_path / "swing.csv") as fh:
+        rows = fh.read().splitlines()
+    assert len(rows) == 12 and rows[0].startswith("T,X2,Y2,Th2")
+    assert "11 points" in repr(sw) and "level dynamic" in repr(sw)
+    assert "level static" in repr(mech.sweep(0.0, 1.0, 3, level="static"))

@@ -16,7 +16,10 @@ from ..model.geometry import T
 from ..model.forces.holds import held
 from ..model.symbolic import rank_analysis
 from ..turns import meshed_alike, turn_coefficients
-from .solver.blocks import sort_blocks
+from .solver.blocks import (CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, NEWTON,
+                            sort_blocks)
+from .solver.dyads import signed
+from .solver.plan import make_plan
 from .functions.equations_code import mesh_counts
 
 TOL = 1e-9          # max |Φ| below which a configuration counts as assembled
@@ -470,15 +473,24 @@ def check_report(model, t=0.0, starts=STARTS) -> tuple[str, bool]:
     return "\n".join(check.lines) + "\n", ok
 
 
+_METHOD_WORDS = {EXPLICIT: "explicit", DYAD_RRR: "RRR dyad", CLOSED_FORM_TRIG: "closed form",
+                 CLOSED_FORM_QUADRATIC: "closed form", NEWTON: "Newton"}
+
+
 def _structure(eq, guess, model) -> str:
+    """The blocks as the module solves them (its plan: explicit, closed forms, dyads,
+    Newton), the blocks whose assembly mode is a sign kept from the guess counted."""
     values = dict(zip(eq.q, guess))
     values.update({sym: val for sym, val in model.params.values()})
-    blocks = sort_blocks(eq.phi, eq.q, values)
-    if blocks is None:
+    if sort_blocks(eq.phi, eq.q, values) is None:
         return ("  structure: no block sorting (not square or structurally singular); "
                 "full Newton only")
+    blocks = make_plan(model, eq, level="position").blocks
     kinds = {}
     for b in blocks:
-        kinds[b.kind] = kinds.get(b.kind, 0) + 1
-    return (f"  structure: {len(blocks)} blocks (" +
-            ", ".join(f"{v} {k}" for k, v in kinds.items()) + ")")
+        word = _METHOD_WORDS[b.method]
+        kinds[word] = kinds.get(word, 0) + 1
+    signs = sum(b.method == DYAD_RRR or signed(b.method, b.form) for b in blocks)
+    tail = (f"; {signs} with an assembly mode the guess picks (a sign)" if signs else "")
+    return (f"  structure: {len(blocks)} blocks as the module solves them (" +
+            ", ".join(f"{v} {k}" for k, v in kinds.items()) + ")" + tail)

@@ -32,6 +32,8 @@ def _status_rows(status, N):
         rows[:, STATUS_SUBSTEPS] = status[:, INFO_SUBSTEPS] if status.shape[1] > INFO_SUBSTEPS \
             else 0
         return rows
+    if status.ndim == 1:            # the codes alone
+        return status.astype(np.int16).reshape(-1, 1)
     return status
 
 
@@ -139,7 +141,7 @@ class Sweep:
         self.QD = QD
         self.QDD = QDD
         self._status = status if status.__class__ is np.ndarray and status.dtype is _INT16 \
-            else _status_rows(status, Q.shape[0])
+            and status.ndim == 2 else _status_rows(status, Q.shape[0])
         self._report = report
         self.jumps = self.crossings = _NONE
 
@@ -313,4 +315,5 @@ class Sweep:
         cols = self.columns()
         shown = ", ".join(cols[:12]) + (f", ... ({len(cols)} columns)" if len(cols) > 12 else "")
         return (f"<Sweep of '{self.mechanism.name}': {len(self)} points, T from {self.t[0]:.6g} "
-                f"to {self.t[-1]:.6g}, level {self.level}; columns {shown}>")
+                f"to {self.t[-1]:.6g}, level {getattr(self, 'force_level', self.level)}; "
+                f"columns {shown}>")

@@ -259,7 +259,7 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
         if progress is not None:
             progress(float(ts[k]))
     out = ForceSweep.__new__(ForceSweep)
-    out.__dict__.update(Sweep(mech, ts, Q, QD, QDD, np.zeros(N, dtype=np.int16)).__dict__)
+    out.__dict__.update(Sweep(mech, ts, Q, QD, QDD, np.zeros((N, 1), dtype=np.int16)).__dict__)
     out.force_level = "dynamic"
     out.LAM = LAM
     out.FACTORS = np.zeros((N, len(tables(mech).driver_rows)))
