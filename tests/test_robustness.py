@@ -183,6 +183,47 @@ def test_sweep_onto_the_exact_toggle(qr_slider):
         assert len(info.value.sweep) == 10 and info.value.t == pytest.approx(T1, abs=1e-12)
 
 
+
+def _slider_from_its_dead_centre(tmp_path, guess):
+    """A crank pushed by its slider from the outer dead centre (x = R + L at t = 0)."""
+    from mechgen import Model, T
+    R, L = 0.3, 1.0
+    m = Model("from_dead_centre")
+    base = m.ground("base", points=[(0, 0), (1, 0)])
+    crank = m.body("crank", points=[(0, 0), (R, 0)], guess=(0, 0, guess))
+    rod = m.body("rod", points=[(0, 0), (L, 0)], guess=(R, 0, 0.0))
+    slider = m.body("slider", points=[(0, 0), (1, 0)], guess=(R + L, 0, 0))
+    m.revolute(base[1], crank[1])
+    m.revolute(crank[2], rod[1])
+    m.revolute(rod[2], slider[1])
+    m.translate(base.line(1, 2), slider.line(1, 2))
+    m.relative_x(slider[1], R + L - T, name="push")
+    mech = mechgen.compile(m, outdir=str(tmp_path / f"g{guess}"), tier="python")
+
+    def th2(t):     # the crank angle on the guess's side: the law of cosines
+        x = R + L - t
+        return math.copysign(math.acos(min(1.0, (x * x + R * R - L * L) / (2 * x * R))), guess)
+    return mech, th2
+
+
+@pytest.mark.parametrize("n", [11, 101])
+@pytest.mark.parametrize("guess", [0.01, -0.01])
+def test_leaving_a_dead_centre_is_a_crossing_not_a_jump(tmp_path, n, guess):
+    """At t = 0 the crank stands at the dead centre, where both of its branches meet, and
+    leaves it as √t, which no step size follows: the first point after it is marked as
+    reached out of a singular configuration, whatever the step (it was a branch jump at
+    11 points and a crossing at 101), and the branch taken is the guess's."""
+    mech, th2 = _slider_from_its_dead_centre(tmp_path, guess)
+    assert mech.solve(0.0).singular
+    with pytest.warns(mechgen.BranchJumpWarning, match="singular configuration") as rec:
+        sw = mech.sweep(0.0, 0.1, n)
+    assert not any("could not keep" in str(w.message) for w in rec)
+    assert len(sw.jumps) == 0 and list(sw.crossings) == [sw.t[1]]
+    assert np.all(sw.status[2:] == 0)
+    ref = np.array([th2(t) for t in sw.t])
+    assert np.abs(sw["Th2"] - ref).max() < 1e-7     # (√ of the tolerance at t = 0)
+    assert np.abs(sw["Th2"][1:] - ref[1:]).max() < 1e-9
+
 # -- locating lock points ---------------------------------------------------------------------
 def test_singularities_of_the_slider_driven_quick_return(qr_slider):
     found = qr_slider.singularities(0.0, 1.0)

@@ -54,7 +54,8 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
     Status JUMP marks a point reached by a jump the step control could not avoid (the
     first jump's size goes to REPORT[REPORT_JUMP]), THROUGH_SINGULAR a point reached at or
     through a singular configuration (det Φ_q changed sign, or the tests failed next to
-    one, even at the smallest step: a dead centre, lock or branch point). A count below
+    one, even at the smallest step: a dead centre, lock or branch point; or leaving the
+    last point, where the mechanism stood at one). A count below
     len(ts) means the solve at ts[count] failed: its status goes to STATUS[count] and
     REPORT[REPORT_STATUS], the info vector of that solve to REPORT[:POSITION_INFO_SIZE],
     Q[count] (QD, QDD) then hold the last configuration reached on the way,
@@ -276,9 +277,16 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
                         for j in range(n):
                             QDD[k, j] = qdda[j]
                     return k
-                if leaping or pivot_ratio(q, tc, p) < BRANCH_NEAR or \
-                        pivot_ratio(qa, ta, p) < BRANCH_NEAR:
-                    crossed = True      # at or through a singular configuration
+                near = leaping or pivot_ratio(q, tc, p) < BRANCH_NEAR or \
+                    pivot_ratio(qa, ta, p) < BRANCH_NEAR
+                if not near and k > 0:
+                    # leaving a singular configuration (a dead centre at the last point):
+                    # its branches part as the square root of time, which no step follows
+                    for j in range(n):
+                        qp[j] = Q[k - 1, j]     # (qp is predicted again before its use)
+                    near = pivot_ratio(qp, ts[k - 1], p) < BRANCH_NEAR
+                if near:
+                    crossed = True      # at, through or out of a singular configuration
                 else:
                     jump = max(jump, corr, TINY)  # a jump the smallest step could not avoid
                     wild = True
