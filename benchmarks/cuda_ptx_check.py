@@ -2,10 +2,10 @@
 report their registers and stack per thread (what occupancy they allow).
 
     pip install nvidia-cuda-nvcc-cu12          # NVVM, libdevice and ptxas, no driver needed
-    CUDA_HOME=$(python -c "import nvidia.cuda_nvcc, os; print(os.path.dirname(nvidia.cuda_nvcc.__file__))") \\
+    CUDA_HOME=$(python -c "import nvidia.cuda_nvcc as m; print(list(m.__path__)[0])") \\
         python benchmarks/cuda_ptx_check.py [generated/quick_return.py] [--cc 90]
     ... python benchmarks/cuda_ptx_check.py generated/quick_return_forces.py --forces
-        (the force table's kernel, mechgen.runtime.gpu.cuda_forces)
+        (the force tables' kernels, dynamic and static: mechgen.runtime.gpu.cuda_forces)
 
 numba compiles a device function for the current device; with no device this script
 tells it one of compute capability --cc exists (a stand-in used here only, for typing).
@@ -65,13 +65,16 @@ def main(argv=None):
     mech = mechgen.load(args.module)
     if args.forces:
         from mechgen.runtime.gpu import cuda_forces
-        from mechgen.runtime.gpu.cuda_twin import ROOTS
-        ns = build_twin(numba_module(mech), cuda, STATUS_COLUMNS, roots=ROOTS + ("sweep_fast_forces",),
-                        support=cuda_forces.SUPPORT, kernels=(cuda_forces.KERNEL,))
+        module = numba_module(mech)
+        ns = cuda_forces.twin(module, cuda=cuda)
+        made = [kernel for level, (_, kernel) in cuda_forces.KERNELS.items()
+                if level in cuda_forces.fused_levels(module)]
+        for kernel in made:         # every force kernel takes the same arguments
+            SIGNATURES.setdefault(kernel, SIGNATURES["_cu_forces_reduce"])
+        kernels = args.kernels or ",".join(made)
     else:
         ns = build_twin(numba_module(mech), cuda, STATUS_COLUMNS)
-    kernels = args.kernels or ("_cu_forces_reduce" if args.forces else
-                               ",".join(k for k in SIGNATURES if k != "_cu_forces_reduce"))
+        kernels = args.kernels or ",".join(k for k in SIGNATURES if k != "_cu_forces_reduce")
     home = os.environ.get("CUDA_HOME", "")
     ptxas = shutil.which("ptxas") or (os.path.join(home, "bin", "ptxas") if home else None)
     for name in kernels.split(","):

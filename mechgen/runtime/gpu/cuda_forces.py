@@ -138,13 +138,15 @@ def fused_levels(module):
     return [level for level in KERNELS if getattr(module, FUSED_PATHS[level][0], False)]
 
 
-def twin(module, max_registers=None):
-    """The CUDA twin of ``module`` with its fused quick paths and their kernels."""
+def twin(module, max_registers=None, cuda=None):
+    """The CUDA twin of ``module`` with its fused quick paths and their kernels (``cuda``:
+    numba.cuda, checked for a device where not given; benchmarks/cuda_ptx_check.py gives
+    it to compile without one)."""
     key = (id(module), max_registers)
     hit = _TWINS.get(key)
     if hit is not None and hit[0] is module:
         return hit[1]
-    cuda = require_cuda()
+    cuda = cuda or require_cuda()
     paths = [KERNELS[level] for level in fused_levels(module)]
     support = SUPPORT + "".join(
         "\n\n" + KERNEL_SOURCE.replace("_cu_forces_reduce", kernel)
