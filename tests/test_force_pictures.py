@@ -178,6 +178,8 @@ def test_pin_forces_on_the_drawing_are_newton_euler(sc):
     # drawn on its line of action
     loads = arrows["loads", "slider"]
     _close(loads.force, [PRESS[0], PRESS[1] - 3.0 * G], 600)
+    # (three bodies carry loads, drawn in one ink: each label names its body)
+    assert loads.label.get_text().startswith("loads on slider ")
     moment = _cross(k["C"] - loads.at, np.array(PRESS)) + \
         _cross(k["C"] + np.array(C4) - loads.at, np.array([0.0, -3.0 * G]))
     assert moment == pytest.approx(0.0, abs=1e-9 * 600)

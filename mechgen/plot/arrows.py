@@ -194,6 +194,8 @@ def collect(solution, scene, P, on=None, span=1.0):
         text = "loads" if kind == "load" else "−m·a"
         out.append(ForceArrow(kind, "loads" if kind == "load" else "inertia", body, at, f, m,
                               text, color))
+        if kind == "load" and len(loaded) > 1:
+            out[-1].text = f"loads on {body}"   # (their colour is the ink's, not the body's)
     return out
 
 
