@@ -27,7 +27,7 @@ import sympy as sp
 
 from ...errors import ModelError
 from ..constraints import Constraint, _body, _line, _point, cross2
-from ..geometry import Body, Line, Point
+from ..geometry import Point
 from .profiles import Profile, check_contact, make_profile
 
 PROFILE_POINTS = 96     # points of a profile listed for pictures (plot.glyphs.cams reads)
