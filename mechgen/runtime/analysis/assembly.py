@@ -12,6 +12,7 @@ import numpy as np
 
 from ...protocol import OK, POINT_INFO_SIZE
 from ...turns import meshed_alike, turn_coefficients
+from ..guards import all_finite
 
 # angle_coordinates() of each mechanism, with the module and parameters it was found for
 _ANGLES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
@@ -38,7 +39,8 @@ def angle_coordinates(mech) -> tuple:
     """Indices of the coordinates in which Φ is 2π-periodic (angles equal modulo 2π are
     the same configuration). A driven angle (Th2 − ωT) is not: its value is fixed."""
     cached = _ANGLES.get(mech)
-    if cached is not None and cached[0] is mech.module and np.array_equal(cached[1], mech.p):
+    if cached is not None and cached[0] is mech.module and (
+            _same_bytes(cached, mech.p) or np.array_equal(cached[1], mech.p)):
         return cached[2]
     n, m = mech.n, mech.m
     base = np.asarray(mech.guess, dtype=np.float64)
@@ -62,8 +64,24 @@ def angle_coordinates(mech) -> tuple:
         if periodic:
             found.append(j)
     result = tuple(found)
-    _ANGLES[mech] = (mech.module, mech.p.copy(), result)
+    p = mech.p.copy()
+    _ANGLES[mech] = (mech.module, p, result, _finite_bytes(p))
     return result
+
+
+def _finite_bytes(p):
+    """The bytes of a 1-D float64 array of finite numbers (equal bytes: equal arrays), else
+    None."""
+    if p.__class__ is not np.ndarray or p.dtype != np.float64 or p.ndim != 1:
+        return None
+    return p.tobytes() if all_finite(p) else None
+
+
+def _same_bytes(cached, p) -> bool:
+    """Whether p is the cached parameters by their bytes (a solve's quick look: a numpy
+    comparison costs microseconds); False sends the caller to np.array_equal."""
+    return cached[3] is not None and p.__class__ is np.ndarray and p.dtype == np.float64 \
+        and p.shape == cached[1].shape and p.tobytes() == cached[3]
 
 
 def body_angles(mech) -> tuple:
