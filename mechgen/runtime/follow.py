@@ -15,8 +15,8 @@ the mechanism may go on in either mode) is a BranchJumpWarning.
 """
 from __future__ import annotations
 
-import math
 import warnings
+from math import floor as _floor
 
 import numpy as np
 
@@ -165,16 +165,24 @@ def _last_step(mech, path, tc, qc, t, tol, maxit, meth) -> np.ndarray:
     if not module_attr(mod, "SWITCH_TIMES", ()):
         step = path.step
         if step is None:
-            n = mech.n
-            step = path.step = (np.empty(2), np.empty((2, n)), np.empty((2, STATUS_COLUMNS),
-                                dtype=np.int16), np.empty(REPORT_SIZE), no_rows(n))
-        ts, Q, S, report, none = step
-        ts[0], ts[1] = tc, t
+            step = path.step = _step_arrays(mech.n)
+        ts, Q, S, report, none, times, codes, last = step
+        times[0], times[1] = tc, t
         done = mod.sweep(ts, qc.copy(), mech.p, _POSITION, tol, mech.xtol, maxit, meth,
                          Q, none, none, S, report)
-        if done == 2 and S[0, STATUS_CODE] == 0 and S[1, STATUS_CODE] == 0:
-            return Q[1].copy()
+        if done == 2 and codes[0] == 0 and codes[1] == 0:
+            return last.copy()
     return _extend(mech, path, np.array([tc, t]), qc, 0, t, tol, maxit, meth).copy()
+
+
+def _step_arrays(n):
+    """The two-point sweep's arrays of _last_step (ts, Q, S, report, no rows), with
+    memoryviews of ts and of S's status codes (a Python float in, a Python int out, with
+    no numpy scalar on the way) and the view of Q's last row."""
+    ts, Q = np.empty(2), np.empty((2, n))
+    S = np.empty((2, STATUS_COLUMNS), dtype=np.int16)
+    return (ts, Q, S, np.empty(REPORT_SIZE), no_rows(n), memoryview(ts),
+            memoryview(S[:, STATUS_CODE]), Q[1])
 
 
 def follow(mech, t, tol, maxit, meth) -> np.ndarray:
@@ -196,14 +204,16 @@ def follow(mech, t, tol, maxit, meth) -> np.ndarray:
         return last[1].copy()
     sign = 1 if t > t0 else -1
     far = abs(t - t0)
-    m = int(math.floor(far / CELL))             # the last cell between t0 and t
+    m = _floor(far / CELL)                      # the last cell between t0 and t (an int)
     if m > MAX_CELLS:
         raise ValueError(
             f"solve(t={t:.10g}): t is {far:.6g} from the guess's time t={t0:.10g}, "
             f"farther than solve(t) follows the motion ({MAX_CELLS * CELL:.0f}); give a "
             "guess near t (guess=, or set_guess() a configuration at a time near it)")
-    while m and abs(t0 + (sign * m) * CELL - t0) > far:
+    tc = t0 + (sign * m) * CELL                 # path.cell_time(sign * m)
+    while m and abs(tc - t0) > far:
         m -= 1                                  # (rounding of t0 + m CELL)
+        tc = t0 + (sign * m) * CELL
     have = path.count[sign]
     if m > have:                                # the cells still missing, CHUNK at a time
         mech._tiers.expect(mech, m - have)
@@ -213,7 +223,6 @@ def follow(mech, t, tol, maxit, meth) -> np.ndarray:
             ts = path.t0 + (sign * ks) * CELL
             _extend(mech, path, ts, path.cell(sign * have), sign, t, tol, maxit, meth)
             have = path.count[sign]
-    tc = t0 + (sign * m) * CELL                 # path.cell_time(sign * m)
     qc = path.side[sign][m - 1] if m else path.q0   # path.cell(sign * m)
     if tc == t:
         q = qc.copy()

@@ -2,6 +2,8 @@
 multipliers, driver efforts and reactions (mechgen.runtime.forces)."""
 from __future__ import annotations
 
+from operator import mul as _mul
+
 import numpy as np
 
 from ...errors import SingularError
@@ -217,8 +219,7 @@ def _multipliers_at(mech, s, level):
     if point is not None:
         lam = np.empty(mech.m)
         piv = point(s.q, qd, qdd, s.t, mech.p, lam)
-        x = float(lam @ lam)
-        if not (piv >= SING_RTOL and x - x == 0.0):     # (x - x: NaN unless finite)
+        if not (piv >= SING_RTOL and _norm_finite(lam)):
             terms = force_terms(mech, s.q, qd, qdd, s.t)
             lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
     elif by_blocks(mod):                        # one compiled call: terms and λ by blocks
@@ -247,6 +248,18 @@ def _rows_scratch(mech, mod):
             np.empty(1), np.empty((1, m, n)), np.zeros((1, m)), np.zeros((1, 3)),
             np.zeros((1, len(tables(mech).driver_rows))), np.zeros(1)))
     return cached[1]
+
+
+def _norm_finite(lam) -> bool:
+    """Whether λ·λ (numpy's ``lam @ lam``) is finite: where the sum of the squares as
+    Python floats is far below overflow, it is, and numpy's is not computed (its call
+    costs a solve most of a microsecond); anywhere else numpy's, with its overflow
+    warning where there is one."""
+    values = lam.tolist()
+    if sum(map(_mul, values, values)) < 1e300:     # (NaN: not below)
+        return True
+    x = float(lam @ lam)
+    return x - x == 0.0                             # (x - x: NaN unless finite)
 
 
 def _rhs(terms):
