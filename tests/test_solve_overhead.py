@@ -246,3 +246,29 @@ def test_bad_level_method_and_guess_are_still_named(quick):
         quick.solve(0.1, guess=np.full(quick.n, np.inf))
     with pytest.raises(ValueError, match="guess holds NaN or infinite values"):
         quick.solve(0.1, guess=np.r_[np.full(quick.n - 1, 1e300), np.nan])
+
+
+@pytest.mark.parametrize("name", ["quick_return", "fourbar", "quick_return_slider",
+                                  "gear_train", "andrews_squeezer"])
+def test_angle_coordinates_are_those_phi_is_periodic_in(name):
+    """The coordinates a solve from a guess turns home by whole turns: those Φ takes the
+    same values at q and q + 2π e_j, checked here at seeded random configurations."""
+    from mechgen.runtime.analysis.assembly import angle_coordinates
+    mech = _load(name)
+    rng = np.random.default_rng(7)
+    r0, r1 = np.empty(mech.m), np.empty(mech.m)
+    expected = []
+    for j in range(mech.n):
+        same = True
+        for _ in range(5):
+            q = mech.guess + rng.uniform(-2.0, 2.0, mech.n)
+            t = float(rng.uniform(0.0, 1.0))
+            q2 = q.copy()
+            q2[j] += 2 * np.pi
+            mech.module.phi(q, t, mech.p, r0)
+            mech.module.phi(q2, t, mech.p, r1)
+            same &= bool(np.abs(r1 - r0).max() <= 1e-9 * (1 + np.abs(r0).max()))
+        if same:
+            expected.append(j)
+    assert angle_coordinates(mech) == tuple(expected)
+    assert angle_coordinates(mech.with_params()) == tuple(expected)

@@ -132,7 +132,7 @@ def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth):
     are the next cells when ``sign`` is nonzero. Returns the configuration at ts[-1]."""
     Q, done, S, report = _segment(mech, ts, q0, tol, maxit, meth)
     code = S[:done, STATUS_CODE]
-    if done == ts.shape[0] and not code.any():        # the usual case, in short
+    if done == ts.shape[0] and not np.count_nonzero(code):    # the usual case, in short
         if sign:
             path.keep(sign, Q[1:])
         return Q[-1]

@@ -44,21 +44,29 @@ def angle_coordinates(mech) -> tuple:
         return cached[2]
     n, m = mech.n, mech.m
     base = np.asarray(mech.guess, dtype=np.float64)
-    r0, r1 = np.empty(m), np.empty(m)
+    mod, p = mech.module, mech.p
+    # Φ at three trial configurations (the same for every coordinate: solved once), then
+    # each coordinate turned by 2π there; Python floats for the comparisons (a numpy
+    # reduction on a few numbers costs microseconds; the numbers compared are the same)
+    trials = []
+    for trial in range(3):
+        q = base + 0.37 * (trial + 1) * np.cos(np.arange(n) * 1.7 + trial)
+        t = 0.1234 + 0.31 * trial
+        r0 = np.empty(m)
+        mod.phi(q, t, p, r0)
+        trials.append((q, t, r0, all_finite(r0)))
+    r1 = np.empty(m)
     found = []
     for j in range(n):
         periodic = True
-        for trial in range(3):
-            q = base + 0.37 * (trial + 1) * np.cos(np.arange(n) * 1.7 + trial)
-            t = 0.1234 + 0.31 * trial
-            mech.module.phi(q, t, mech.p, r0)
-            q2 = q.copy()
-            q2[j] += 2 * math.pi
-            mech.module.phi(q2, t, mech.p, r1)
-            if not (np.all(np.isfinite(r0)) and np.all(np.isfinite(r1))):
+        for q, t, r0, finite0 in trials:
+            if not finite0:
                 periodic = False
                 break
-            if np.max(np.abs(r1 - r0)) > 1e-9 * (1.0 + np.max(np.abs(r0))):
+            q2 = q.copy()
+            q2[j] += 2 * math.pi
+            mod.phi(q2, t, p, r1)
+            if not all_finite(r1) or _moved(r1, r0):
                 periodic = False
                 break
         if periodic:
@@ -67,6 +75,14 @@ def angle_coordinates(mech) -> tuple:
     p = mech.p.copy()
     _ANGLES[mech] = (mech.module, p, result, _finite_bytes(p))
     return result
+
+
+def _moved(r1, r0) -> bool:
+    """max |r1 − r0| > 1e-9 (1 + max |r0|) (finite residuals; r1 − r0 by numpy, which
+    warns where it overflows)."""
+    if not r0.shape[0]:         # no equations: numpy's reduction (and its error), as ever
+        return np.max(np.abs(r1 - r0)) > 1e-9 * (1.0 + np.max(np.abs(r0)))
+    return max(map(abs, (r1 - r0).tolist())) > 1e-9 * (1.0 + max(map(abs, r0.tolist())))
 
 
 def _finite_bytes(p):
