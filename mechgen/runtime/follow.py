@@ -15,15 +15,15 @@ the mechanism may go on in either mode) is a BranchJumpWarning.
 """
 from __future__ import annotations
 
-import math
 import warnings
+from math import floor as _floor
 
 import numpy as np
 
 from ..errors import BranchJumpWarning, SolveError
 from ..protocol import (JUMP, LEVEL, METHOD, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE, STATUS_CODE,
                         STATUS_COLUMNS, THROUGH_SINGULAR)
-from .entry import solve_point
+from .entry import module_attr, solve_point
 from .sweeping import failure, no_rows
 
 CELL = 1.0 / 16.0       # time between the configurations kept on the way (a 16th of a
@@ -112,7 +112,7 @@ def _segment(mech, ts, q0, tol, maxit, meth):
     Q = np.empty((N, n))
     S = np.zeros((N, STATUS_COLUMNS), dtype=np.int16)
     report = np.zeros(REPORT_SIZE)
-    if getattr(mech.module, "SWITCH_TIMES", ()):
+    if module_attr(mech.module, "SWITCH_TIMES", ()):
         # stages: Mechanism.sweep runs each stage's piece on its own (runtime.stages)
         last = mech._last
         try:
@@ -132,7 +132,7 @@ def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth):
     are the next cells when ``sign`` is nonzero. Returns the configuration at ts[-1]."""
     Q, done, S, report = _segment(mech, ts, q0, tol, maxit, meth)
     code = S[:done, STATUS_CODE]
-    if done == ts.shape[0] and not code.any():        # the usual case, in short
+    if done == ts.shape[0] and not np.count_nonzero(code):    # the usual case, in short
         if sign:
             path.keep(sign, Q[1:])
         return Q[-1]
@@ -162,18 +162,27 @@ def _last_step(mech, path, tc, qc, t, tol, maxit, meth) -> np.ndarray:
     """The careful sweep from the cell (tc, qc) to t, in the path's own two-point arrays
     when nothing is in the way (the cost of a solve once the way is known)."""
     mod = mech.module
-    if not getattr(mod, "SWITCH_TIMES", ()):
-        if path.step is None:
-            n = mech.n
-            path.step = (np.empty(2), np.empty((2, n)), np.empty((2, STATUS_COLUMNS),
-                         dtype=np.int16), np.empty(REPORT_SIZE), no_rows(n))
-        ts, Q, S, report, none = path.step
-        ts[0], ts[1] = tc, t
+    if not module_attr(mod, "SWITCH_TIMES", ()):
+        step = path.step
+        if step is None:
+            step = path.step = _step_arrays(mech.n)
+        ts, Q, S, report, none, times, codes, last = step
+        times[0], times[1] = tc, t
         done = mod.sweep(ts, qc.copy(), mech.p, _POSITION, tol, mech.xtol, maxit, meth,
                          Q, none, none, S, report)
-        if done == 2 and S[0, STATUS_CODE] == 0 and S[1, STATUS_CODE] == 0:
-            return Q[1].copy()
+        if done == 2 and codes[0] == 0 and codes[1] == 0:
+            return last.copy()
     return _extend(mech, path, np.array([tc, t]), qc, 0, t, tol, maxit, meth).copy()
+
+
+def _step_arrays(n):
+    """The two-point sweep's arrays of _last_step (ts, Q, S, report, no rows), with
+    memoryviews of ts and of S's status codes (a Python float in, a Python int out, with
+    no numpy scalar on the way) and the view of Q's last row."""
+    ts, Q = np.empty(2), np.empty((2, n))
+    S = np.empty((2, STATUS_COLUMNS), dtype=np.int16)
+    return (ts, Q, S, np.empty(REPORT_SIZE), no_rows(n), memoryview(ts),
+            memoryview(S[:, STATUS_CODE]), Q[1])
 
 
 def follow(mech, t, tol, maxit, meth) -> np.ndarray:
@@ -181,37 +190,46 @@ def follow(mech, t, tol, maxit, meth) -> np.ndarray:
     from the guess's time (see the module docstring): a position that solves Φ to the
     sweep's tolerance, to be polished by the caller's solve at t. Raises the blocked
     way's error (ConvergenceError, SingularError, SolveError) naming where it stopped."""
-    path = _start(mech, tol, maxit, meth)
+    # (a solve's own cost once the way is known: the path's key compared, the last cell
+    # before t found and the one short continuation from it; see _start and Path)
+    path = getattr(mech, "_path", None)
+    if path is None or path.key != (mech.p.tobytes(), mech.guess.tobytes(),   # (_key)
+                                    float(mech.guess_t), tol, mech.xtol, maxit, meth):
+        path = _start(mech, tol, maxit, meth)
     t0 = path.t0
     if t == t0:
         return path.q0.copy()
-    if t == path.last[0]:
-        return path.last[1].copy()
+    last = path.last
+    if t == last[0]:
+        return last[1].copy()
     sign = 1 if t > t0 else -1
-    m = int(math.floor(abs(t - t0) / CELL))     # the last cell between t0 and t
+    far = abs(t - t0)
+    m = _floor(far / CELL)                      # the last cell between t0 and t (an int)
     if m > MAX_CELLS:
         raise ValueError(
-            f"solve(t={t:.10g}): t is {abs(t - t0):.6g} from the guess's time t={t0:.10g}, "
+            f"solve(t={t:.10g}): t is {far:.6g} from the guess's time t={t0:.10g}, "
             f"farther than solve(t) follows the motion ({MAX_CELLS * CELL:.0f}); give a "
             "guess near t (guess=, or set_guess() a configuration at a time near it)")
-    while m and abs(path.cell_time(sign * m) - t0) > abs(t - t0):
+    tc = t0 + (sign * m) * CELL                 # path.cell_time(sign * m)
+    while m and abs(tc - t0) > far:
         m -= 1                                  # (rounding of t0 + m CELL)
+        tc = t0 + (sign * m) * CELL
     have = path.count[sign]
     if m > have:                                # the cells still missing, CHUNK at a time
         mech._tiers.expect(mech, m - have)
-        chunk = 1 if getattr(mech.module, "SWITCH_TIMES", ()) else CHUNK
+        chunk = 1 if module_attr(mech.module, "SWITCH_TIMES", ()) else CHUNK
         while have < m:
             ks = np.arange(have, min(m, have + chunk) + 1)
             ts = path.t0 + (sign * ks) * CELL
             _extend(mech, path, ts, path.cell(sign * have), sign, t, tol, maxit, meth)
             have = path.count[sign]
-    tc = path.cell_time(sign * m)
-    qc = path.cell(sign * m)
+    qc = path.side[sign][m - 1] if m else path.q0   # path.cell(sign * m)
     if tc == t:
         q = qc.copy()
     else:
         q = _last_step(mech, path, tc, qc, t, tol, maxit, meth)
-    passed = [c for c in path.crossings if min(t0, t) < c <= max(t0, t)]
+    crossings = path.crossings
+    passed = [c for c in crossings if min(t0, t) < c <= max(t0, t)] if crossings else None
     if passed:
         warnings.warn(
             f"solve(t={t:.10g}) of '{mech.name}': the way from the guess at t={t0:.10g} "
@@ -221,4 +239,3 @@ def follow(mech, t, tol, maxit, meth) -> np.ndarray:
     else:
         path.last = (t, q.copy())
     return q
-

@@ -21,6 +21,15 @@ def finite(value, what) -> float:
     return x
 
 
+def all_finite(x) -> bool:
+    """``np.all(np.isfinite(x))`` of a 1-D float array, the same answer at a fraction of
+    its cost (a numpy reduction costs a microsecond, as much as a compiled solve): the sum
+    of its numbers as Python floats is finite only where every number is (Python's
+    arithmetic neither warns nor raises); a sum that is not (an overflow) asks numpy."""
+    s = sum(x.tolist())
+    return s - s == 0.0 or bool(np.isfinite(x).all())
+
+
 def positive_tol(tol) -> float:
     tol = finite(tol, "tol")
     if not tol > 0:

@@ -11,16 +11,19 @@ symbolic quantity is evaluated by the symbolic side that ``mechgen.compile`` att
 from __future__ import annotations
 
 import warnings
+from math import isfinite as _isfinite
 
 import numpy as np
 
 from ..errors import RedundancyWarning
 from ..protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, LEVEL, LEVELS,
-                        OK, POINT_INFO_SIZE, POINT_PIVOT, POINT_RESIDUAL, SING_RTOL, VELOCITY)
-from .entry import solve_acceleration, solve_point_derivatives, solve_velocity
+                        METHOD, OK, POINT_INFO_SIZE, POINT_PIVOT, POINT_RESIDUAL, SING_RTOL,
+                        VELOCITY)
+from .entry import (module_attr, solve_acceleration, solve_point, solve_point_derivatives,
+                    solve_velocity)
 from .follow import follow
 from .forces.lookup import is_force_level
-from .guards import (finite, level_index, method_index, positive_count, positive_tol,
+from .guards import (all_finite, finite, level_index, method_index, positive_count, positive_tol,
                      point_bytes, sweep_count, sweep_times)
 from .loading.tiers import Tiers
 from .quantity import symbolic_side
@@ -136,12 +139,12 @@ class Mechanism:
 
     # -- guesses ----------------------------------------------------------------------
     def _start(self, guess) -> np.ndarray:
-        base = self.guess.copy()
         if guess is None:
-            return base
+            return self.guess.copy()
         if isinstance(guess, Solution):
             return guess.q.copy()
         if isinstance(guess, dict):
+            base = self.guess.copy()
             for name, value in guess.items():
                 if name not in self._index:
                     raise ValueError(f"guess: {name!r} is not a coordinate of '{self.name}' "
@@ -156,7 +159,7 @@ class Mechanism:
         if arr.shape != (self.n,):
             raise ValueError(f"guess must be a dict of coordinates or an array of shape ({self.n},), "
                              f"got shape {arr.shape}")
-        if not np.all(np.isfinite(arr)):
+        if not all_finite(arr):
             raise ValueError("guess holds NaN or infinite values")
         return arr.copy()
 
@@ -199,32 +202,51 @@ class Mechanism:
         configuration that does not satisfy the constraints. level="static" or "dynamic"
         adds the multipliers, the driver efforts and the reactions
         (mechgen.runtime.forces)."""
-        if is_force_level(level):
+        # users call this in their own loops (an optimizer, a control loop): the usual
+        # arguments (a float t, a level name this build solves) pass with a look-up each,
+        # anything else through the full checks of guards (the same errors, in order)
+        lev = self._levels.get(level) if level.__class__ is str else None
+        if lev is None and is_force_level(level):
             return _force_solve()(self, t, level, guess, method, tol, maxit)
-        return self._solve(t, guess, level, method, tol, maxit)
+        return self._solve(t, guess, level, method, tol, maxit, None, lev)
 
-    def _solve(self, t, guess, level, method, tol, maxit, fused=None) -> Solution:
-        """solve() at a kinematic level; ``fused``: see entry.solve_point_derivatives."""
-        t = finite(t, "t")
-        lev = self._level(level)
-        meth = self._method(method)
-        tol = self._tol(tol)
-        maxit = self._maxit(maxit)
-        q = follow(self, t, tol, maxit, meth) if guess is None else self._start(guess)
-        start = None if guess is None else q.copy()
-        qd, qdd, residual, singular = self._solve_point(t, q, lev, meth, tol, maxit, fused)
-        if start is not None and self._turned_home(q, start):
-            # Newton from a poor guess may throw an angle whole turns away (1e8 rad, where
-            # a float keeps only 1e-8 of it): the same configuration nearer the guess,
-            # solved again to full precision
-            qd, qdd, residual, singular = self._solve_point(t, q, lev, meth, tol, maxit,
-                                                            fused)
-        self._report_redundancy(q, t)
-        info = self._info
-        sol = Solution(self, t, q, qd, qdd, iterations=int(info[INFO_ITERATIONS]),
-                       residual=residual, singular=singular,
-                       method="full" if info[INFO_METHOD] else "sorted")
-        self.last = sol
+    def _solve(self, t, guess, level, method, tol, maxit, fused=None, lev=None) -> Solution:
+        """solve() at a kinematic level; ``fused``: see entry.solve_point_derivatives;
+        ``lev``: the level's index where the caller has looked it up (else None)."""
+        cls = t.__class__
+        if (cls is float or cls is _FLOAT64) and _isfinite(t):
+            t = float(t)            # what finite() makes of it, without its call
+        else:
+            t = finite(t, "t")
+        if lev is None:
+            lev = self._levels.get(level) if level.__class__ is str else None
+            if lev is None:
+                lev = self._level(level)
+        name = self.method if method is None else method
+        meth = _METHOD.get(name) if name.__class__ is str else None
+        if meth is None:
+            meth = method_index(name)
+        tol = self.tol if tol is None else positive_tol(tol)
+        maxit = self.maxit if maxit is None else positive_count(maxit, "maxit")
+        if guess is None:
+            q = follow(self, t, tol, maxit, meth)
+            qd, qdd, info = self._solve_point(t, q, lev, meth, tol, maxit, fused)
+        else:
+            q = self._start(guess)
+            start = q.copy()
+            qd, qdd, info = self._solve_point(t, q, lev, meth, tol, maxit, fused)
+            if self._turned_home(q, start):
+                # Newton from a poor guess may throw an angle whole turns away (1e8 rad,
+                # where a float keeps only 1e-8 of it): the same configuration nearer the
+                # guess, solved again to full precision
+                qd, qdd, info = self._solve_point(t, q, lev, meth, tol, maxit, fused)
+        if self.m > self.n:
+            self._report_redundancy(q, t)
+        # a singular position is returned (flagged); its velocity is not determined
+        singular = int(info[INFO_RANK]) < self.n or not info[POINT_PIVOT] >= SING_RTOL
+        sol = Solution(self, t, q, qd, qdd, int(info[INFO_ITERATIONS]), info[POINT_RESIDUAL],
+                       singular, "full" if info[INFO_METHOD] else "sorted")
+        self._last = sol
         return sol
 
     def _turned_home(self, q, start) -> bool:
@@ -232,11 +254,13 @@ class Mechanism:
         turn from its start by whole turns back to the start's, in place: whether any was."""
         turned = False
         d = q - start
-        if d.dot(d) <= _PI2 or not np.any(np.abs(d) > np.pi):
+        if d.dot(d) <= _PI2:
             return False            # the common case (no coordinate moved π): nothing to do
-        from .analysis.assembly import angle_coordinates
-        for j in angle_coordinates(self):
-            k = round((q[j] - start[j]) / (2 * np.pi))
+        d = d.tolist()              # (Python floats: no numpy reduction for 9 numbers)
+        if not any(abs(x) > np.pi for x in d):
+            return False
+        for j in _angle_coordinates()(self):
+            k = round(d[j] / (2 * np.pi))
             if k:
                 q[j] -= 2 * np.pi * k
                 turned = True
@@ -245,26 +269,29 @@ class Mechanism:
     def _solve_point(self, t, q, lev, meth, tol, maxit, fused=None):
         """The position (in place), its checks and the derivatives asked for, as the
         module's solve_point_derivatives makes them, one compiled call per step
-        (mechgen.runtime.entry): (qd, qdd, residual, singular). ``fused``: see there."""
-        info, mod = self._info, self.module
-        vel, acc = LEVEL["velocity"], LEVEL["acceleration"]
-        qd = np.empty(self.n) if lev >= vel else self._none
-        qdd = np.empty(self.n) if lev >= acc else self._none
+        (mechgen.runtime.entry): (qd, qdd, the info row as a list of Python numbers: one
+        call, not a numpy scalar a field). ``fused``: see there."""
+        info = self._info
+        qd = np.empty(self.n) if lev >= _VELOCITY_LEVEL else None
+        qdd = np.empty(self.n) if lev >= _ACCELERATION_LEVEL else None
         # one small compiled call at a time (mechgen.runtime.entry): a position solve
         # compiles neither the full Newton (unless the sorted solver gives up) nor the
         # derivative passes
-        status = solve_point_derivatives(mod, q, t, self.p, tol, self.xtol, maxit,
-                                         meth, lev, qd, qdd, info, fused)
-        if OK < status < VELOCITY:
-            raise convergence_error(self, status, t, q, info)
-        if status >= ACCELERATION:
-            raise singular_error(self, t, q, "acceleration")
-        if status >= VELOCITY:
+        if lev or fused is not None:
+            none = self._none
+            status = solve_point_derivatives(self._tiers.module, q, t, self.p, tol, self.xtol,
+                                             maxit, meth, lev, none if qd is None else qd,
+                                             none if qdd is None else qdd, info, fused)
+        else:                   # (what solve_point_derivatives does at level position)
+            status = solve_point(self._tiers.module, q, t, self.p, tol, self.xtol, maxit,
+                                 meth, info)
+        if status != OK:
+            if OK < status < VELOCITY:
+                raise convergence_error(self, status, t, q, info)
+            if status >= ACCELERATION:
+                raise singular_error(self, t, q, "acceleration")
             raise singular_error(self, t, q, "velocity")
-        # a singular position is returned (flagged); its velocity is not determined
-        singular = int(info[INFO_RANK]) < self.n or not info[POINT_PIVOT] >= SING_RTOL
-        return (qd if lev >= vel else None, qdd if lev >= acc else None,
-                float(info[POINT_RESIDUAL]), singular)
+        return qd, qdd, info.tolist()
 
     def solve_derivatives(self, ts, Q, QD=None, QDD=None, level="velocity"):
         """(QD, QDD) at solved positions Q (rows, at times ts) up to ``level`` (a name or
@@ -342,7 +369,7 @@ class Mechanism:
         if isinstance(n, bool) or int(n) != n or n < 2:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
         ts = np.linspace(t0, t1, int(n))
-        if getattr(self.module, "SWITCH_TIMES", ()):     # stage by stage (runtime.stages)
+        if module_attr(self.module, "SWITCH_TIMES", ()):     # stage by stage (runtime.stages)
             from .stages import staged_singularities
             return staged_singularities(self, ts, self._start(guess))
         from .analysis.locks import singularities
@@ -395,7 +422,7 @@ class Mechanism:
         """One kinematic sweep (sweep() without params); ``forces``: a dict that a
         dynamic or static sweep's quick path fills with the multipliers it solved on the
         way (sweeping.compiled), where the module has it."""
-        if getattr(self.module, "SWITCH_TIMES", ()):
+        if module_attr(self.module, "SWITCH_TIMES", ()):
             # a model with stages: a sweep across a switch runs stage by stage
             from .stages import staged_sweep
             staged = staged_sweep(self, t0, t1, n, times, guess=guess, level=level,
@@ -526,7 +553,20 @@ class Mechanism:
 
 
 _PI2 = np.pi * np.pi
+_FLOAT64 = np.float64
+_METHOD = METHOD            # (name -> index: a valid name looked up, an invalid one checked)
+_VELOCITY_LEVEL, _ACCELERATION_LEVEL = LEVEL["velocity"], LEVEL["acceleration"]
 _FORCE_SOLVE = []
+_ANGLES = []
+
+
+def _angle_coordinates():
+    """mechgen.runtime.analysis.assembly.angle_coordinates, imported when a solve from a
+    guess first moved a coordinate half a turn (and kept)."""
+    if not _ANGLES:
+        from .analysis.assembly import angle_coordinates
+        _ANGLES.append(angle_coordinates)
+    return _ANGLES[0]
 
 
 def _force_solve():

@@ -12,6 +12,7 @@ import numpy as np
 
 from ...protocol import OK, POINT_INFO_SIZE
 from ...turns import meshed_alike, turn_coefficients
+from ..guards import all_finite
 
 # angle_coordinates() of each mechanism, with the module and parameters it was found for
 _ANGLES: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
@@ -38,32 +39,65 @@ def angle_coordinates(mech) -> tuple:
     """Indices of the coordinates in which Φ is 2π-periodic (angles equal modulo 2π are
     the same configuration). A driven angle (Th2 − ωT) is not: its value is fixed."""
     cached = _ANGLES.get(mech)
-    if cached is not None and cached[0] is mech.module and np.array_equal(cached[1], mech.p):
+    if cached is not None and cached[0] is mech.module and (
+            _same_bytes(cached, mech.p) or np.array_equal(cached[1], mech.p)):
         return cached[2]
     n, m = mech.n, mech.m
     base = np.asarray(mech.guess, dtype=np.float64)
-    r0, r1 = np.empty(m), np.empty(m)
+    mod, p = mech.module, mech.p
+    # Φ at three trial configurations (the same for every coordinate: solved once), then
+    # each coordinate turned by 2π there; Python floats for the comparisons (a numpy
+    # reduction on a few numbers costs microseconds; the numbers compared are the same)
+    trials = []
+    for trial in range(3):
+        q = base + 0.37 * (trial + 1) * np.cos(np.arange(n) * 1.7 + trial)
+        t = 0.1234 + 0.31 * trial
+        r0 = np.empty(m)
+        mod.phi(q, t, p, r0)
+        trials.append((q, t, r0, all_finite(r0)))
+    r1 = np.empty(m)
     found = []
     for j in range(n):
         periodic = True
-        for trial in range(3):
-            q = base + 0.37 * (trial + 1) * np.cos(np.arange(n) * 1.7 + trial)
-            t = 0.1234 + 0.31 * trial
-            mech.module.phi(q, t, mech.p, r0)
-            q2 = q.copy()
-            q2[j] += 2 * math.pi
-            mech.module.phi(q2, t, mech.p, r1)
-            if not (np.all(np.isfinite(r0)) and np.all(np.isfinite(r1))):
+        for q, t, r0, finite0 in trials:
+            if not finite0:
                 periodic = False
                 break
-            if np.max(np.abs(r1 - r0)) > 1e-9 * (1.0 + np.max(np.abs(r0))):
+            q2 = q.copy()
+            q2[j] += 2 * math.pi
+            mod.phi(q2, t, p, r1)
+            if not all_finite(r1) or _moved(r1, r0):
                 periodic = False
                 break
         if periodic:
             found.append(j)
     result = tuple(found)
-    _ANGLES[mech] = (mech.module, mech.p.copy(), result)
+    p = mech.p.copy()
+    _ANGLES[mech] = (mech.module, p, result, _finite_bytes(p))
     return result
+
+
+def _moved(r1, r0) -> bool:
+    """max |r1 − r0| > 1e-9 (1 + max |r0|) (finite residuals; r1 − r0 by numpy, which
+    warns where it overflows)."""
+    if not r0.shape[0]:         # no equations: numpy's reduction (and its error), as ever
+        return np.max(np.abs(r1 - r0)) > 1e-9 * (1.0 + np.max(np.abs(r0)))
+    return max(map(abs, (r1 - r0).tolist())) > 1e-9 * (1.0 + max(map(abs, r0.tolist())))
+
+
+def _finite_bytes(p):
+    """The bytes of a 1-D float64 array of finite numbers (equal bytes: equal arrays), else
+    None."""
+    if p.__class__ is not np.ndarray or p.dtype != np.float64 or p.ndim != 1:
+        return None
+    return p.tobytes() if all_finite(p) else None
+
+
+def _same_bytes(cached, p) -> bool:
+    """Whether p is the cached parameters by their bytes (a solve's quick look: a numpy
+    comparison costs microseconds); False sends the caller to np.array_equal."""
+    return cached[3] is not None and p.__class__ is np.ndarray and p.dtype == np.float64 \
+        and p.shape == cached[1].shape and p.tobytes() == cached[3]
 
 
 def body_angles(mech) -> tuple:

@@ -18,8 +18,10 @@ from __future__ import annotations
 import numpy as np
 
 from ...protocol import SING_RTOL
+from ..entry import module_attr
 
 CONSISTENT_RTOL = 1e-8     # a residual of Φ_qᵀλ = Q above this share of its size: no solution
+_MISSING = object()        # (a name the module does not have)
 
 
 class PointForces:
@@ -43,20 +45,23 @@ class PointForces:
 
 def has_forces(module) -> bool:
     """Whether the module was built with mass or loads (else every λ is zero)."""
-    return bool(getattr(module, "FORCES", False))
+    return bool(module_attr(module, "FORCES", False))
 
 
 def by_blocks(module) -> bool:
     """Whether the module solves the multipliers block by block (a sorted square build;
     a module of an earlier format has multipliers_sorted only then)."""
-    return bool(getattr(module, "FORCE_SORTED", hasattr(module, "multipliers_sorted")))
+    flag = module_attr(module, "FORCE_SORTED", _MISSING)
+    if flag is _MISSING:
+        return module_attr(module, "multipliers_sorted", _MISSING) is not _MISSING
+    return bool(flag)
 
 
 def written_out(module):
     """The module's multipliers_point where it writes the multipliers out, else None."""
-    if not getattr(module, "FORCE_POINT", True):
+    if not module_attr(module, "FORCE_POINT", True):
         return None
-    return getattr(module, "multipliers_point", None)
+    return module_attr(module, "multipliers_point", None)
 
 
 def svd_solve(J, rhs):

@@ -2,14 +2,18 @@
 multipliers, driver efforts and reactions (mechgen.runtime.forces)."""
 from __future__ import annotations
 
+from operator import mul as _mul
+
 import numpy as np
 
 from ...errors import SingularError
 from ...protocol import SING_RTOL
+from ..entry import module_attr
+from ..guards import all_finite
 from ..results import Solution
 from .contact import contact_labels, contact_values
 from .lookup import _constraints_of, tables
-from .points import by_blocks, svd_solve, written_out
+from .points import _MISSING, by_blocks, svd_solve, written_out
 
 # -- one point ----------------------------------------------------------------------------
 def force_terms(mech, q, qd, qdd, t) -> np.ndarray:
@@ -215,22 +219,47 @@ def _multipliers_at(mech, s, level):
     if point is not None:
         lam = np.empty(mech.m)
         piv = point(s.q, qd, qdd, s.t, mech.p, lam)
-        x = float(lam @ lam)
-        if not (piv >= SING_RTOL and x - x == 0.0):     # (x - x: NaN unless finite)
+        if not (piv >= SING_RTOL and _norm_finite(lam)):
             terms = force_terms(mech, s.q, qd, qdd, s.t)
             lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
     elif by_blocks(mod):                        # one compiled call: terms and λ by blocks
-        terms, lam, piv = np.zeros((1, 3, mech.n)), np.zeros((1, mech.m)), np.zeros(1)
-        mod.force_rows(np.array([s.t]), s.q[None], qd[None], qdd[None], mech.p,
-                       np.empty((1, mech.m, mech.n)), terms, np.zeros((1, mech.m)),
-                       np.zeros((1, 3)), np.zeros((1, len(tables(mech).driver_rows))), piv, lam)
+        terms, lam = np.zeros((1, 3, mech.n)), np.zeros((1, mech.m))
+        ts, jac, nu, energy, factors, piv = _rows_scratch(mech, mod)
+        ts[0], piv[0] = s.t, 0.0
+        mod.force_rows(ts, s.q[None], qd[None], qdd[None], mech.p, jac, terms, nu, energy,
+                       factors, piv, lam)
         terms, lam = terms[0], lam[0]
-        if not (piv[0] >= SING_RTOL and np.all(np.isfinite(lam))):
+        if not (piv[0] >= SING_RTOL and all_finite(lam)):
             lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
     else:
         terms = force_terms(mech, s.q, qd, qdd, s.t)
         lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
     return lam, terms, dependent
+
+
+def _rows_scratch(mech, mod):
+    """The arrays of force_rows at one point that a solution does not keep (its time, Φ_q,
+    ν, the energies, the driver factors, the pivot), made once per mechanism and module:
+    force_rows writes each before it reads it, and nothing reads them after the pivot."""
+    cached = mech.__dict__.get("_rows_scratch")
+    if cached is None or cached[0] is not mod:
+        m, n = mech.m, mech.n
+        cached = mech._rows_scratch = (mod, (
+            np.empty(1), np.empty((1, m, n)), np.zeros((1, m)), np.zeros((1, 3)),
+            np.zeros((1, len(tables(mech).driver_rows))), np.zeros(1)))
+    return cached[1]
+
+
+def _norm_finite(lam) -> bool:
+    """Whether λ·λ (numpy's ``lam @ lam``) is finite: where the sum of the squares as
+    Python floats is far below overflow, it is, and numpy's is not computed (its call
+    costs a solve most of a microsecond); anywhere else numpy's, with its overflow
+    warning where there is one."""
+    values = lam.tolist()
+    if sum(map(_mul, values, values)) < 1e300:     # (NaN: not below)
+        return True
+    x = float(lam @ lam)
+    return x - x == 0.0                             # (x - x: NaN unless finite)
 
 
 def _rhs(terms):
@@ -244,7 +273,8 @@ def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -
     kin = "acceleration" if level == "dynamic" else "position"
     mod = mech.module
     fused = None
-    if level == "dynamic" and hasattr(mod, "dynamics_sorted"):    # λ in the same pass
+    if level == "dynamic" and module_attr(mod, "dynamics_sorted", _MISSING) is not _MISSING:
+        # λ in the same pass
         scratch = mech.__dict__.get("_force_scratch")    # the pivot and the factors
         if scratch is None:
             scratch = mech._force_scratch = (np.zeros(3), np.empty(len(mod.DRIVER_ROWS)))
@@ -258,7 +288,7 @@ def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -
     s.__class__ = ForceSolution         # the kinematic solution, with its multipliers
     s.force_level, s.lam, s._terms = level, lam, terms
     s.indeterminate = _constraints_of(mech, dependent) if dependent else ()
-    mech.last = s
+    mech._last = s                      # (mech.last = s, without its setter)
     return s
 
 
