@@ -184,9 +184,26 @@ def test_the_module_reads_with_the_model_names(built):
     # a sweep local named after a coordinate (_sw_det, _sw_qp) keeps the sweep's own
     text = render(quick_return("names_locals", AS_LOCALS))
     body = text[text.index("def sweep_fast("):text.index("def eval_points(")]
-    assert "_sw_det = piv[0]" in body and re.search(r"_sw_qp\[\d+\] = q\[\d+\]", body)
+    assert "_sw_det = _sw_piv_0" in body and re.search(r"_sw_qp_\d+ = _sw_q_\d+", body)
     assert "_sw_det_ = det" in body                               # the kepler angle's memory
     assert re.search(r"^\s+u_ = q\[\d+\]$", text, re.M)           # _u: underscores to the end
+
+
+def test_a_memory_named_like_the_sweeps_locals_gives_way(built, tmp_path):
+    """The written sweep keeps q[5] as the local _sw_q_5; a coordinate named q_5 (its
+    turned sin and cos remembered as _sw_q_5) gets _sw_q_5_ instead, and the sweep's
+    numbers are the ordinary model's."""
+    names = dict(ORDINARY, kepler="q_5")
+    text = render(quick_return("names_scratch", names))
+    body = text[text.index("def sweep_fast("):text.index("def eval_points(")]
+    assert "_sw_q_5_ = q_5" in body and re.search(r"^\s+_sw_q_5 = ", body, re.M)
+    mech = mechgen.load(build(quick_return("names_scratch", names), str(tmp_path)),
+                        tier="compiled")
+    plain = built["ordinary"][1]
+    a, b = mech.sweep(0.0, 1.0, 201, level="acceleration"), plain.sweep(0.0, 1.0, 201,
+                                                                       level="acceleration")
+    for A, B in ((a.Q, b.Q), (a.QD, b.QD), (a.QDD, b.QDD)):
+        np.testing.assert_allclose(A, B, rtol=1e-12, atol=1e-12)
 
 
 def test_names_of_the_module_are_read_from_its_sources():

@@ -33,6 +33,7 @@ from .solver.linear import (derivative_code, derivatives_sorted_body, jacobian_d
                             linear_sorted_body)
 from .solver.plan import SHARE_MAX, make_plan, summary
 from .solver.position import position_body, solved_once, trig_pair
+from .solver.scratch import scalar_scratch, scratch_names
 from .solver.sweep import options as sweep_options
 from .solver.sweep import sweep_fast_body, written_det, written_step
 
@@ -88,8 +89,8 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     # a small model's hot solvers are inlined into their callers (numba IR inlining): a
     # call between jitted functions passing arrays costs about as much as their work
     inline = plan.sorted and not helpers and len(eq.q) <= SHARE_MAX
+    step = None                 # (the solvers written out in the fast sweep's loop)
     if plan.sorted and plan.level >= 2:
-        step = None
         # the solvers written out in the fast sweep's loop: a small model's, whether or
         # not long functions it does not call there (Φ_q, Φ) are split into parts
         written = plan.sorted and not profiles and len(eq.q) <= SHARE_MAX
@@ -133,7 +134,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
                     det=det, statics=statics)
 
     names = name_map(model, eq, list(bodies.values()) + [h.body for h in helpers],
-                     [h.args for h in helpers])
+                     [h.args for h in helpers] + ([scratch_names(len(eq.q))] if step else []))
     plain = Options(names=names)
 
     def text(key):
@@ -141,7 +142,10 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         if body is None:
             return None
         fast = key in ("sweep_fast", "sweep_fast_forces", "sweep_fast_statics")
-        return render(body, sweep_options(names) if fast else plain)
+        lines = render(body, sweep_options(names) if fast else plain)
+        if fast and step is not None:   # the solvers written out: the scratch as locals
+            lines = scalar_scratch(lines, len(eq.q))
+        return lines
 
     ctx = dict(
         name=model.name,
