@@ -12,15 +12,15 @@ import math
 import numpy as np
 import sympy as sp
 
-from ..model.geometry import T
 from ..model.forces.holds import held
+from ..model.geometry import T
 from ..model.symbolic import rank_analysis
 from ..turns import meshed_alike, turn_coefficients
+from .functions.equations_code import mesh_counts
 from .solver.blocks import (CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, NEWTON,
                             sort_blocks)
 from .solver.dyads import signed
 from .solver.plan import make_plan
-from .functions.equations_code import mesh_counts
 
 TOL = 1e-9          # max |Φ| below which a configuration counts as assembled
 STARTS = 128        # quasi-random starts of the assembly-mode search
