@@ -88,14 +88,14 @@ def speed(mech, name, n=100_000, rounds=5):
     solved after the sweep instead), interleaved, best of ``rounds``; the dynamic one's λ
     and driver effort against a dense numpy solve."""
     module = mech.module
-    statics = getattr(module, "sweep_fast_statics", None)
+    statics = getattr(module, "STATIC_FUSED", False)
 
     def separate():                 # λ after the sweep (force_rows), as without the path
-        delattr(module, "sweep_fast_statics")
+        module.STATIC_FUSED = False     # (the runtime reads the flag: forces.lookup)
         try:
             mech.sweep(0, 1, n, level="static")
         finally:
-            module.sweep_fast_statics = statics
+            module.STATIC_FUSED = statics
     runs = {level: (lambda level=level: mech.sweep(0, 1, n, level=level))
             for level in ("position", "static", "acceleration", "dynamic")}
     if statics is not None:
