@@ -23,8 +23,9 @@ from .entry import (module_attr, solve_acceleration, solve_point, solve_point_de
                     solve_velocity)
 from .follow import follow
 from .forces.lookup import is_force_level
-from .guards import (all_finite, finite, level_index, method_index, positive_count, positive_tol,
+from .guards import (finite, level_index, method_index, positive_count, positive_tol,
                      point_bytes, sweep_count, sweep_times)
+from .guesses import start_vector, turned_home
 from .loading.tiers import Tiers
 from .quantity import symbolic_side
 from .results import Solution, Sweep
@@ -139,29 +140,8 @@ class Mechanism:
 
     # -- guesses ----------------------------------------------------------------------
     def _start(self, guess) -> np.ndarray:
-        if guess is None:
-            return self.guess.copy()
-        if isinstance(guess, Solution):
-            return guess.q.copy()
-        if isinstance(guess, dict):
-            base = self.guess.copy()
-            for name, value in guess.items():
-                if name not in self._index:
-                    raise ValueError(f"guess: {name!r} is not a coordinate of '{self.name}' "
-                                     f"(coordinates: {', '.join(self.coordinates)})")
-                base[self._index[name]] = finite(value, f"guess for {name}")
-            return base
-        try:
-            arr = np.asarray(guess, dtype=np.float64)
-        except (TypeError, ValueError):
-            raise ValueError(f"guess must be a dict of coordinates, a Solution or an array of "
-                             f"{self.n} numbers, got {_short(guess)}") from None
-        if arr.shape != (self.n,):
-            raise ValueError(f"guess must be a dict of coordinates or an array of shape ({self.n},), "
-                             f"got shape {arr.shape}")
-        if not all_finite(arr):
-            raise ValueError("guess holds NaN or infinite values")
-        return arr.copy()
+        """The start vector of ``guess`` (runtime.guesses.start_vector)."""
+        return start_vector(self, guess)
 
     def set_guess(self, guess=None, t=None):
         """Mech's SetGuess[]: the start of later solves becomes ``guess`` (a dict of
@@ -169,7 +149,7 @@ class Mechanism:
         guess is a configuration at time ``t``: a Solution's own time, else 0 (the
         model's guess is one at t = 0); solve(t) follows the motion from there."""
         if guess is not None:
-            self.guess = self._start(guess)
+            self.guess = start_vector(self, guess)
         else:
             self.guess = np.array(self.module.GUESS, dtype=np.float64)
         if t is not None:
@@ -235,7 +215,7 @@ class Mechanism:
             q = self._start(guess)
             start = q.copy()
             qd, qdd, info = self._solve_point(t, q, lev, meth, tol, maxit, fused)
-            if self._turned_home(q, start):
+            if turned_home(self, q, start):
                 # Newton from a poor guess may throw an angle whole turns away (1e8 rad,
                 # where a float keeps only 1e-8 of it): the same configuration nearer the
                 # guess, solved again to full precision
@@ -248,23 +228,6 @@ class Mechanism:
                        singular, "full" if info[INFO_METHOD] else "sorted")
         self._last = sol
         return sol
-
-    def _turned_home(self, q, start) -> bool:
-        """Turn each angle of q (a coordinate Φ is 2π-periodic in) that ended more than a
-        turn from its start by whole turns back to the start's, in place: whether any was."""
-        turned = False
-        d = q - start
-        if d.dot(d) <= _PI2:
-            return False            # the common case (no coordinate moved π): nothing to do
-        d = d.tolist()              # (Python floats: no numpy reduction for 9 numbers)
-        if not any(abs(x) > np.pi for x in d):
-            return False
-        for j in _angle_coordinates()(self):
-            k = round(d[j] / (2 * np.pi))
-            if k:
-                q[j] -= 2 * np.pi * k
-                turned = True
-        return turned
 
     def _solve_point(self, t, q, lev, meth, tol, maxit, fused=None):
         """The position (in place), its checks and the derivatives asked for, as the
@@ -552,21 +515,10 @@ class Mechanism:
         return out
 
 
-_PI2 = np.pi * np.pi
 _FLOAT64 = np.float64
 _METHOD = METHOD            # (name -> index: a valid name looked up, an invalid one checked)
 _VELOCITY_LEVEL, _ACCELERATION_LEVEL = LEVEL["velocity"], LEVEL["acceleration"]
 _FORCE_SOLVE = []
-_ANGLES = []
-
-
-def _angle_coordinates():
-    """mechgen.runtime.analysis.assembly.angle_coordinates, imported when a solve from a
-    guess first moved a coordinate half a turn (and kept)."""
-    if not _ANGLES:
-        from .analysis.assembly import angle_coordinates
-        _ANGLES.append(angle_coordinates)
-    return _ANGLES[0]
 
 
 def _force_solve():
@@ -588,8 +540,3 @@ def singular_error(*args, **kwargs):
     """mechgen.runtime.analysis.locks.singular_error, imported when a solve first fails."""
     from .analysis.locks import singular_error as error
     return error(*args, **kwargs)
-
-
-def _short(value) -> str:
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."

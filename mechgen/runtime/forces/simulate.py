@@ -30,6 +30,7 @@ import warnings
 import numpy as np
 
 from ...errors import ConvergenceError, SingularError
+from ..guesses import start_vector
 from ..results import Sweep
 from .lookup import tables
 from .sweep import ForceSweep
@@ -222,7 +223,7 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
         kin = mech.solve(t_start, level="velocity")
         q, qd = kin.q.copy(), kin.qd.copy()
     else:
-        q, qd = mech._start(q0), np.zeros(mech.n)
+        q, qd = start_vector(mech, q0), np.zeros(mech.n)
     if qd0 is not None:
         qd = np.asarray(qd0, dtype=float).reshape(-1).copy()
         if qd.shape != (mech.n,) or not np.all(np.isfinite(qd)):

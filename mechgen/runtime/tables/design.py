@@ -22,6 +22,7 @@ from ...protocol import LEVEL, LEVELS
 from .backends import cuda_keeps_points, progress_reporter, run_backend
 from .chunks import reduce_threads
 from ..guards import finite, fits, point_bytes, sweep_times
+from ..guesses import start_vector
 from ..quantity import _lookup, column_names
 from ..forces import attach, is_force_level
 from ..forces.lookup import tables
@@ -383,7 +384,7 @@ def design_table(mech, t0, t1, n, params, level="position", guess=None, method=N
     ts = sweep_times(t0, t1, n, times)
     tol = mech._tol(tol)
     maxit = mech._maxit(maxit)
-    q0 = mech._start(guess)
+    q0 = start_vector(mech, guess)
     reduced, slots = ((), None) if reduce is None else \
         reduce_slots(mech, reduce, lev, force_level)
     # refused before the grid is made: designs x points must fit in memory

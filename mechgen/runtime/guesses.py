@@ -1,0 +1,76 @@
+"""Where a solve or a sweep starts: the guess a user gives (a dict of some coordinates, a
+Solution, an array of all of them; None: the mechanism's own guess) checked and made the
+coordinate vector, and, after Newton from it, the angles it threw whole turns away turned
+back near it."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .guards import all_finite, finite
+from .results import Solution
+
+_ANGLES = []
+
+
+def start_vector(mech, guess) -> np.ndarray:
+    """A new coordinate vector from ``guess``: the mechanism's guess with a dict's
+    coordinates put in, a Solution's q, or an array of all of them; ValueError naming
+    what is wrong (an unknown coordinate, a value that is not a finite number, a shape)."""
+    if guess is None:
+        return mech.guess.copy()
+    if isinstance(guess, Solution):
+        return guess.q.copy()
+    if isinstance(guess, dict):
+        base = mech.guess.copy()
+        for name, value in guess.items():
+            if name not in mech._index:
+                raise ValueError(f"guess: {name!r} is not a coordinate of '{mech.name}' "
+                                 f"(coordinates: {', '.join(mech.coordinates)})")
+            base[mech._index[name]] = finite(value, f"guess for {name}")
+        return base
+    try:
+        arr = np.asarray(guess, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"guess must be a dict of coordinates, a Solution or an array of "
+                         f"{mech.n} numbers, got {_short(guess)}") from None
+    if arr.shape != (mech.n,):
+        raise ValueError(f"guess must be a dict of coordinates or an array of shape ({mech.n},), "
+                         f"got shape {arr.shape}")
+    if not all_finite(arr):
+        raise ValueError("guess holds NaN or infinite values")
+    return arr.copy()
+
+
+def turned_home(mech, q, start) -> bool:
+    """Turn each angle of q (a coordinate Φ is 2π-periodic in) that ended more than a
+    turn from its start by whole turns back to the start's, in place: whether any was."""
+    turned = False
+    d = q - start
+    if d.dot(d) <= math.pi * math.pi:
+        return False            # the common case (no coordinate moved π): nothing to do
+    d = d.tolist()              # (Python floats: no numpy reduction for 9 numbers)
+    if not any(abs(x) > math.pi for x in d):
+        return False
+    for j in _angle_coordinates()(mech):
+        k = round(d[j] / (2 * math.pi))
+        if k:
+            q[j] -= 2 * math.pi * k
+            turned = True
+    return turned
+
+
+def _angle_coordinates():
+    """mechgen.runtime.analysis.assembly.angle_coordinates, imported when a solve from a
+    guess first moved a coordinate half a turn (and kept: an import statement costs a
+    solve a microsecond)."""
+    if not _ANGLES:
+        from .analysis.assembly import angle_coordinates
+        _ANGLES.append(angle_coordinates)
+    return _ANGLES[0]
+
+
+def _short(value) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
