@@ -212,7 +212,7 @@ class Mechanism:
             q = follow(self, t, tol, maxit, meth)
             qd, qdd, info = self._solve_point(t, q, lev, meth, tol, maxit, fused)
         else:
-            q = self._start(guess)
+            q = start_vector(self, guess)
             start = q.copy()
             qd, qdd, info = self._solve_point(t, q, lev, meth, tol, maxit, fused)
             if turned_home(self, q, start):
@@ -334,9 +334,9 @@ class Mechanism:
         ts = np.linspace(t0, t1, int(n))
         if module_attr(self.module, "SWITCH_TIMES", ()):     # stage by stage (runtime.stages)
             from .stages import staged_singularities
-            return staged_singularities(self, ts, self._start(guess))
+            return staged_singularities(self, ts, start_vector(self, guess))
         from .analysis.locks import singularities
-        return singularities(self, ts, self._start(guess))
+        return singularities(self, ts, start_vector(self, guess))
 
     # -- sweeps -----------------------------------------------------------------------
     def sweep(self, t0, t1, n, level="position", guess=None, method=None, tol=None,
@@ -406,7 +406,7 @@ class Mechanism:
             ts = sweep_times(t0, t1, n, times, each=point_bytes(self.n, lev))
         tol = self.tol if tol is None else positive_tol(tol)
         maxit = self.maxit if maxit is None else positive_count(maxit, "maxit")
-        q0 = self.guess.copy() if guess is None else self._start(guess)
+        q0 = self.guess.copy() if guess is None else start_vector(self, guess)
         self._tiers.expect(self, ts.shape[0])
         return run_sweep(self, ts, q0, lev, tol, maxit, meth, out, shared, forces)
 
@@ -482,7 +482,7 @@ class Mechanism:
         if isinstance(starts, bool) or int(starts) != starts or starts < 0:
             raise ValueError(f"starts must be a non-negative integer, got {starts!r}")
         from .analysis.assembly import assemblies
-        return assemblies(self, t, self._start(guess), int(starts), level,
+        return assemblies(self, t, start_vector(self, guess), int(starts), level,
                                self._tol(None), self._method(None), flips=flips)
 
     def explore(self, **options):
