@@ -21,7 +21,7 @@ from ...protocol import SING_RTOL
 from ..entry import module_attr
 
 CONSISTENT_RTOL = 1e-8     # a residual of Φ_qᵀλ = Q above this share of its size: no solution
-_MISSING = object()        # (a name the module does not have)
+MISSING = object()         # (a name the module does not have)
 
 
 class PointForces:
@@ -51,9 +51,9 @@ def has_forces(module) -> bool:
 def by_blocks(module) -> bool:
     """Whether the module solves the multipliers block by block (a sorted square build;
     a module of an earlier format has multipliers_sorted only then)."""
-    flag = module_attr(module, "FORCE_SORTED", _MISSING)
-    if flag is _MISSING:
-        return module_attr(module, "multipliers_sorted", _MISSING) is not _MISSING
+    flag = module_attr(module, "FORCE_SORTED", MISSING)
+    if flag is MISSING:
+        return module_attr(module, "multipliers_sorted", MISSING) is not MISSING
     return bool(flag)
 
 

@@ -13,7 +13,7 @@ from ..guards import all_finite
 from ..results import Solution
 from .contact import contact_labels, contact_values
 from .lookup import _constraints_of, tables
-from .points import _MISSING, by_blocks, svd_solve, written_out
+from .points import MISSING, by_blocks, svd_solve, written_out
 
 # -- one point ----------------------------------------------------------------------------
 def force_terms(mech, q, qd, qdd, t) -> np.ndarray:
@@ -273,7 +273,7 @@ def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -
     kin = "acceleration" if level == "dynamic" else "position"
     mod = mech.module
     fused = None
-    if level == "dynamic" and module_attr(mod, "dynamics_sorted", _MISSING) is not _MISSING:
+    if level == "dynamic" and module_attr(mod, "dynamics_sorted", MISSING) is not MISSING:
         # λ in the same pass
         scratch = mech.__dict__.get("_force_scratch")    # the pivot and the factors
         if scratch is None:
