@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import warnings
 
 from ..errors import MechgenError
 from ..protocol import LEVELS
@@ -158,9 +159,24 @@ def _model_line(exc, args) -> str:
     return ""
 
 
+def _format_warning(message, category, filename, lineno, line=None) -> str:
+    """A warning as the command prints it: its kind and its words, not the line of
+    mechgen's own source that raised it."""
+    return f"mechgen: warning: {category.__name__}: {message}\n"
+
+
 def main(argv=None) -> int:
     """Run one command; returns the exit status (0, 1 on a failure, 2 on a usage error)."""
     args = parser().parse_args(argv)
+    previous = warnings.formatwarning
+    warnings.formatwarning = _format_warning
+    try:
+        return _run(args)
+    finally:
+        warnings.formatwarning = previous
+
+
+def _run(args) -> int:
     try:
         code = args.func(args)
     except BrokenPipeError:
