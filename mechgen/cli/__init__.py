@@ -14,10 +14,10 @@ import warnings
 
 from ..errors import MechgenError
 from ..protocol import LEVELS
-from .tables import FORCE_LEVELS
 from . import forces_command, plot_commands, simulate_command, solve_commands, view_command
 from .loading import models
 from .options import module_folder, number_type
+from .tables import FORCE_LEVELS
 
 DESCRIPTION = ("Kinematics of planar mechanisms: symbolic equations compiled to numba "
                "solvers. Each command takes a model file (MODEL.py); COMMAND --help says "

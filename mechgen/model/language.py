@@ -9,14 +9,14 @@ import unicodedata
 
 import sympy as sp
 
+from ..errors import ModelError, _user_frame
 from .constraints import (Constraint, Expression, Orthogonal, Parallel, PointOnLine,
                           RelativeAngle, RelativeDistance, RelativeX, RelativeY, Revolute,
                           RotationLock, Translate)
-from ..errors import ModelError, _user_frame
-from .library2d.cams import CamsMixin
-from .geometry import Body, T
-from .library2d.methods import Mech2D
 from .forces.loads import LoadsMixin
+from .geometry import Body, T
+from .library2d.cams import CamsMixin
+from .library2d.methods import Mech2D
 from .quantities import register_coordinates
 from .stages import StageMixin
 

@@ -45,8 +45,8 @@ arrows         force_arrows: the forces of a solution on a drawing (draw(forces=
 from .animation import Animation, animate, check_movie_path
 from .arrows import ForceArrows, force_arrows
 from .drawing import Drawing, draw, draw_modes, motion
-from .glyphs.shapes import AUTO, Bar, Disk, Edge, Plate, Shape
 from .forceplots import EffortPlot, PolarPlot, effort, polar
+from .glyphs.shapes import AUTO, Bar, Disk, Edge, Plate, Shape
 from .timeplot import plot, unit
 
 # the settings of the look, readable as plot.INK etc. (as before the split)

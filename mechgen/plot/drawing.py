@@ -16,14 +16,14 @@ from matplotlib.patches import Patch
 from ..errors import MechgenError
 from ..runtime.results import Solution
 from .arrows import force_arrows
+from .glyphs.builder import Builder
 from .glyphs.cams import KINDS as CAM_KINDS
 from .glyphs.cams import draw as draw_cam
 from .glyphs.gears import draw_library
-from .glyphs.builder import Builder
 from .glyphs.ground import lift_cam_pivots
-from .scene import Scene
 from .glyphs.shapes import AUTO
 from .glyphs.springs import draw_loads
+from .scene import Scene
 from .style import INK, MARGIN
 
 MOTION_POINTS = 41   # solves of the sweep that frames a single drawing

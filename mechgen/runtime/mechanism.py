@@ -29,8 +29,8 @@ from .guesses import start_vector, turned_home
 from .loading.tiers import Tiers
 from .quantity import symbolic_side
 from .results import Solution, Sweep
-from .sweeping import times as sweep_times_of
 from .sweeping import run as run_sweep
+from .sweeping import times as sweep_times_of
 
 # imported where used, so that a fresh process's first answer does not wait for them:
 # assembly, design (and its backends), forces' solvers, stages, singular and locks (the

@@ -23,11 +23,11 @@ from __future__ import annotations
 import sympy as sp
 
 from ...model.forces.dynamics import dynamics
-from .forces_code import multiplier_statements
 from ..codegen.inputs import prologue
 from ..codegen.ir import Assign, Code, Guard, If, Return, Store, replaced
 from ..codegen.schedule import TempNames, emit
 from ..solver.sweep import in_loop
+from .forces_code import multiplier_statements
 
 
 def force_step(plan, eq, model, lam="lam[{}]", factors="factors[{}]", pivot="piv[2]"):

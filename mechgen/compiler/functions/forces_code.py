@@ -15,11 +15,11 @@ import sympy as sp
 
 from ...model.forces.dynamics import dynamics
 from ...protocol import SING_RTOL
-from .equations_code import TITLES, straight_line
 from ..codegen.inputs import prologue
 from ..codegen.ir import Assign, Code, If, Store
 from ..codegen.printer import Local
 from ..codegen.schedule import emit
+from .equations_code import TITLES, straight_line
 
 TITLES.update(force_terms="Q_a, Q_c and I, their nonzero entries",
               mass_matrix="M of I = M q̈ + h, its nonzero entries",

@@ -11,8 +11,8 @@ from ...model.dag import replace
 from ...model.library2d.profiles import ProfileFunction
 from ..codegen.ir import Code, Helper, Store
 from ..codegen.printer import Local
-from .profile_derivatives import Derivatives
 from ..codegen.schedule import emit
+from .profile_derivatives import Derivatives
 
 
 def used_profiles(exprs):

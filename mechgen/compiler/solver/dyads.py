@@ -24,11 +24,11 @@ import math
 import sympy as sp
 
 from ...protocol import GAVE_UP, PIVOT_RTOL, TINY
-from .blocks import CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, DYAD_RRR
 from ..codegen.inputs import prologue, sym
 from ..codegen.ir import Assign, Code, Comment, Guard, If, Return, Variant
 from ..codegen.printer import Derived
 from ..codegen.schedule import TempNames, emit
+from .blocks import CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, DYAD_RRR
 
 
 def rrr_form(b, eq, rows):

@@ -11,8 +11,8 @@ import sympy as sp
 from ...protocol import SING_RTOL
 from ..codegen.inputs import free, prologue, sym, unpack
 from ..codegen.ir import Assign, Code, Guard, Helper, If, Return, Store
-from .position import block_comment
 from ..codegen.schedule import TempNames, emit
+from .position import block_comment
 
 SINGULAR = 2           # status: Φ_q lost rank, the derivatives are not determined
 

@@ -15,13 +15,13 @@ import sympy as sp
 
 from ...model.geometry import T
 from ...protocol import PIVOT_RTOL, TINY
-from .blocks import CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, NEWTON, linear_in
-from .dyads import guess_free, quadratic_statements, rrr_statements, signed, trig_statements
 from ..codegen.inputs import free, sym, time_local, unpack
 from ..codegen.ir import (Assign, Break, Code, Comment, Guard, Helper, If, Loop, Return, Store,
                  TrigPair, Variant, count_lines, replaced)
 from ..codegen.printer import Derived
 from ..codegen.schedule import TempNames, emit
+from .blocks import CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, NEWTON, linear_in
+from .dyads import guess_free, quadratic_statements, rrr_statements, signed, trig_statements
 
 GAVE_UP = 4            # status: the sorted solver gave up (the full Newton takes over)
 

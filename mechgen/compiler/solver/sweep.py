@@ -32,12 +32,12 @@ watched for turns.
 """
 from __future__ import annotations
 
+from ...model.geometry import T
 from ..codegen.inputs import free, time_local, unpack
+from ..codegen.ir import Assign, Code, Comment, Guard, If, Loop, Options, Store, replaced
+from ..codegen.schedule import TempNames, emit
 from .linear import jacobian_det_statements
 from .position import position_in_sweep
-from ..codegen.ir import Assign, Code, Comment, Guard, If, Loop, Options, Store, replaced
-from ...model.geometry import T
-from ..codegen.schedule import TempNames, emit
 
 SWEEP_RESYNC = 8       # the fast sweep calls sin and cos afresh every this many points
 

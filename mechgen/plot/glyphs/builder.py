@@ -13,11 +13,11 @@ from matplotlib.patches import Circle, FancyArrow, Patch, Polygon, Rectangle
 from matplotlib.transforms import Affine2D
 
 from ...errors import MechgenError
+from ..labels import put_labels
+from ..style import BAR, GROUND, INK, MARGIN
 from .gears import pitch_markers
 from .ground import crosses, hangs, obstacles
-from ..labels import put_labels
 from .shapes import AUTO, Shape, hatch, hull, rot, rounded
-from ..style import BAR, GROUND, INK, MARGIN
 
 
 def _vertices(artist):

@@ -16,8 +16,8 @@ import numpy as np
 from matplotlib.collections import LineCollection
 from matplotlib.patches import Circle, Polygon
 
-from .shapes import rot
 from ..style import INK
+from .shapes import rot
 
 GEAR_KINDS = ("gears", "gear_ratio")
 RACK_KINDS = ("rack_and_pinion", "rack_ratio")

@@ -32,12 +32,12 @@ import numpy as np
 
 from ...errors import MechgenError
 from ...protocol import LEVEL
-from .cuda import OUTPUT, STATUS_COLUMNS, THREADS, SIM_THREADS, flat_slots, numba_module, \
-    require_cuda, simulated, table_inputs
-from .cuda_twin import ROOTS, build_twin
 from ..forces.lookup import FUSED_PATHS
 from ..forces.points import driver_rows
 from ..tables.reduce import DRIVER
+from .cuda import OUTPUT, STATUS_COLUMNS, THREADS, SIM_THREADS, flat_slots, numba_module, \
+    require_cuda, simulated, table_inputs
+from .cuda_twin import ROOTS, build_twin
 
 # force level -> (the module's fused quick path, forces.lookup.FUSED_PATHS, the kernel
 # that runs it: sweep_fast_forces -> _cu_forces_reduce)

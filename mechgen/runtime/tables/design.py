@@ -19,16 +19,16 @@ import numpy as np
 
 from ...errors import MechgenError
 from ...protocol import LEVEL, LEVELS
-from .backends import cuda_keeps_points, progress_reporter, run_backend
-from .chunks import reduce_threads
+from ..forces import attach, is_force_level
+from ..forces.lookup import tables
 from ..guards import finite, fits, point_bytes, sweep_times
 from ..guesses import start_vector
 from ..quantity import _lookup, column_names
-from ..forces import attach, is_force_level
-from ..forces.lookup import tables
+from ..results import Sweep, pandas, write_csv
+from .backends import cuda_keeps_points, progress_reporter, run_backend
+from .chunks import reduce_threads
 from .reduce import (Reduction, driver_efforts, driver_slot, reduce_chunk,
                      reduce_slots, status_name)
-from ..results import Sweep, pandas, write_csv
 
 ON_FAIL = ("warn", "raise", "ignore")
 
