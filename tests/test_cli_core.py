@@ -9,6 +9,7 @@ import sympy as sp
 from sympy.parsing.mathematica import parse_mathematica
 
 from conftest import EXAMPLES, example_model
+from test_robustness import DEAD_CENTRE
 from mechgen.cli import main
 
 QR = os.path.join(EXAMPLES, "quick_return.py")
@@ -301,25 +302,10 @@ def test_console_script_prints_no_traceback(tmp_path):
                                    "be a point such as body[1], got body ground")
 
 
-DEAD_CENTRE = """
-    from mechgen import Model, T
-    m = Model("from_dead_centre")
-    base = m.ground("base", points=[(0, 0), (1, 0)])
-    crank = m.body("crank", points=[(0, 0), (0.3, 0)], guess=(0, 0, 0.01))
-    rod = m.body("rod", points=[(0, 0), (1.0, 0)], guess=(0.3, 0, 0.0))
-    slider = m.body("slider", points=[(0, 0), (1, 0)], guess=(1.3, 0, 0))
-    m.revolute(base[1], crank[1])
-    m.revolute(crank[2], rod[1])
-    m.revolute(rod[2], slider[1])
-    m.translate(base.line(1, 2), slider.line(1, 2))
-    m.relative_x(slider[1], 1.3 - T, name="push")
-"""
-
-
 def test_the_command_prints_a_warning_as_one_line_of_its_own(tmp_path):
     """A sweep leaving a dead centre warns; the command says so in its own words, not with
     the line of mechgen's source that raised it."""
-    path = write(tmp_path, DEAD_CENTRE)
+    path = write(tmp_path, DEAD_CENTRE.format(guess=0.01))
     env = dict(os.environ, MECHGEN_CACHE=str(tmp_path / "cache"))
     proc = subprocess.run([sys.executable, "-m", "mechgen.cli", "sweep", path, "--t0", "0",
                            "--t1", "0.1", "-n", "6", "--columns", "Th2"],

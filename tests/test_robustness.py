@@ -184,23 +184,34 @@ def test_sweep_onto_the_exact_toggle(qr_slider):
 
 
 
-def _slider_from_its_dead_centre(tmp_path, guess):
-    """A crank pushed by its slider from the outer dead centre (x = R + L at t = 0)."""
-    from mechgen import Model, T
-    R, L = 0.3, 1.0
-    m = Model("from_dead_centre")
-    base = m.ground("base", points=[(0, 0), (1, 0)])
-    crank = m.body("crank", points=[(0, 0), (R, 0)], guess=(0, 0, guess))
-    rod = m.body("rod", points=[(0, 0), (L, 0)], guess=(R, 0, 0.0))
-    slider = m.body("slider", points=[(0, 0), (1, 0)], guess=(R + L, 0, 0))
-    m.revolute(base[1], crank[1])
-    m.revolute(crank[2], rod[1])
-    m.revolute(rod[2], slider[1])
-    m.translate(base.line(1, 2), slider.line(1, 2))
-    m.relative_x(slider[1], R + L - T, name="push")
-    mech = mechgen.compile(m, outdir=str(tmp_path / f"g{guess}"), tier="python")
+# a crank pushed by its slider from the outer dead centre (x = R + L at t = 0), R = 0.3,
+# L = 1 (tests/test_cli_core.py runs the command on it too)
+DEAD_CENTRE = """
+from mechgen import Model, T
+m = Model("from_dead_centre")
+base = m.ground("base", points=[(0, 0), (1, 0)])
+crank = m.body("crank", points=[(0, 0), (0.3, 0)], guess=(0, 0, {guess}))
+rod = m.body("rod", points=[(0, 0), (1.0, 0)], guess=(0.3, 0, 0.0))
+slider = m.body("slider", points=[(0, 0), (1, 0)], guess=(1.3, 0, 0))
+m.revolute(base[1], crank[1])
+m.revolute(crank[2], rod[1])
+m.revolute(rod[2], slider[1])
+m.translate(base.line(1, 2), slider.line(1, 2))
+m.relative_x(slider[1], 1.3 - T, name="push")
+"""
 
-    def th2(t):     # the crank angle on the guess's side: the law of cosines
+
+def _slider_from_its_dead_centre(tmp_path, guess):
+    """DEAD_CENTRE built with the crank's guess ``guess``, and its crank angle on the
+    guess's side by the law of cosines."""
+    from mechgen.model.loader import load_models
+    R, L = 0.3, 1.0
+    path = tmp_path / f"dead_centre_{guess}.py"
+    path.write_text(DEAD_CENTRE.format(guess=guess))
+    mech = mechgen.compile(load_models(str(path))[0], outdir=str(tmp_path / f"g{guess}"),
+                           tier="python")
+
+    def th2(t):
         x = R + L - t
         return math.copysign(math.acos(min(1.0, (x * x + R * R - L * L) / (2 * x * R))), guess)
     return mech, th2

@@ -17,8 +17,7 @@ from ..model.geometry import T
 from ..model.symbolic import rank_analysis
 from ..turns import meshed_alike, turn_coefficients
 from .functions.equations_code import mesh_counts
-from .solver.blocks import (CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, NEWTON,
-                            sort_blocks)
+from .solver.blocks import CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, NEWTON
 from .solver.dyads import signed
 from .solver.plan import make_plan
 
@@ -398,7 +397,7 @@ class _Check:
                     f"{s} = {_num(v)}" for s, v in zip(self.names, wrap(q, self.shown))))
         if not free and m >= n:
             ok = self.modes() and ok
-        lines.append(_structure(eq, self.guess, self.model))
+        lines.append(_structure(eq, self.model))
         lines.append("  check: " + ("True" if ok else "False"))
         return ok
 
@@ -477,20 +476,21 @@ _METHOD_WORDS = {EXPLICIT: "explicit", DYAD_RRR: "RRR dyad", CLOSED_FORM_TRIG: "
                  CLOSED_FORM_QUADRATIC: "closed form", NEWTON: "Newton"}
 
 
-def _structure(eq, guess, model) -> str:
-    """The blocks as the module solves them (its plan: explicit, closed forms, dyads,
-    Newton), the blocks whose assembly mode is a sign kept from the guess counted."""
-    values = dict(zip(eq.q, guess))
-    values.update({sym: val for sym, val in model.params.values()})
-    if sort_blocks(eq.phi, eq.q, values) is None:
+def _structure(eq, model) -> str:
+    """The blocks as the module solves them (its plan, made at the model's guess as a
+    build makes it: explicit, closed forms, dyads, Newton), the blocks whose assembly mode
+    is a sign kept from the guess counted."""
+    plan = make_plan(model, eq, level="position")
+    if not plan.sorted:
         return ("  structure: no block sorting (not square or structurally singular); "
                 "full Newton only")
-    blocks = make_plan(model, eq, level="position").blocks
+    blocks = plan.blocks
     kinds = {}
     for b in blocks:
         word = _METHOD_WORDS[b.method]
         kinds[word] = kinds.get(word, 0) + 1
     signs = sum(b.method == DYAD_RRR or signed(b.method, b.form) for b in blocks)
     tail = (f"; {signs} with an assembly mode the guess picks (a sign)" if signs else "")
-    return (f"  structure: {len(blocks)} blocks as the module solves them (" +
+    count = f"{len(blocks)} block" + ("s" if len(blocks) != 1 else "")
+    return (f"  structure: {count} as the module solves them (" +
             ", ".join(f"{v} {k}" for k, v in kinds.items()) + ")" + tail)
