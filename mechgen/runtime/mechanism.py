@@ -10,6 +10,7 @@ symbolic quantity is evaluated by the symbolic side that ``mechgen.compile`` att
 """
 from __future__ import annotations
 
+import threading
 import warnings
 from math import isfinite as _isfinite
 
@@ -83,6 +84,10 @@ class Mechanism:
         self._last = None      # a Solution, or (t, q, qd, qdd) until asked for (see last)
         self._info = np.zeros(POINT_INFO_SIZE)
         self._none = np.empty(0)    # qd, qdd of a solve that does not ask for them
+        # solve() keeps scratch on the mechanism (_info, the path's step arrays, the
+        # force rows'): one solve at a time, so that threads sharing a mechanism each get
+        # their own answer (the compiled calls hold the GIL: nothing ran in parallel)
+        self._lock = threading.RLock()
 
     @property
     def module(self):
@@ -186,9 +191,10 @@ class Mechanism:
         # arguments (a float t, a level name this build solves) pass with a look-up each,
         # anything else through the full checks of guards (the same errors, in order)
         lev = self._levels.get(level) if level.__class__ is str else None
-        if lev is None and is_force_level(level):
-            return _force_solve()(self, t, level, guess, method, tol, maxit)
-        return self._solve(t, guess, level, method, tol, maxit, None, lev)
+        with self._lock:
+            if lev is None and is_force_level(level):
+                return _force_solve()(self, t, level, guess, method, tol, maxit)
+            return self._solve(t, guess, level, method, tol, maxit, None, lev)
 
     def _solve(self, t, guess, level, method, tol, maxit, fused=None, lev=None) -> Solution:
         """solve() at a kinematic level; ``fused``: see entry.solve_point_derivatives;
