@@ -8,7 +8,8 @@ a small model and a number worked out by hand:
 - a quadratic closed form at its double root with B = AC = 0 (x² = 1 − T at T = 1)
   divided 0 by 0 in its reach margin: ZeroDivisionError from solve() and sweep();
 - an expression holding the imaginary unit I (exported for m.loop) built, and failed at
-  the first solve with numba's typing error instead of a ModelError naming it.
+  the first solve with numba's typing error instead of a ModelError naming it;
+- ``mechgen build FILE --model NAME`` built every model of the file.
 """
 import math
 import warnings
@@ -113,3 +114,31 @@ def test_the_seed_loop_form_keeps_taking_a_complex_loop():
     # seed 000, (1.1.4): θ3 = 0.5274103891, θ4 = 1.792465604
     assert s["th3"] == pytest.approx(0.5274103891, abs=1e-9)
     assert s["th4"] == pytest.approx(1.792465604, abs=1e-9)
+
+
+TWO_MODELS = '''
+from mechgen import Model, T
+alpha = Model("alpha_one")
+x = alpha.coordinate("x", 0.0)
+alpha.constraint(x - T)
+beta = Model("beta_two")
+y = beta.coordinate("y", 0.0)
+beta.constraint(y - 2 * T)
+'''
+
+
+def test_build_with_model_writes_only_that_model(tmp_path, capsys):
+    from mechgen.cli import main
+    path = tmp_path / "two.py"
+    path.write_text(TWO_MODELS)
+    out = tmp_path / "out"
+    assert main(["build", str(path), "--model", "beta_two", "-o", str(out)]) == 0
+    assert sorted(p.name for p in out.glob("*.py")) == ["beta_two.py"]
+    assert main(["build", str(path), "--model", "gamma", "-o", str(out)]) != 0
+    err = capsys.readouterr().err
+    assert "no model named 'gamma'" in err and "alpha_one, beta_two" in err
+    assert main(["build", str(path), "-o", str(out)]) == 0       # no --model: every model
+    assert sorted(p.name for p in out.glob("*.py")) == ["alpha_one.py", "beta_two.py"]
+    # the module built answers y = 2T
+    s = mechgen.load(str(out / "beta_two.py"), tier="python").solve(0.75)
+    assert s["y"] == pytest.approx(1.5, abs=1e-12)
