@@ -10,11 +10,11 @@ from .options import model_file, module_folder
 
 
 def models(args):
-    """The models the arguments name: every model of the file (build), or the one
-    --model picks."""
+    """The models the arguments name: every model of the file (build, unless --model
+    names one), or the one --model picks."""
     from ..model.loader import load_models, pick_model
     found = load_models(model_file(args.model_file))
-    if getattr(args, "all_models", False):
+    if getattr(args, "all_models", False) and not args.model:
         return found
     return [pick_model(found, args.model, args.model_file)]
 

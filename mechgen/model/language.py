@@ -102,14 +102,22 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
         if name in self._names:
             raise ModelError(f"{what} name {name!r} clashes with the {self._names[name]} "
                              f"of the same name")
-        # a coordinate's velocity and acceleration are named <name>d and <name>dd
-        for c in self.coords:
+        # a coordinate's velocity and acceleration are named <name>d and <name>dd, and so
+        # are an output's first and second derivatives (s["vd"], a sweep's CSV column)
+        derived = [("coordinate", c.name) for c in self.coords] + \
+            [("output", o) for o in self.outputs]
+        for kind, other in derived:
             for suffix, which in (("d", "velocity"), ("dd", "acceleration")):
-                if name == c.name + suffix:
+                if name == other + suffix:
+                    if kind == "output":
+                        which = "first" if suffix == "d" else "second"
+                        which += " derivative"
                     raise ModelError(f"{what} name {name!r} clashes with the {which} of "
-                                     f"coordinate '{c.name}'")
-        if coordinate:
-            for suffix, which in (("d", "velocity"), ("dd", "acceleration")):
+                                     f"{kind} '{other}'")
+        if coordinate:  # a coordinate or an output: its own derived names
+            pairs = (("d", "velocity"), ("dd", "acceleration")) if what != "output" else \
+                (("d", "first derivative"), ("dd", "second derivative"))
+            for suffix, which in pairs:
                 if name + suffix in self._names:
                     raise ModelError(f"{what} name {name!r}: its {which} {name + suffix} "
                                      f"clashes with the {self._names[name + suffix]} of the "
@@ -181,7 +189,7 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
 
     def output(self, name: str, expr):
         """Declare a quantity to compile into the generated module (``s[name]``)."""
-        self._check_name(name, "output")
+        self._check_name(name, "output", coordinate=True)
         if isinstance(expr, (list, tuple)):
             expr = sp.Matrix(expr)
         if isinstance(expr, sp.MatrixBase):
@@ -189,6 +197,7 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
                              f"(e.g. location(p)[0]), not a {expr.shape[0]}-vector")
         value = self._expr(expr, f"output '{name}'", allow_coordinates=True,
                            allow_derivatives=True)
+        _real(value, f"output '{name}'")
         self._claim(name, "output")
         self.outputs[name] = value
         return value
@@ -217,8 +226,11 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
             raise ModelError(f"{cls.kind}: wrong arguments ({exc})") from None
         coords = set(self.coords)
         for expr, comp in zip(con.exprs, con.components):
+            row = f"its {comp} equation" if comp else "its equation"
+            _real(expr, f"constraint {con.number} {con.label}: {row}",
+                  ": write a vector loop as m.loop(z), which takes its real and imaginary "
+                  "parts, or each part as a constraint")
             if not sp.sympify(expr).free_symbols & coords:
-                row = f"its {comp} equation" if comp else "its equation"
                 raise ModelError(f"constraint {con.number} {con.label}: {row} reads "
                                  f"{expr} = 0 and involves no coordinate: it constrains "
                                  "nothing or cannot hold")
@@ -368,12 +380,21 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
                                      "parameter (points may hold parameters only)")
                 if v.has(sp.zoo, sp.oo, sp.nan):
                     raise ModelError(f"point {k} of body '{body.name}' is not finite")
+                _real(v, f"point {k} of body '{body.name}'")
 
     def _guess_value(self, value, what):
         expr = self._expr(value, what)
         if T in expr.free_symbols:
             raise ModelError(f"{what} may not depend on T")
         return expr
+
+
+def _real(expr, what, hint=""):
+    """A ModelError where ``expr`` holds the imaginary unit: the module computes in real
+    numbers (a complex vector loop goes through m.loop, which takes its two parts)."""
+    if isinstance(expr, sp.Basic) and expr.has(sp.I):
+        raise ModelError(f"{what}: {expr} is complex (it holds I); the module computes in "
+                         f"real numbers{hint}")
 
 
 def _points_of(args):

@@ -118,15 +118,20 @@ def _rows(model):
 def total_derivative(expr, coords, order: int = 1):
     """d^order/dT^order of an expression in q, q̇, (q̈) and T."""
     qd, qdd = derivative_symbols(coords)
-    chain = list(zip(coords, qd)) + list(zip(qd, qdd))
-    third = {s for s in qdd}
+    # each symbol once: where the coordinates come from several models (dt without a
+    # model), one model's coordinate X2d may be another's velocity of X2, and both say
+    # that X2d's rate is X2dd (counted twice, dt(X2d) read 2*X2dd)
+    chain = {}
+    for x, xd in list(zip(coords, qd)) + list(zip(qd, qdd)):
+        chain.setdefault(x, xd)
+    third = {s for s in qdd if s not in chain}
 
     def once(e):
         if any(s in third for s in e.free_symbols):
             raise ModelError("dt: the expression already holds accelerations; "
                              "a third derivative is not available")
         out = sp.diff(e, T)
-        for x, xd in chain:
+        for x, xd in chain.items():
             if x in e.free_symbols:
                 out += sp.diff(e, x) * xd
         return out

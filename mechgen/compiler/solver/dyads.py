@@ -227,7 +227,7 @@ def quadratic_statements(y, form):
                     f"of 2 A {y} + B"),
             Assign(A, qa), Assign(B, qb), Assign(C, qc),
             Code("_disc = _qb * _qb - 4.0 * _qa * _qc"),
-            _watched("_disc / (_qb * _qb + 4.0 * abs(_qa * _qc))", ()),
+            _watched("_disc / max(_qb * _qb + 4.0 * abs(_qa * _qc), TINY)", ()),  # B = AC = 0: 0
             If(Code("_disc < 0.0"),
                (If(Code("_disc < -1e-12 * _qb * _qb"), (Return(GAVE_UP),),
                    tail="  # no assembly here"), Code("_disc = 0.0  # a toggle"))),
@@ -250,16 +250,18 @@ def margin(b):
     assembles, zero where its two solutions meet (a toggle) and negative where it has none,
     and that crosses zero at a simple root of its discriminant (linearly in time): an RRR
     dyad's sin² of the angle between d and w1 (1 − a²/(4 d² r1²)), a trig form's
-    1 − c²/(a² + b²), a quadratic's (B² − 4AC)/(B² + 4|AC|)."""
+    1 − c²/(a² + b²), a quadratic's (B² − 4AC)/(B² + 4|AC|). Each denominator is kept from
+    zero (TINY): a quadratic with B = AC = 0 (x² = 0, a toggle) has the margin 0, not 0/0."""
+    tiny = sp.Float(TINY)
     if b.method == DYAD_RRR:
         cx, cy, u1x, u1y, u2x, u2y = b.form
         r1, r2, dd = u1x ** 2 + u1y ** 2, u2x ** 2 + u2y ** 2, cx ** 2 + cy ** 2
-        return 1 - (r1 - r2 + dd) ** 2 / (4 * dd * r1)
+        return 1 - (r1 - r2 + dd) ** 2 / sp.Max(4 * dd * r1, tiny)
     if b.method == CLOSED_FORM_TRIG:
         ka, kb, kc = b.form
-        return 1 - kc ** 2 / (ka ** 2 + kb ** 2)
+        return 1 - kc ** 2 / sp.Max(ka ** 2 + kb ** 2, tiny)
     qa, qb, qc = b.form
-    return (qb ** 2 - 4 * qa * qc) / (qb ** 2 + 4 * sp.Abs(qa * qc))
+    return (qb ** 2 - 4 * qa * qc) / sp.Max(qb ** 2 + 4 * sp.Abs(qa * qc), tiny)
 
 
 def reach_body(plan, eq):
