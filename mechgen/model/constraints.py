@@ -235,8 +235,12 @@ class Orthogonal(Constraint):
 
 class RelativeAngle(Constraint):
     """Angle from a1 to a2 held at ``angle``. Between body-fixed axes this is the linear
-    form Th2 + α2 − Th1 − α1 − angle (one solution); otherwise
-    (u1 × u2) cos(angle) − (u1 · u2) sin(angle), i.e. |u1||u2| sin(θ − angle)."""
+    form Th2 + α2 − Th1 − α1 − angle (one solution); otherwise θ − angle wrapped to
+    (−π, π], θ the angle from u1 to u2: atan2(|u1||u2| sin(θ − angle), |u1||u2| cos(θ −
+    angle)), whose sine and cosine are (u1 × u2) cos(angle) − (u1 · u2) sin(angle) and
+    (u1 · u2) cos(angle) + (u1 × u2) sin(angle). Its one root is θ = angle: a row
+    |u1||u2| sin(θ − angle) alone also vanishes at angle + π, where a guess nearer that
+    would have been held."""
 
     kind = "relative_angle"
 
@@ -250,7 +254,9 @@ class RelativeAngle(Constraint):
             self.exprs = [(b2.th + al2) - (b1.th + al1) - angle]
         else:
             u1, u2 = a1.u, a2.u
-            self.exprs = [cross2(u1, u2) * sp.cos(angle) - dot2(u1, u2) * sp.sin(angle)]
+            cross, dot = cross2(u1, u2), dot2(u1, u2)
+            c, s = sp.cos(angle), sp.sin(angle)
+            self.exprs = [sp.atan2(cross * c - dot * s, dot * c + cross * s)]
         return f"{a1}, {a2}, {angle}"
 
 

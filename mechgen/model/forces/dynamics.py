@@ -93,8 +93,9 @@ def _distance(points):
 
 def driver_factors(model, eq):
     """(row, ∂Φ/∂f) per row of a driver (a constraint whose rows hold T). A row
-    g(q) − f(T) (rotation_lock, relative_x, relative_y, an axis angle) gives −1: the
-    driven quantity is g, its rate ν. A relative_distance row |r1 − r2|² − d(T)² drives
+    g(q) − f(T) (rotation_lock, relative_x, relative_y, an axis angle, and relative_angle's
+    atan2 row, which is θ(q) − angle near its root) gives −1: the driven quantity is g,
+    its rate ν. A relative_distance row |r1 − r2|² − d(T)² drives
     d = |r1 − r2|: −2|r1 − r2|. A stage row (a Piecewise in T) takes each stage's factor.
     Any other row that does not separate into g(q) + h(T) gets NaN: its effort is not
     defined by this slice."""
@@ -114,6 +115,8 @@ def _factor(row, kind, coords):
     """∂Φ/∂f of one driver row (driver_factors)."""
     if kind == "hold":
         return sp.Integer(-1)               # q − value: the effort is the force along q
+    if kind == "relative_angle":
+        return sp.Integer(-1)               # θ(q) − angle, wrapped (constraints.RelativeAngle)
     if isinstance(row, sp.Piecewise):
         pieces = [(_factor(e, kind, coords), c) for e, c in row.args]
         if all(f == pieces[0][0] for f, _ in pieces):
