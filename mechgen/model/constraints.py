@@ -155,7 +155,8 @@ class RelativeDistance(Constraint):
         p2 = _point(self.model, p2, self.kind, 2)
         d = self.model._expr(d, f"{self.kind}: the distance")
         r = p1.r - p2.r
-        self.exprs = [r[0] ** 2 + r[1] ** 2 - d ** 2]
+        self.squared = r[0] ** 2 + r[1] ** 2     # ‖r(p1) − r(p2)‖²: a driver's factor reads it
+        self.exprs = [self.squared - d ** 2]
         return f"{p1}, {p2}, {d}"
 
 

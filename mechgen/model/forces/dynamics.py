@@ -5,7 +5,8 @@ r_G = (X, Y) + R(Th)·c. With J_P = ∂r_P/∂q the Jacobian of a point:
 
 - applied, non-conservative, Q_a = Σ J_Pᵀ F (forces), + M on the body's Th (moments),
   − c·L̇·∂L/∂q (dampers, L the distance of their points);
-- conservative, Q_c = −∂V/∂q, V = −Σ m g·r_G (gravity) + Σ ½k(L − L0)² (springs);
+- conservative, Q_c = −∂V/∂q, V = −Σ m g·r_G (gravity) + Σ ½k(L − L0)² (springs; a
+  spring whose k or L0 reads the coordinates is an applied force −k(L − L0)·∂L/∂q instead);
 - inertial, I = Σ m J_Gᵀ a_G + J θ̈ on Th, a_G = J_G q̈ + J̇_G q̇ (the centroid offset's
   velocity terms come from J̇_G);
 - kinetic energy ½Σ(m|v_G|² + J θ̇²), potential V.
@@ -42,6 +43,7 @@ def dynamics(model, eq=None) -> Dynamics:
     q = list(eq.q)
     n = len(q)
     index = {c: j for j, c in enumerate(q)}
+    coords = set(q)
     qd, qdd = list(eq.qd), list(eq.qdd)
     applied = sp.zeros(n, 1)
     inertial = sp.zeros(n, 1)
@@ -75,7 +77,13 @@ def dynamics(model, eq=None) -> Dynamics:
                     applied[index[body.th]] += sign * load.value
         elif load.kind == "spring":
             length = _distance(load.points)
-            potential += load.k * (length - load.length) ** 2 / 2
+            if (sp.sympify(load.k).free_symbols | sp.sympify(load.length).free_symbols) & coords:
+                # k or the free length read the coordinates: ½k(L − L0)² is no potential
+                # of the tension k(L − L0) (its gradient would add ½(L − L0)²∂k/∂q and
+                # −k(L − L0)∂L0/∂q), so the tension is an applied force
+                applied -= load.k * (length - load.length) * jac([length]).T
+            else:
+                potential += load.k * (length - load.length) ** 2 / 2
         elif load.kind == "damper":
             length = _distance(load.points)
             rate = total_derivative(length, q, 1)
@@ -95,8 +103,10 @@ def driver_factors(model, eq):
     """(row, ∂Φ/∂f) per row of a driver (a constraint whose rows hold T). A row
     g(q) − f(T) (rotation_lock, relative_x, relative_y, an axis angle, and relative_angle's
     atan2 row, which is θ(q) − angle near its root) gives −1: the driven quantity is g,
-    its rate ν. A relative_distance row |r1 − r2|² − d(T)² drives
-    d = |r1 − r2|: −2|r1 − r2|. A stage row (a Piecewise in T) takes each stage's factor.
+    its rate ν. A relative_distance row |r1 − r2|² − d(T)² drives d = |r1 − r2|:
+    −2|r1 − r2| (from the constraint's own |r1 − r2|², since d(T)² may hold constants:
+    d = sqrt(0.09 + 0.02 sin T) gives the row |r1 − r2|² − 0.09 − 0.02 sin T). A stage
+    row (a Piecewise in T) takes each stage's factor.
     Any other row that does not separate into g(q) + h(T) gets NaN: its effort is not
     defined by this slice."""
     drivers = {c.number: c for c in model.constraints if c.is_driver}
@@ -105,20 +115,22 @@ def driver_factors(model, eq):
     for i, (number, _) in enumerate(eq.rows):
         con = drivers.get(number)
         if con is not None:
-            out.append((i, _factor(sp.sympify(eq.phi[i]), con.kind, coords)))
+            out.append((i, _factor(sp.sympify(eq.phi[i]), con.kind, coords,
+                                   getattr(con, "squared", None))))
         elif getattr(model, "stages", None) and T in sp.sympify(eq.phi[i]).free_symbols:
             out.append((i, _factor(sp.sympify(eq.phi[i]), "stages", coords)))
     return tuple(out)
 
 
-def _factor(row, kind, coords):
-    """∂Φ/∂f of one driver row (driver_factors)."""
+def _factor(row, kind, coords, squared=None):
+    """∂Φ/∂f of one driver row (driver_factors); ``squared``: a relative_distance's
+    |r1 − r2|²."""
     if kind == "hold":
         return sp.Integer(-1)               # q − value: the effort is the force along q
     if kind == "relative_angle":
         return sp.Integer(-1)               # θ(q) − angle, wrapped (constraints.RelativeAngle)
     if isinstance(row, sp.Piecewise):
-        pieces = [(_factor(e, kind, coords), c) for e, c in row.args]
+        pieces = [(_factor(e, kind, coords, squared), c) for e, c in row.args]
         if all(f == pieces[0][0] for f, _ in pieces):
             return pieces[0][0]
         return sp.Piecewise(*pieces)
@@ -127,7 +139,7 @@ def _factor(row, kind, coords):
     if any(a.free_symbols & coords for a in timed) or not timed:
         return sp.nan
     if kind == "relative_distance":
-        return -2 * sp.sqrt(sp.Add(*untimed))
+        return -2 * sp.sqrt(sp.Add(*untimed) if squared is None else squared)
     return sp.Integer(-1)
 
 

@@ -101,19 +101,63 @@ def _reaction(tab, mech, name, on, about, J, lam, q, point_xy):
 
 def _point_xy(mech, q, t):
     """A function giving the global (x, y) of ``about``: a point of the model (the object
-    or its label) or a pair of global coordinates."""
+    or its label: ``crank[2]``, also ``crank[1]`` where the module keeps it as the origin
+    ``crank[0]``, or ``crank.at(x, y)`` at numeric local coordinates) or a pair of global
+    coordinates."""
     def at(about):
         label = getattr(about, "label", about)
         if isinstance(label, str):
-            if label not in mech.point_names:
+            k = _point_index(mech, label)
+            if k is not None:
+                return mech.points_at(q, t)[k]
+            local = _numeric_local(about)
+            if local is None:
                 raise ValueError(f"about={label!r} is not a point of model '{mech.name}' "
-                                 f"(points: {', '.join(mech.point_names)})")
-            return mech.points_at(q, t)[mech.point_names.index(label)]
+                                 f"(points: {', '.join(mech.point_names)}; or give global "
+                                 "(x, y))")
+            return _to_global(mech, q, local)
         xy = np.asarray(about, dtype=float)
         if xy.shape != (2,):
             raise ValueError(f"about= must be a point or (x, y), got {about!r}")
         return xy
     return at
+
+
+def _point_index(mech, label):
+    """The index in mech.point_names of point ``label``: its own, or, for ``body[k]`` that
+    the module merged with another point of its body (a point at the body's origin is kept
+    as ``body[0]``), the one BODY_POINTS gives (k = 0: the origin, k ≥ 1: the k-th point);
+    None where there is none."""
+    if label in mech.point_names:
+        return mech.point_names.index(label)
+    name, bracket, rest = label.partition("[")
+    if not bracket or not rest.endswith("]") or not rest[:-1].isdigit():
+        return None
+    k = int(rest[:-1])
+    for body, origin, points in getattr(mech.module, "BODY_POINTS", ()):
+        if body == name:
+            index = origin if k == 0 else points[k - 1] if k <= len(points) else -1
+            return index if index >= 0 else None
+    return None
+
+
+def _numeric_local(point):
+    """(x, y) of a model point object at local coordinates that are numbers, else None."""
+    try:
+        return float(point.local[0]), float(point.local[1]), point.body
+    except (AttributeError, TypeError, ValueError, IndexError):
+        return None
+
+
+def _to_global(mech, q, local):
+    """Global (x, y) of ``local`` = (x, y, body): local coordinates in the body (the
+    ground's are global)."""
+    x, y, body = local
+    idx = tables(mech).body(getattr(body, "name", body), mech)
+    if idx is None:
+        return np.array([x, y])
+    c, s = np.cos(q[idx[2]]), np.sin(q[idx[2]])
+    return np.array([q[idx[0]] + c * x - s * y, q[idx[1]] + s * x + c * y])
 
 
 class ForceSolution(Solution):

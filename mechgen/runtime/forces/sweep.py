@@ -92,11 +92,12 @@ class ForceSweep(Sweep):
 
     def power(self) -> dict:
         """Power balance at every point: "drivers" (their power input, λ·Φ_t), "loads"
-        (the applied loads', Q_a·q̇), "kinetic" and "potential" (the energies' rates) and
+        (the applied loads', Q_a·q̇, and ∂V/∂t: what changes a spring's length, stiffness
+        or gravity with T puts in), "kinetic" and "potential" (the energies' rates) and
         "residual" = drivers + loads − kinetic − potential."""
         qd = self._velocities()
         drivers = -np.sum(self.LAM * self.NU, axis=1)
-        loads = np.sum(self.TERMS[:, 0] * qd, axis=1)
+        loads = np.sum(self.TERMS[:, 0] * qd, axis=1) + self.ENERGY[:, 2]
         kinetic = np.sum(self.TERMS[:, 2] * qd, axis=1)
         potential = -np.sum(self.TERMS[:, 1] * qd, axis=1) + self.ENERGY[:, 2]
         return {"drivers": drivers, "loads": loads, "kinetic": kinetic,
