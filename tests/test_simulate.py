@@ -293,6 +293,22 @@ def test_a_given_start_is_made_consistent_and_said_so(tmp_path):
         mech.simulate(0.0, 1.0, 11, free=["hold"], qd0=[0.0, 1.0])
 
 
+def test_the_coordinates_a_start_names_are_kept_and_the_others_follow(tmp_path):
+    """q0={"Th2": θ}: the crank starts at θ exactly (the rod and the slider moved onto the
+    constraints around it, the slider where the law of cosines puts it), not at a
+    minimum-norm compromise that moves the crank too."""
+    from test_forces import L, R
+    mech = _compile(motor_slider_crank(), tmp_path).with_params(w=0.0)
+    th = float(mech.guess[mech.coordinates.index("Th2")]) + 0.4
+    with pytest.warns(UserWarning, match="made consistent"):
+        sw = mech.simulate(0.0, 0.01, 2, free=["crank driver"], q0={"Th2": th})
+    assert sw["Th2"][0] == th
+    acting = [k for k, label in enumerate(mech.constraint_labels) if "crank driver" not in label]
+    assert np.abs(_phi(mech, sw.Q[0], 0.0)[acting]).max() < 1e-10
+    x = R * math.cos(th) + math.sqrt(L ** 2 - (R * math.sin(th)) ** 2)
+    assert sw["X4"][0] == pytest.approx(x, abs=1e-10)
+
+
 # -- models with no driver: held at the guess, simulated from it ----------------------------
 def free_pendulum():
     m = Model("sim_free_pendulum")

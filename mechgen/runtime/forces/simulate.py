@@ -126,6 +126,20 @@ class _System:
         qdd, _ = self.accelerations(y[:n], y[n:], t)
         return np.concatenate([y[n:], qdd])
 
+    def _settle(self, q, t, size, cols):
+        """Newton on Φ_C(q) = 0 in place, correcting the columns ``cols`` of q (minimum
+        norm): whether it converged."""
+        for _ in range(PROJECT_MAXIT):
+            r = self.residual(q, t)
+            if not np.all(np.isfinite(r)):
+                raise ConvergenceError(f"simulate: model '{self.mech.name}' at t={t:.9g}: "
+                                       "the constraints are not finite at the state reached",
+                                       t=float(t))
+            if np.max(np.abs(r), initial=0.0) <= PROJECT_TOL * size:
+                return True
+            q[cols] -= np.linalg.lstsq(self.jacobian(q, t)[:, cols], r, rcond=None)[0]
+        return False
+
     def residual(self, q, t):
         self.mod.phi(q, float(t), self.p, self.r)
         return self.r[self.keep]
@@ -134,24 +148,20 @@ class _System:
         self.mod.phi_q(q, float(t), self.p, self.J)
         return self.J[self.keep]
 
-    def project(self, q, qd, t, size):
+    def project(self, q, qd, t, size, held=()):
         """(q, q̇) put back on Φ_C = 0 and Φ_C q̇ = ν_C (minimum-norm corrections); the
-        size of the position correction."""
+        size of the position correction. ``held``: indices of coordinates the corrections
+        leave as they are where the others alone can satisfy Φ_C (those a user named in
+        q0); else every coordinate moves."""
         q, qd = q.copy(), qd.copy()
         start = q.copy()
-        for _ in range(PROJECT_MAXIT):
-            r = self.residual(q, t)
-            if not np.all(np.isfinite(r)):
+        loose = [j for j in range(self.n) if j not in held]
+        if not (held and loose and self._settle(q, t, size, loose)):
+            q[:] = start
+            if not self._settle(q, t, size, slice(None)):
                 raise ConvergenceError(f"simulate: model '{self.mech.name}' at t={t:.9g}: "
-                                       "the constraints are not finite at the state reached",
+                                       "the state could not be put back on the constraints",
                                        t=float(t))
-            if np.max(np.abs(r), initial=0.0) <= PROJECT_TOL * size:
-                break
-            q -= np.linalg.lstsq(self.jacobian(q, t), r, rcond=None)[0]
-        else:
-            raise ConvergenceError(f"simulate: model '{self.mech.name}' at t={t:.9g}: the "
-                                   "state could not be put back on the constraints",
-                                   t=float(t))
         J = self.jacobian(q, t)
         nu = np.empty(self.m)
         self.mod.nu(q, float(t), self.p, nu)
@@ -231,7 +241,9 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
                              f"coordinate: {', '.join(mech.coordinates)})")
     size = 1.0 + float(np.max(np.abs(mech.points_at(q, t_start))))
     qd_in = qd.copy()
-    q, qd, moved = system.project(q, qd, t_start, size)
+    held = [mech.coordinates.index(c) for c in q0 if c in mech.coordinates] \
+        if isinstance(q0, dict) else ()
+    q, qd, moved = system.project(q, qd, t_start, size, held)
     if q0 is not None or qd0 is not None:
         dv = float(np.max(np.abs(qd - qd_in), initial=0.0))
         if moved > 1e-9 * size or dv > 1e-9 * (1.0 + float(np.max(np.abs(qd_in)))):
