@@ -125,3 +125,31 @@ def test_the_power_balance_closes_with_a_spring_whose_length_changes_with_time(t
     v = sw.energy()["potential"]
     rate = (v[2:] - v[:-2]) / (sw.t[2:] - sw.t[:-2])
     assert np.abs(rate - power["potential"][1:-1]).max() < 1e-3 * np.abs(rate).max()
+
+
+def test_a_negative_mass_or_inertia_given_at_run_time_is_refused_naming_the_body(tmp_path):
+    """The build refuses a negative mass in the model's defaults; with_params (and load's
+    params=) refuse one given later, naming the body, where it used to solve silently."""
+    import pytest
+    m = Model("audit_params_mass")
+    mass, inertia = m.param("mass", MASS), m.param("inertia", INERTIA)
+    base = m.ground("base", points=[(0, 0)])
+    arm = m.body("arm", points=[(0, 0), (1, 0)], guess=(0, 0, 0.8), mass=mass,
+                 inertia=inertia, centroid=CENTROID)
+    m.revolute(base[1], arm[1], name="O")
+    m.rotation_lock(arm, 0.8 + T, name="drive")
+    m.gravity(G)
+    mech = _compile(m, tmp_path)
+    with pytest.raises(ValueError, match=r"mass=-3.0: body 'arm' has a negative mass \(-3\)"):
+        mech.with_params(mass=-3.0)
+    # J is the inertia about the centroid: J + m|c|² > 0 still, and it is refused
+    with pytest.raises(ValueError, match=r"body 'arm' has a negative inertia \(-0.05\)"):
+        mech.with_params(inertia=-0.05)
+    with pytest.raises(ValueError, match=r"negative mass"):
+        mechgen.load(mech.module, params={"mass": -1.0})
+    s = mech.with_params(mass=0.0, inertia=0.0).solve(0.1, level="dynamic")
+    assert abs(s.driver("drive")) < 1e-12            # massless: nothing to drive
+    s = mech.with_params(mass=3.0).solve(0.1, level="static")
+    th = 0.9
+    c = _rot(th, CENTROID)
+    assert abs(s.driver("drive") - 3.0 * G * c[0]) < 1e-12

@@ -132,6 +132,12 @@ class Mechanism:
                 known = ", ".join(self._param_index) or "none"
                 raise ValueError(f"model '{self.name}' has no parameter {name!r} (parameters: {known})")
             p[self._param_index[name]] = finite(value, f"parameter {name!r}")
+        if values and module_attr(self.module, "mass_matrix") is not None:
+            from .forces.masses import negative_mass
+            wrong = negative_mass(self, p)
+            if wrong:
+                given = ", ".join(f"{k}={v!r}" for k, v in values.items())
+                raise ValueError(f"model '{self.name}' with {given}: {wrong}")
         return p
 
     def with_params(self, **values) -> "Mechanism":
