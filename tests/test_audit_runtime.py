@@ -1,0 +1,59 @@
+"""Audit of API.md section 4 against closed forms written here: the exact extremes and
+roots of a coarse sweep stay on the sweep's assembly mode.
+
+The four-bar of generated/fourbar.py with a = 1, b = 2, c = 2, d = 2.9999 (a Grashof
+crank-rocker a hair from its change point a + d = b + c), θ = 0.3 + 2πT: near θ = π the
+coupler and the rocker nearly line up and the two assembly modes lie close. The rocker's
+extremes are where crank and coupler line up: B, at c from O4 = (d, 0), is b + a
+(extended) or b − a (folded) from O2 = (0, 0).
+"""
+import math
+import os
+
+import pytest
+
+import mechgen
+
+GENERATED = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                         "generated")
+A, B, C, D, PHASE = 1.0, 2.0, 2.0, 2.9999, 0.3
+
+
+def rocker_extremes():
+    """(t in [0, 1), Th4) of the rocker's two extremes on the guess's mode (B above the
+    ground line at the extended position, below it at the folded one: the mode whose B
+    lies left of the line from the crank pin to O4)."""
+    out = []
+    for r, sign in ((B + A, 1.0), (B - A, -1.0)):
+        x = (r * r - C * C + D * D) / (2 * D)
+        for y in (math.sqrt(r * r - x * x), -math.sqrt(r * r - x * x)):
+            theta = math.atan2(sign * y, sign * x)            # the crank along ±B
+            ax, ay = A * math.cos(theta), A * math.sin(theta)
+            if (D - ax) * (y - ay) - (0.0 - ay) * (x - ax) > 0:    # B left of A -> O4
+                t = ((theta - PHASE) / (2 * math.pi)) % 1.0
+                out.append((t, math.atan2(y, x - D)))
+    return sorted(out)
+
+
+@pytest.fixture(scope="module")
+def near_change_point():
+    mech = mechgen.load(os.path.join(GENERATED, "fourbar.py")).with_params(
+        a=A, b=B, c=C, d=D, theta2=PHASE)
+    ax, ay = A * math.cos(PHASE), A * math.sin(PHASE)
+    q = mech.solve(0.0).q
+    bx, by = D + C * math.cos(q[8]), C * math.sin(q[8])
+    assert (D - ax) * (by - ay) + ay * (bx - ax) > 0      # the guess's mode: B left of A -> O4
+    return mech
+
+
+@pytest.mark.parametrize("n", [5, 7, 11])
+def test_extrema_of_a_coarse_sweep_near_a_toggle_keep_its_mode(near_change_point, n):
+    sw = near_change_point.sweep(0.0, 1.0, n, level="velocity")
+    ev = sw.extrema("Th4").interior
+    expected = rocker_extremes()
+    assert len(ev) == 2
+    for e, (t, th4) in zip(ev, expected):
+        assert e.t == pytest.approx(t, abs=1e-9)
+        assert math.remainder(e.value - th4, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
+    roots = sw.roots("Th4d")
+    assert [r.t for r in roots] == pytest.approx([t for t, _ in expected], abs=1e-9)
