@@ -86,3 +86,19 @@ def test_table_extremes_of_the_quick_return(qr):
         t_ref, x_ref = float(t), float(quick_return(t, L)[6])
     assert ext.tmax[0] == pytest.approx(t_ref, abs=1e-11)
     assert ext.max[0] == pytest.approx(x_ref, abs=1e-12)
+
+
+def test_a_design_through_a_singular_configuration_is_warned_about(near_change_point):
+    """d = 3 puts the four-bar on its change point at θ = π (a + d = b + c): the design's
+    sweep passes a singular configuration, where it may go on in the other mode (it does:
+    its rocker ends 2 rad from the closed form of its starting mode). A single sweep warns;
+    the table warns too, naming the design, besides its status."""
+    import warnings
+    from mechgen.errors import BranchJumpWarning
+    with pytest.warns(BranchJumpWarning, match=r"1 of 2 designs .* d=3\b"):
+        tab = near_change_point.sweep(0.0, 1.0, 9, params={"d": [2.9, 3.0]})
+    assert tab.ok.all() and list(tab.status) == [0, 6]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        near_change_point.sweep(0.0, 1.0, 9, params={"d": [2.9, 2.99]})
+        near_change_point.sweep(0.0, 1.0, 9, params={"d": [2.9, 3.0]}, on_fail="ignore")
