@@ -31,9 +31,9 @@ from ..quantity import Quantity
 
 
 class _Exact:
-    """Exact values of a quantity at any t inside a sweep: a compiled solve warm-started
-    from the nearest sweep point by a Taylor predictor (so it stays on the sweep's branch).
-    ``sw`` holds at least the velocities (Sweep.at_level), for the predictor."""
+    """Exact values of a quantity at any t inside a sweep: the module's careful
+    continuation from the nearest sweep point to t (so it stays on the sweep's assembly
+    mode). ``sw`` holds at least the velocities (Sweep.at_level)."""
 
     def __init__(self, sw, qty):
         self.sw = sw
@@ -48,12 +48,15 @@ class _Exact:
         if sw.simulation is not None:      # motion under forces: integrated again from k
             self.calls += 1
             return _integrated(sw, k, t)
-        h = t - sw.t[k]
-        q0 = sw.Q[k] + h * sw.QD[k]
-        if sw.QDD is not None:
-            q0 = q0 + 0.5 * h * h * sw.QDD[k]
         self.calls += 1
-        return self.mech.solve(t, guess=q0, level=self.level)
+        tk = float(sw.t[k])
+        if t == tk:
+            return self.mech.solve(t, guess=sw.Q[k], level=self.level)
+        # the sweep's careful continuation from point k to t (its step control and branch
+        # tests), not one Newton from a Taylor predictor: near a toggle, where the two
+        # assembly modes lie close, the predictor of a coarse sweep falls into the other
+        # mode, and the extreme found would be that mode's value
+        return self.mech.sweep(tk, t, 2, guess=sw.Q[k], level=self.level)[1]
 
     def __call__(self, t):
         return self.qty.on_solution(self.solution(float(t)))

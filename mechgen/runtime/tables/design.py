@@ -17,8 +17,8 @@ import warnings
 
 import numpy as np
 
-from ...errors import MechgenError
-from ...protocol import LEVEL, LEVELS
+from ...errors import BranchJumpWarning, MechgenError
+from ...protocol import JUMP, LEVEL, LEVELS, THROUGH_SINGULAR
 from ..forces import attach, is_force_level
 from ..forces.lookup import tables
 from ..guards import finite, fits, point_bytes, sweep_times
@@ -415,8 +415,11 @@ def report_failures(table, on_fail, stacklevel=2):
     """Warn about (on_fail="warn") or raise for (on_fail="raise") the designs that could
     not be solved at every time; on_fail="ignore" says nothing. ``stacklevel`` as
     warnings.warn counts it from here (3: the caller of report_failures' caller)."""
+    if on_fail == "ignore":
+        return
+    _report_flagged(table, stacklevel + 1)
     bad = table.failures
-    if not bad or on_fail == "ignore":
+    if not bad:
         return
     first = bad[0]
     where = ", ".join(f"{k}={v:g}" for k, v in first[0].items())
@@ -428,3 +431,23 @@ def report_failures(table, on_fail, stacklevel=2):
         err.table = table
         raise err
     warnings.warn(msg, RuntimeWarning, stacklevel=stacklevel)
+
+
+def _report_flagged(table, stacklevel):
+    """A BranchJumpWarning for the designs solved at every time that were reached by a
+    branch jump or at or through a singular configuration (status JUMP or
+    THROUGH_SINGULAR): their points after it may lie on another assembly mode, as a
+    single sweep's warning says."""
+    status = table._status.reshape(-1)
+    flagged = np.flatnonzero((table.done == len(table.t)) &
+                             np.isin(status, (JUMP, THROUGH_SINGULAR)))
+    if not flagged.size:
+        return
+    first = int(flagged[0])
+    where = ", ".join(f"{k}={v:g}" for k, v in table._values(first).items())
+    warnings.warn(
+        f"{flagged.size} of {len(table)} designs of '{table.mechanism.name}' were solved "
+        f"through a branch jump or a singular configuration (first: {where}, status "
+        f"{int(status[first])}: {status_name(status[first])}): their points after it may "
+        "lie on another assembly mode (tab.status says which designs)",
+        BranchJumpWarning, stacklevel=stacklevel)
