@@ -72,8 +72,10 @@ def _linear_zero(t0, t1, f0, f1):
 
 def _refine(sw, name, k, f0, f1):
     """The time between points k and k + 1 where the contact force (f0 there, f1 at k + 1,
-    of opposite signs) reaches zero: brentq on the force of a solve at each time (its
-    guess interpolated between the points), the linear estimate where a solve fails."""
+    of opposite signs) reaches zero: brentq on the force at each time, its configuration
+    reached by the module's careful continuation from the nearer point (on the sweep's
+    assembly mode: one Newton from a guess between the points may fall into the other one
+    near a toggle), the linear estimate where a solve fails."""
     from scipy.optimize import brentq
     mech, t0, t1 = sw.mechanism, float(sw.t[k]), float(sw.t[k + 1])
     q0, q1 = sw.Q[k], sw.Q[k + 1]
@@ -84,8 +86,9 @@ def _refine(sw, name, k, f0, f1):
             return f0
         if t == t1:
             return f1
-        guess = q0 + (q1 - q0) * (t - t0) / (t1 - t0)
-        return mech.solve(t, guess=guess, level=sw.force_level).contact(name)
+        tn, qn = (t0, q0) if abs(t - t0) <= abs(t - t1) else (t1, q1)
+        q = mech.sweep(tn, t, 2, guess=qn).Q[1]
+        return mech.solve(t, guess=q, level=sw.force_level).contact(name)
 
     try:
         return float(brentq(force, t0, t1, xtol=1e-14 * max(1.0, abs(t0), abs(t1)),
