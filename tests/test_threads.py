@@ -19,7 +19,7 @@ import mechgen
 
 from conftest import GENERATED
 
-TIMES = np.linspace(0.0, 1.0, 200)
+TIMES = np.linspace(0.0, 1.0, 100)
 LEVELS = ("position", "acceleration", "dynamic", "static")
 
 
@@ -52,7 +52,7 @@ def test_threads_sharing_a_mechanism_get_their_own_solves(mech, often):
 
     def work(lev, first):
         try:
-            for _ in range(3):
+            for _ in range(2):
                 for k in range(first, len(TIMES), 2):
                     got = _values(mech.solve(float(TIMES[k]), level=lev))
                     if not _same(got, want[lev][k]):
