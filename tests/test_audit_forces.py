@@ -4,6 +4,7 @@ reaction's moment about a body's first point when that point is its origin or ab
 ``body.at(x, y)`` (Newton–Euler), springs whose stiffness or free length read a coordinate
 or T (the documented tension k·(distance − length), and the power balance)."""
 import numpy as np
+import pytest
 import sympy as sp
 
 import mechgen
@@ -130,7 +131,6 @@ def test_the_power_balance_closes_with_a_spring_whose_length_changes_with_time(t
 def test_a_negative_mass_or_inertia_given_at_run_time_is_refused_naming_the_body(tmp_path):
     """The build refuses a negative mass in the model's defaults; with_params (and load's
     params=) refuse one given later, naming the body, where it used to solve silently."""
-    import pytest
     m = Model("audit_params_mass")
     mass, inertia = m.param("mass", MASS), m.param("inertia", INERTIA)
     base = m.ground("base", points=[(0, 0)])
