@@ -102,3 +102,22 @@ def test_a_design_through_a_singular_configuration_is_warned_about(near_change_p
         warnings.simplefilter("error")
         near_change_point.sweep(0.0, 1.0, 9, params={"d": [2.9, 2.99]})
         near_change_point.sweep(0.0, 1.0, 9, params={"d": [2.9, 3.0]}, on_fail="ignore")
+
+
+def test_optimize_rejects_a_design_solved_through_a_singular_configuration(near_change_point):
+    """mech.optimize's objective never sees a design whose table passed a singular
+    configuration (d = 3: the change point, where the rocker went on in the other mode):
+    it scores +inf and counts as rejected, like a design that cannot be solved."""
+    import numpy as np
+    from mechgen.runtime.tables.synthesis import _Scorer
+    seen = []
+
+    def objective(tab):
+        seen.append(tab.design_params()[:, 0].copy())
+        return np.asarray(tab.reduced("Th4").max, dtype=float).reshape(-1)
+
+    scorer = _Scorer(near_change_point, objective, ["d"],
+                     dict(t0=0.0, t1=1.0, n=9, level="position", reduce=["Th4"]))
+    score = scorer(np.array([[2.9], [3.0]]))
+    assert np.isfinite(score[0]) and score[1] == np.inf
+    assert scorer.rejected == 1 and [list(d) for d in seen] == [[2.9]]

@@ -5,9 +5,11 @@ one-design table in this process (the same numbers as every CPU backend gives).
 
 The objective takes a DesignTable (``tab.extremes``, ``tab.reduced``, ``tab["X4"]``,
 ``tab.design_params()``) and returns one number per design. A design that cannot be
-solved at every time of the table is rejected: the objective never sees it (it gets the
-table of the others, DesignTable.take), and it scores +inf (as does a non-finite score),
-so it can never be chosen.
+solved at every time of the table, or that was solved through a branch jump or a singular
+configuration (status JUMP or THROUGH_SINGULAR: after it, it may move in another assembly
+mode, as a real one may jam or turn over there), is rejected: the objective never sees it
+(it gets the table of the others, DesignTable.take), and it scores +inf (as does a
+non-finite score), so it can never be chosen.
 """
 from __future__ import annotations
 
@@ -16,13 +18,15 @@ import time
 import numpy as np
 
 from ...errors import MechgenError
+from ...protocol import JUMP, THROUGH_SINGULAR
 
 
 class OptimizeResult:
     """What ``mech.optimize`` found: ``params`` (the best design's varied parameters),
     ``x`` (the same, in the order of ``names``), ``fun`` (its objective), ``mechanism``
     (the mechanism with those parameters), ``evaluated`` (designs evaluated, rejected ones
-    included), ``rejected`` (designs that could not be solved at every time),
+    included), ``rejected`` (designs that could not be solved at every time, or passed a
+    singular configuration),
     ``generations`` (of the evolution), ``seconds`` (wall time), ``success`` and
     ``message`` (scipy's, of the evolution and the polish)."""
 
@@ -50,7 +54,7 @@ class _Scorer:
         tab = self.mech.design_sweep(params=params, grid=False, on_fail="ignore",
                                      **(sweep_args or self.sweep_args))
         self.evaluated += len(tab)
-        ok = tab.ok.reshape(-1)
+        ok = tab.ok.reshape(-1) & ~np.isin(tab.status.reshape(-1), (JUMP, THROUGH_SINGULAR))
         self.rejected += int(np.count_nonzero(~ok))
         score = np.full(len(tab), np.inf)
         if ok.any():
