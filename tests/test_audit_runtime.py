@@ -38,7 +38,7 @@ def rocker_extremes():
 
 @pytest.fixture(scope="module")
 def near_change_point():
-    mech = mechgen.load(os.path.join(GENERATED, "fourbar.py")).with_params(
+    mech = mechgen.load(os.path.join(GENERATED, "fourbar.py"), tier="python").with_params(
         a=A, b=B, c=C, d=D, theta2=PHASE)
     ax, ay = A * math.cos(PHASE), A * math.sin(PHASE)
     q = mech.solve(0.0).q
@@ -73,12 +73,13 @@ def test_table_extremes_near_a_toggle_are_exact(near_change_point):
     assert ext.min[0] == pytest.approx(v_min, abs=1e-9)
 
 
-def test_table_extremes_of_the_quick_return(qr):
+def test_table_extremes_of_the_quick_return():
     """A design whose slider's maximum Newton did not reach (it stayed at the grid point,
     2.4e-5 short): the closed form's (tests/closed_forms.py) by mpmath."""
     import mpmath as mp
     from closed_forms import quick_return
     L = 3.5050251256281406
+    qr = mechgen.load(os.path.join(GENERATED, "quick_return.py"), tier="python")
     tab = qr.sweep(0.0, 1.0, 60, params={"longitud": [L]}, level="acceleration")
     ext = tab.extremes("X4")
     with mp.workdps(30):
