@@ -306,7 +306,7 @@ def test_the_command_prints_a_warning_as_one_line_of_its_own(tmp_path):
     """A sweep leaving a dead centre warns; the command says so in its own words, not with
     the line of mechgen's source that raised it."""
     path = write(tmp_path, DEAD_CENTRE.format(guess=0.01))
-    env = dict(os.environ, MECHGEN_CACHE=str(tmp_path / "cache"))
+    env = dict(os.environ, MECHGEN_CACHE=str(tmp_path / "cache"), MECHGEN_TIER="python")
     proc = subprocess.run([sys.executable, "-m", "mechgen.cli", "sweep", path, "--t0", "0",
                            "--t1", "0.1", "-n", "6", "--columns", "Th2"],
                           capture_output=True, text=True, timeout=300, cwd=str(tmp_path), env=env)
