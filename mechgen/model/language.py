@@ -56,6 +56,11 @@ def _is_identifier(name) -> bool:
         unicodedata.normalize("NFKC", name) == name
 
 
+# the names of the derived quantities <name>d, <name>dd, in words
+_DERIVED = {"coordinate": ("velocity", "acceleration"),
+            "output": ("first derivative", "second derivative")}
+
+
 class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
     """A planar mechanism. Every ``Model`` defined at module level of a model file is built."""
 
@@ -92,7 +97,9 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
         self._names[name] = what
         self._equations = None
 
-    def _check_name(self, name: str, what: str, coordinate=False):
+    def _check_name(self, name: str, what: str, derived=False):
+        """``derived``: the name is a coordinate's or an output's, whose own derived names
+        (<name>d, <name>dd) must be free too."""
         if not _is_identifier(name):
             raise ModelError(f"{what} name {name!r} must be an identifier (letters, digits, _; "
                              "not starting with a digit)")
@@ -104,20 +111,16 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
                              f"of the same name")
         # a coordinate's velocity and acceleration are named <name>d and <name>dd, and so
         # are an output's first and second derivatives (s["vd"], a sweep's CSV column)
-        derived = [("coordinate", c.name) for c in self.coords] + \
+        others = [("coordinate", c.name) for c in self.coords] + \
             [("output", o) for o in self.outputs]
-        for kind, other in derived:
-            for suffix, which in (("d", "velocity"), ("dd", "acceleration")):
+        for kind, other in others:
+            for suffix, which in zip(("d", "dd"), _DERIVED[kind]):
                 if name == other + suffix:
-                    if kind == "output":
-                        which = "first" if suffix == "d" else "second"
-                        which += " derivative"
                     raise ModelError(f"{what} name {name!r} clashes with the {which} of "
                                      f"{kind} '{other}'")
-        if coordinate:  # a coordinate or an output: its own derived names
-            pairs = (("d", "velocity"), ("dd", "acceleration")) if what != "output" else \
-                (("d", "first derivative"), ("dd", "second derivative"))
-            for suffix, which in pairs:
+        if derived:
+            kind = "output" if what == "output" else "coordinate"
+            for suffix, which in zip(("d", "dd"), _DERIVED[kind]):
                 if name + suffix in self._names:
                     raise ModelError(f"{what} name {name!r}: its {which} {name + suffix} "
                                      f"clashes with the {self._names[name + suffix]} of the "
@@ -155,7 +158,7 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
         number = 2 + sum(1 for b in self.bodies.values() if not b.is_ground)
         body = Body(self, name, number, _points(points, name), ground=False)
         for sym in body.coordinates:
-            self._check_name(sym.name, f"coordinate of body '{name}'", coordinate=True)
+            self._check_name(sym.name, f"coordinate of body '{name}'", derived=True)
         self._check_local(body)
         if isinstance(guess, (str, bytes)) or isinstance(guess, sp.MatrixBase):
             guess = list(guess) if isinstance(guess, sp.MatrixBase) else guess
@@ -178,7 +181,7 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
 
     def coordinate(self, name: str, guess=0.0) -> sp.Symbol:
         """An extra scalar coordinate (a joint angle of a loop-closure model, say)."""
-        self._check_name(name, "coordinate", coordinate=True)
+        self._check_name(name, "coordinate", derived=True)
         value = self._guess_value(guess, f"coordinate '{name}': guess")
         self._claim(name, "coordinate")
         sym = sp.Symbol(name, real=True)
@@ -189,7 +192,7 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
 
     def output(self, name: str, expr):
         """Declare a quantity to compile into the generated module (``s[name]``)."""
-        self._check_name(name, "output", coordinate=True)
+        self._check_name(name, "output", derived=True)
         if isinstance(expr, (list, tuple)):
             expr = sp.Matrix(expr)
         if isinstance(expr, sp.MatrixBase):

@@ -241,8 +241,7 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
                              f"coordinate: {', '.join(mech.coordinates)})")
     size = 1.0 + float(np.max(np.abs(mech.points_at(q, t_start))))
     qd_in = qd.copy()
-    held = [mech.coordinates.index(c) for c in q0 if c in mech.coordinates] \
-        if isinstance(q0, dict) else ()
+    held = [mech._index[c] for c in q0 if c in mech._index] if isinstance(q0, dict) else ()
     q, qd, moved = system.project(q, qd, t_start, size, held)
     if q0 is not None or qd0 is not None:
         dv = float(np.max(np.abs(qd - qd_in), initial=0.0))
