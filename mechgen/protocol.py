@@ -10,7 +10,8 @@ import hashlib
 import re
 
 MECHGEN_VERSION = "0.1.0"
-FORMAT_VERSION = 3          # the layout of a generated module that this runtime reads
+FORMAT_VERSION = 4          # the layout of a generated module that this runtime reads (4:
+                            # a design table's sweeps start per design, start_designs)
 
 # Derivative levels, in order; a module is built up to one of them.
 LEVELS = ("position", "velocity", "acceleration")
@@ -83,6 +84,9 @@ BRANCH_ATOL = 1e-6          # ... plus this (relative to the size of q) halves t
 BRANCH_HMIN = 2.0 ** -20    # smallest substep, as a fraction of the sweep's own step
 BRANCH_TURN = 0.5           # largest turn of an angle (radians) in one step of a sweep
 BRANCH_NEAR = 1e-4          # a pivot ratio below this: near a singular configuration
+CARRY_HMIN = 2.0 ** -16     # smallest step of carry_params (a design's start carried in
+                            # its parameters), as a fraction of the way, and the most
+CARRY_MAXIT = 12            # Newton iterations of a step (its prediction is close)
 BRANCH_DET_EVERY = 16       # a position sweep's quick path evaluates det Φ_q at least
                             # every this many points (sweep_fast; its CUDA twin: 1)
 
@@ -101,9 +105,9 @@ HEADER_CONSTANTS = (
       "REPORT_JUMP", "REPORT_SIZE")),
     ("Pivot thresholds (rows of Φ_q scaled to 1) and the smallest size counted as non-zero",
      ("PIVOT_RTOL", "SING_RTOL", "TINY")),
-    ("Step control of sweep() and sweep_fast()",
+    ("Step control of sweep(), sweep_fast() and carry_params()",
      ("BRANCH_RATIO", "BRANCH_ATOL", "BRANCH_HMIN", "BRANCH_TURN", "BRANCH_NEAR",
-      "BRANCH_DET_EVERY")),
+      "BRANCH_DET_EVERY", "CARRY_HMIN", "CARRY_MAXIT")),
 )
 
 

@@ -48,6 +48,13 @@ def _cpu_status(tab, nt):
     return design_status(_rows(tab), tab.done, nt)
 
 
+def _starts(mech, tab):
+    """Each design's start as the CPU table's (the guess's mode carried to its
+    parameters: mechgen.runtime.tables.starts; the guess itself where it cannot be)."""
+    from mechgen.runtime.tables.starts import design_starts
+    return design_starts(mech, tab.t, tab.P, None, mech.tol, mech.maxit, 0)[0]
+
+
 def _needs(mech, name):
     from mechgen.runtime.quantity import _lookup
     kind, k, order = _lookup(mech, name)
@@ -63,7 +70,7 @@ def compare(name, span, params, quantities, levels):
     for level in levels:
         lev = ORDER[level]
         tab = _cpu_table(mech, span, params, level)
-        q0 = mech._start(None)
+        q0 = _starts(mech, tab)
         nt = len(tab.t)
         gpu = run_table_cuda(mech, tab.t, tab.P, q0, lev, mech.tol, mech.maxit)
         diff = 0.0
@@ -113,7 +120,7 @@ def full_method(mech, span, params, level):
     """method="full" (no sweep_fast: every design goes to the second kernel) as on the CPU."""
     from mechgen.runtime.gpu.cuda import run_table_cuda
     cpu = _cpu_table(mech, span, params, level, method="full")
-    gpu = run_table_cuda(mech, cpu.t, cpu.P, mech._start(None), level, mech.tol, mech.maxit,
+    gpu = run_table_cuda(mech, cpu.t, cpu.P, _starts(mech, cpu), level, mech.tol, mech.maxit,
                          method="full")
     ok = gpu["second_pass"] == len(cpu) and np.array_equal(gpu["done"], cpu.done) and \
         np.array_equal(gpu["status"], _cpu_status(cpu, len(cpu.t)))

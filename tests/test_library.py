@@ -23,7 +23,7 @@ import pytest
 
 from mechgen import protocol
 from mechgen.compiler import library
-from mechgen.compiler.library import continuation, linalg, solve, toy
+from mechgen.compiler.library import continuation, designs, linalg, solve, toy
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TOL = 1e-10
@@ -272,8 +272,8 @@ def test_sweep_designs_is_a_sweep_per_design():
     N, n = ts.size, toy.N_COORDS
     Q, QD, QDD = np.zeros((2, N, n)), np.zeros((2, N, n)), np.zeros((2, N, n))
     STATUS = np.zeros((2, N, protocol.STATUS_COLUMNS), dtype=np.int16)
-    done = continuation.sweep_designs(ts, GUESS.copy(), P2, 2, TOL, TOL, 50,
-                                      protocol.METHOD_AUTO, Q, QD, QDD, STATUS)
+    done = designs.sweep_designs(ts, np.tile(GUESS, (2, 1)), P2, 2, TOL, TOL, 50,
+                                 protocol.METHOD_AUTO, Q, QD, QDD, STATUS)
     assert list(done) == [N, N]
     for d in range(2):
         for k, t in enumerate(ts):
@@ -433,7 +433,7 @@ def test_library_files_import_only_numerics_the_toy_and_each_other():
                 assert {a.name.split(".")[0] for a in node.names} <= allowed, name
             elif isinstance(node, ast.ImportFrom):
                 if node.level == 1:
-                    assert node.module in ("toy", "linalg", "solve", "continuation"), \
+                    assert node.module in ("toy", "linalg", "solve", "continuation", "designs"), \
                         (name, node.module)
                 else:
                     assert (node.level, node.module) == (3, "protocol") and name == "toy.py" \

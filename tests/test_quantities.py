@@ -353,7 +353,8 @@ def test_dt_through_coordinates_and_time(m):
     with pytest.raises(ModelError, match="order"):
         dt(X2, -1)
     with pytest.raises(ModelError, match="third derivative"):
-        dt(X2dd)
+        dt(X2dd, model=m)       # (without model=, a coordinate named X2d of another test's
+                                # model in this process makes X2dd a velocity)
 
 
 def test_quantities_compile_as_outputs_and_evaluate(m, bodies):

@@ -24,7 +24,7 @@ from ..errors import BranchJumpWarning, SolveError
 from ..protocol import (JUMP, LEVEL, METHOD, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE, STATUS_CODE,
                         STATUS_COLUMNS, THROUGH_SINGULAR)
 from .entry import module_attr, solve_point
-from .sweeping import failure, no_rows
+from .sweeping import failure, no_rows, outside
 
 CELL = 1.0 / 16.0       # time between the configurations kept on the way (a 16th of a
                         # turn of a driver at one turn per unit of time)
@@ -73,12 +73,17 @@ class Path:
 
 def _key(mech, tol, maxit, meth):
     return (mech.p.tobytes(), mech.guess.tobytes(), float(mech.guess_t), tol, mech.xtol,
-            maxit, meth)
+            maxit, meth)      # (guess_p changes only with set_guess, which drops the path)
 
 
-def _context(exc, t, t0):
+def _said(t, what) -> str:
+    """The solve that follows the motion, as its messages name it."""
+    return f"solve(t={t:.10g})" if what is None else f"{what} (t={t:.10g})"
+
+
+def _context(exc, t, t0, what=None):
     """The error of a solve whose way from the guess was blocked, saying so first."""
-    exc.args = (f"solve(t={t:.10g}) follows the motion from the guess, a configuration at "
+    exc.args = (f"{_said(t, what)} follows the motion from the guess, a configuration at "
                 f"t={t0:.10g}, and could not reach t: {exc.args[0] if exc.args else exc}",)
     return exc
 
@@ -91,8 +96,8 @@ def _start(mech, tol, maxit, meth) -> Path:
     if path is not None and path.key == key:
         return path
     t0 = float(mech.guess_t)
-    q = mech.guess.copy()
     info = np.zeros(POINT_INFO_SIZE)
+    q, note = carried(mech, mech.guess, t0, mech.guess_p, tol, maxit, meth, info)
     status = solve_point(mech.module, q, t0, mech.p, tol, mech.xtol, maxit, meth, info)
     if status != 0:
         from .analysis.locks import convergence_error     # an error path: imported when needed
@@ -101,8 +106,46 @@ def _start(mech, tol, maxit, meth) -> Path:
                     f"solve(t) follows the motion (pass guess= to solve from a guess at t, "
                     f"or set_guess() a configuration): {exc.args[0]}",)
         raise exc
+    if note is not None:
+        warnings.warn(note, BranchJumpWarning, stacklevel=outside())
     path = mech._path = Path(key, t0, q)
     return path
+
+
+def carried(mech, guess, t0, p0, tol, maxit, meth, info):
+    """(start vector, note): a start at the mechanism's parameters for ``guess``, a
+    configuration at time t0 with parameters p0. The guess itself where those are the
+    mechanism's; else the guess solved at p0 and carried along its assembly mode to the
+    mechanism's parameters (the module's carry_params). Where that way is blocked (a
+    singular configuration, or parameters on the way at which it does not assemble) the
+    guess itself, and ``note`` says so (a solve from it may land in another mode); where
+    the guess does not assemble at p0, the guess itself: there is no mode to carry."""
+    p, mod = mech.p, mech.module
+    if p0 is p or np.array_equal(p0, p):
+        return guess.copy(), None
+    carry = module_attr(mod, "carry_params")
+    q = guess.copy()
+    if carry is None or solve_point(mod, q, t0, p0, tol, mech.xtol, maxit, meth, info) != 0:
+        return guess.copy(), None
+    status = int(carry(q, t0, p0, p, tol, mech.xtol, maxit, meth, info))
+    if status == 0:
+        return q, None
+    why = "a singular configuration" if status == THROUGH_SINGULAR else \
+        "parameters at which it does not assemble"
+    return guess.copy(), (
+        f"'{mech.name}' with {_changed(mech, p0)}: the assembly mode of the guess (a "
+        f"configuration at t={t0:.10g} for {_changed(mech, p0, p0)}) could not be carried to "
+        f"these parameters ({why} on the way): solved from the guess itself, which may "
+        "reach another assembly mode (set_guess() a configuration of these parameters to "
+        "choose one)")
+
+
+def _changed(mech, p0, values=None) -> str:
+    """The parameters where the mechanism's differ from p0, with the mechanism's values
+    (or those of ``values``)."""
+    values = mech.p if values is None else values
+    return ", ".join(f"{name}={values[k]:.6g}" for k, name in enumerate(mech.parameter_names)
+                     if mech.p[k] != p0[k]) or "its parameters"
 
 
 def _segment(mech, ts, q0, tol, maxit, meth):
@@ -127,7 +170,7 @@ def _segment(mech, ts, q0, tol, maxit, meth):
     return Q, done, S, report
 
 
-def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth):
+def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth, what=None):
     """Solve along ts from q0 (the last known cell, at ts[0]); the rows after the first
     are the next cells when ``sign`` is nonzero. Returns the configuration at ts[-1]."""
     Q, done, S, report = _segment(mech, ts, q0, tol, maxit, meth)
@@ -151,14 +194,14 @@ def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth):
             "configuration there may lie on another assembly mode (mech.singularities "
             "locates singular configurations on the way; guess= solves from a guess at t)")
         exc.t = float(ts[k])
-        raise _context(exc, t, path.t0)
+        raise _context(exc, t, path.t0, what)
     if done < ts.shape[0]:
         exc = failure(mech, ts, done, Q, report, q0)
-        raise _context(exc, t, path.t0)
+        raise _context(exc, t, path.t0, what)
     return Q[-1]
 
 
-def _last_step(mech, path, tc, qc, t, tol, maxit, meth) -> np.ndarray:
+def _last_step(mech, path, tc, qc, t, tol, maxit, meth, what=None) -> np.ndarray:
     """The careful sweep from the cell (tc, qc) to t, in the path's own two-point arrays
     when nothing is in the way (the cost of a solve once the way is known)."""
     mod = mech.module
@@ -172,7 +215,7 @@ def _last_step(mech, path, tc, qc, t, tol, maxit, meth) -> np.ndarray:
                          Q, none, none, S, report)
         if done == 2 and codes[0] == 0 and codes[1] == 0:
             return last.copy()
-    return _extend(mech, path, np.array([tc, t]), qc, 0, t, tol, maxit, meth).copy()
+    return _extend(mech, path, np.array([tc, t]), qc, 0, t, tol, maxit, meth, what).copy()
 
 
 def _step_arrays(n):
@@ -185,11 +228,12 @@ def _step_arrays(n):
             memoryview(S[:, STATUS_CODE]), Q[1])
 
 
-def follow(mech, t, tol, maxit, meth) -> np.ndarray:
+def follow(mech, t, tol, maxit, meth, what=None) -> np.ndarray:
     """The configuration at t on the assembly mode of the guess, reached by continuation
     from the guess's time (see the module docstring): a position that solves Φ to the
     sweep's tolerance, to be polished by the caller's solve at t. Raises the blocked
-    way's error (ConvergenceError, SingularError, SolveError) naming where it stopped."""
+    way's error (ConvergenceError, SingularError, SolveError) naming where it stopped;
+    ``what`` names the caller's solve in it (default "solve(t=...)")."""
     # (a solve's own cost once the way is known: the path's key compared, the last cell
     # before t found and the one short continuation from it; see _start and Path)
     path = getattr(mech, "_path", None)
@@ -207,7 +251,7 @@ def follow(mech, t, tol, maxit, meth) -> np.ndarray:
     m = _floor(far / CELL)                      # the last cell between t0 and t (an int)
     if m > MAX_CELLS:
         raise ValueError(
-            f"solve(t={t:.10g}): t is {far:.6g} from the guess's time t={t0:.10g}, "
+            f"{_said(t, what)}: t is {far:.6g} from the guess's time t={t0:.10g}, "
             f"farther than solve(t) follows the motion ({MAX_CELLS * CELL:.0f}); give a "
             "guess near t (guess=, or set_guess() a configuration at a time near it)")
     tc = t0 + (sign * m) * CELL                 # path.cell_time(sign * m)
@@ -221,18 +265,18 @@ def follow(mech, t, tol, maxit, meth) -> np.ndarray:
         while have < m:
             ks = np.arange(have, min(m, have + chunk) + 1)
             ts = path.t0 + (sign * ks) * CELL
-            _extend(mech, path, ts, path.cell(sign * have), sign, t, tol, maxit, meth)
+            _extend(mech, path, ts, path.cell(sign * have), sign, t, tol, maxit, meth, what)
             have = path.count[sign]
     qc = path.side[sign][m - 1] if m else path.q0   # path.cell(sign * m)
     if tc == t:
         q = qc.copy()
     else:
-        q = _last_step(mech, path, tc, qc, t, tol, maxit, meth)
+        q = _last_step(mech, path, tc, qc, t, tol, maxit, meth, what)
     crossings = path.crossings
     passed = [c for c in crossings if min(t0, t) < c <= max(t0, t)] if crossings else None
     if passed:
         warnings.warn(
-            f"solve(t={t:.10g}) of '{mech.name}': the way from the guess at t={t0:.10g} "
+            f"{_said(t, what)} of '{mech.name}': the way from the guess at t={t0:.10g} "
             f"passes a singular configuration (dead centre, lock or branch point) near "
             f"t={passed[0]:.10g}: there the mechanism may continue in another assembly "
             "mode (mech.singularities locates it)", BranchJumpWarning, stacklevel=3)

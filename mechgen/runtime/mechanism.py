@@ -16,7 +16,7 @@ from math import isfinite as _isfinite
 
 import numpy as np
 
-from ..errors import RedundancyWarning
+from ..errors import MechgenError, RedundancyWarning
 from ..protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, LEVEL, LEVELS,
                         METHOD, OK, POINT_INFO_SIZE, POINT_PIVOT, POINT_RESIDUAL, SING_RTOL,
                         VELOCITY)
@@ -30,6 +30,7 @@ from .guesses import start_vector, turned_home
 from .loading.tiers import Tiers
 from .quantity import symbolic_side
 from .results import Solution, Sweep
+from .sweeping import no_points
 from .sweeping import run as run_sweep
 from .sweeping import times as sweep_times_of
 
@@ -75,6 +76,9 @@ class Mechanism:
             self.p = self._params_array(params)
         self.guess = np.array(module.GUESS, dtype=np.float64)
         self.guess_t = 0.0      # the time the guess is a configuration for (see set_guess)
+        self.guess_p = self.p if not params else \
+            np.array(module.PARAMETER_DEFAULTS, dtype=np.float64)   # and its parameters:
+                                # its mode is carried from them (p itself where they are)
         self._path = None       # solve(t)'s way from the guess (mechgen.runtime.follow)
         self.tol, self.xtol, self.maxit = float(tol), float(xtol), int(maxit)
         method_index(method)
@@ -141,12 +145,17 @@ class Mechanism:
         return p
 
     def with_params(self, **values) -> "Mechanism":
-        """A copy with some parameters changed (``mech.with_params(longitud=1.5)``)."""
+        """A copy with some parameters changed (``mech.with_params(longitud=1.5)``). It
+        keeps the guess and the assembly mode the guess has at the parameters it was given
+        for (the model's own, or those of set_guess): its solves and sweeps start where
+        that mode goes as the parameters move from those to the new ones (the library's
+        carry_params; mechgen.runtime.follow)."""
         other = Mechanism(self._tiers, tol=self.tol, xtol=self.xtol, maxit=self.maxit,
                           method=self.method)
         other.p = self._params_array(values)
         other.model, other.symbolic = self.model, self.symbolic
         other.guess, other.guess_t = self.guess.copy(), self.guess_t
+        other.guess_p = self.guess_p
         return other
 
     # -- guesses ----------------------------------------------------------------------
@@ -158,11 +167,17 @@ class Mechanism:
         """Mech's SetGuess[]: the start of later solves becomes ``guess`` (a dict of
         coordinates, an array or a Solution), or the model's own guess when None. The
         guess is a configuration at time ``t``: a Solution's own time, else 0 (the
-        model's guess is one at t = 0); solve(t) follows the motion from there."""
+        model's guess is one at t = 0); solve(t) follows the motion from there. Its
+        parameters are this mechanism's (the model's own for its own guess): a mechanism
+        with others (with_params) carries its assembly mode to them."""
         if guess is not None:
             self.guess = start_vector(self, guess)
+            self.guess_p = self.p       # (p is never changed in place: shared, not copied)
         else:
             self.guess = np.array(self.module.GUESS, dtype=np.float64)
+            own = np.array(self.module.PARAMETER_DEFAULTS, dtype=np.float64)
+            self.guess_p = self.p if own.tobytes() == self.p.tobytes() else own
+        self._path = None       # (a path is kept per guess, and guess_p is not in its key)
         if t is not None:
             self.guess_t = finite(t, "t")
         else:
@@ -418,8 +433,20 @@ class Mechanism:
             ts = sweep_times(t0, t1, n, times, each=point_bytes(self.n, lev))
         tol = self.tol if tol is None else positive_tol(tol)
         maxit = self.maxit if maxit is None else positive_count(maxit, "maxit")
-        q0 = self.guess.copy() if guess is None else start_vector(self, guess)
         self._tiers.expect(self, ts.shape[0])
+        if guess is None and ts[0] == self.guess_t and (self.guess_p is self.p or
+                                                         self.p.tobytes() ==
+                                                         self.guess_p.tobytes()):
+            q0 = self.guess.copy()      # the guess where it was given: Newton from it
+        elif guess is None:     # where solve(ts[0]) is: the guess's mode followed there
+            with self._lock:    # (the way is kept on the mechanism, as solve's)
+                try:
+                    q0 = follow(self, float(ts[0]), tol, maxit, meth, what="the sweep's start")
+                except MechgenError as exc:
+                    exc.sweep = no_points(self, ts, lev)    # (a sweep's error carries one)
+                    raise
+        else:
+            q0 = start_vector(self, guess)
         return run_sweep(self, ts, q0, lev, tol, maxit, meth, out, shared, forces)
 
     def simulate(self, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
@@ -448,8 +475,12 @@ class Mechanism:
         (``params={"longitud": [1.5, 2.25, 3.0]}``; a number fixes a parameter), the loop
         over designs compiled; arrays come back indexed by parameter(s) and time. Each
         design starts from the same guess, as Mech's Table[SetGuess[]; SolveMech[{t0, t1},
-        n], {param, ...}] does, and is swept on its own: the numbers do not depend on the
-        backend or the count of workers (mechgen.runtime.tables.design, .backends).
+        n], {param, ...}] does, in the assembly mode the guess has where it was given (the
+        guess's parameters and time; ``guess=``: the table's first time and this
+        mechanism's parameters), carried to its own parameters (mechgen.runtime.tables.
+        starts: a design it cannot be carried to is flagged), and is swept on its own: the
+        numbers do not depend on the backend or the count of workers
+        (mechgen.runtime.tables.design, .backends).
 
         backend: "cpu" (this machine's cores; ``workers=k`` uses k threads, 1 runs in this
         thread, None every core), "dask" (chunks of designs over the dask.distributed

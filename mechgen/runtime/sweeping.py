@@ -92,6 +92,15 @@ def _block(mech, size) -> np.ndarray:
     return block
 
 
+def no_points(mech, ts, lev) -> Sweep:
+    """The sweep of a failed one's error that solved no point (its times none of ts)."""
+    n = mech.n
+    none = np.empty((0, n))
+    return Sweep(mech, ts[:0].copy(), none, none if lev >= _VEL else None,
+                 none if lev >= _ACC else None, np.zeros((0, STATUS_COLUMNS), dtype=np.int16),
+                 np.zeros(REPORT_SIZE))
+
+
 def fresh_arrays(ts, n, lev, shared, mech=None):
     """(ts, Q, QD, QDD, STATUS) of a sweep at level ``lev``: views of one new block of
     memory (the times copied into it when ``shared``). One block rather than five
@@ -279,7 +288,7 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False, forces=None
 _PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def _outside() -> int:
+def outside() -> int:
     """The stacklevel, seen from its caller, of the first frame outside mechgen: a
     warning then names the user's line, whichever way into the sweep it came."""
     frame, level = sys._getframe(1), 1
@@ -292,7 +301,7 @@ def _flag(mech, sw, report):
     """sw.jumps, sw.crossings and a BranchJumpWarning for each kind."""
     status = sw._status[:, STATUS_CODE]
     jumped, crossed = status == JUMP, status == THROUGH_SINGULAR
-    level = _outside()
+    level = outside()
     sw.jumps, sw.crossings = sw.t[jumped], sw.t[crossed]
     if np.any(jumped):
         k = int(np.argmax(jumped))

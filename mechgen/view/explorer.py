@@ -230,5 +230,6 @@ def _compiled(mech):
     other = load(path, tier="compiled")
     other.p = mech.p.copy()
     other.model, other.symbolic = mech.model, mech.symbolic
-    other.guess, other.guess_t = mech.guess.copy(), mech.guess_t
+    other.guess, other.guess_t, other.guess_p = mech.guess.copy(), mech.guess_t, \
+        mech.guess_p.copy()
     return other

@@ -2,7 +2,8 @@
 
 linalg.py (elimination, rank-revealing solve, determinant), solve.py (Newton, velocity and
 acceleration solves, the solve entry points), continuation.py (the sweep, evaluation
-along a sweep, a sweep per design) and, for a model with mass or loads, forces.py (the
+along a sweep), designs.py (each design's start: the guess carried to its parameters; a
+sweep per design) and, for a model with mass or loads, forces.py (the
 multipliers block by block, forward dynamics and its integrator, the loops over points
 and designs) each have a head that imports what the code needs to
 run on its own, the marker line MARKER, and the body below it: the renderer copies the
@@ -20,7 +21,8 @@ from __future__ import annotations
 import os
 
 MARKER = "# -- module body: below this line, the text as a generated module holds it --"
-FILES = ("linalg.py", "solve.py", "continuation.py")    # their order in a generated module
+# their order in a generated module
+FILES = ("linalg.py", "solve.py", "continuation.py", "designs.py")
 FORCE_FILES = ("forces.py",)    # after those, in a module built with mass or loads
 
 _HERE = os.path.dirname(os.path.abspath(__file__))

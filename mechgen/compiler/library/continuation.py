@@ -1,6 +1,6 @@
 """The continuation sweep (a whole time series along one assembly mode, with step control
 that halves its way past hard stretches and reports jumps and singular crossings), the
-evaluation of points and outputs along a sweep, and a sweep per design.
+evaluation of points and outputs along a sweep (a sweep per design: designs.py).
 
 Everything below the marker line goes verbatim into every generated module; the imports
 above it stand for what a generated module defines (the toy model's here).
@@ -17,12 +17,33 @@ from .toy import (ACCELERATION, BRANCH_ATOL, BRANCH_HMIN, BRANCH_NEAR, BRANCH_RA
                   REPORT_SIZE, REPORT_STATUS, SORTED, STATUS_CODE, STATUS_ITERATIONS,
                   STATUS_MAX, STATUS_SUBSTEPS, THROUGH_SINGULAR, TINY, VELOCITY, REACH,
                   derivatives_sorted, jacobian_det, outputs, outputs_d, outputs_dd, phi,
-                  points, reach, sweep_fast, njit)
+                  points, reach, njit)
 
 # -- module body: below this line, the text as a generated module holds it --
 # ---------------------------------------------------------------------------------------
 # Sweeps
 # ---------------------------------------------------------------------------------------
+@njit(cache=True)
+def angle_mask(q0, t, p):
+    """The angles of q0: the coordinates that Φ does not see turned by a full turn (at
+    time t, parameters p)."""
+    n = N_COORDS
+    angle = np.zeros(n, dtype=np.bool_)
+    q = q0.copy()
+    r0 = np.empty(N_EQS)
+    r1 = np.empty(N_EQS)
+    phi(q0, t, p, r0)
+    for j in range(n):
+        q[j] += 2.0 * math.pi
+        phi(q, t, p, r1)
+        q[j] = q0[j]
+        angle[j] = True
+        for i in range(N_EQS):
+            if not abs(r1[i] - r0[i]) <= 1e-9 * (1.0 + abs(r0[i])):
+                angle[j] = False
+    return angle
+
+
 @njit(cache=True, error_model="numpy")
 def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT):
     """Solve at every time of ts by continuation along the assembly mode of the first point.
@@ -92,19 +113,7 @@ def sweep(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, REPORT
     mslope = np.nan             # of time from tb to ta (NaN: not known)
     mc = 1.0
     # the angles: coordinates Φ does not see turned by a full turn
-    angle = np.zeros(n, dtype=np.bool_)
-    if ts.shape[0] > 1:
-        r0 = np.empty(N_EQS)
-        r1 = np.empty(N_EQS)
-        phi(q0, ts[0], p, r0)
-        for j in range(n):
-            q[j] += 2.0 * math.pi
-            phi(q, ts[0], p, r1)
-            q[j] = q0[j]
-            angle[j] = True
-            for i in range(N_EQS):
-                if not abs(r1[i] - r0[i]) <= 1e-9 * (1.0 + abs(r0[i])):
-                    angle[j] = False
+    angle = angle_mask(q0, ts[0], p) if ts.shape[0] > 1 else np.zeros(n, dtype=np.bool_)
     for k in range(ts.shape[0]):
         target = ts[k]
         h = target - ta
@@ -404,37 +413,3 @@ def eval_outputs(Q, QD, QDD, ts, p, order, OUT):
             outputs_d(Q[k], QD[k], QDD[k], ts[k], p, OUT[k])
         else:
             outputs_dd(Q[k], QD[k], QDD[k], ts[k], p, OUT[k])
-
-
-@njit(cache=True, nogil=True)
-def sweep_designs(ts, q0, P, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS):
-    """sweep() for every design: row d of P is a parameter vector, and Q[d], QD[d], QDD[d],
-    STATUS[d] receive its sweep (as sweep() fills them: QD and QDD may have no rows below
-    the levels that need them). Every design starts from q0 (Mech's Table[SetGuess[];
-    SolveMech[...], {param, ...}]). Each design goes as a single sweep does in mechgen:
-    sweep_fast() while nothing is hard, then sweep() from its last accepted point.
-    Returns the count of solved times of each design. It releases the GIL (nogil): the
-    runtime runs chunks of designs on several threads at once, each design on its own."""
-    done = np.zeros(P.shape[0], dtype=np.int64)
-    report = np.zeros(REPORT_SIZE)
-    for d in range(P.shape[0]):
-        start = 0
-        if SORTED and LEVEL >= 2 and method != METHOD_FULL:
-            start = sweep_fast(ts, q0, P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d], STATUS[d])
-        done[d] = sweep_on(ts, q0, P[d], level, tol, xtol, maxit, method, Q[d], QD[d], QDD[d],
-                           STATUS[d], start, report)
-    return done
-
-
-@njit(cache=True, nogil=True)
-def sweep_on(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, start, report):
-    """One design after its quick path accepted ``start`` points: sweep() from the last of
-    them (from q0 where there is none) over the rest; the count of solved times."""
-    if start == ts.shape[0]:
-        return start
-    start = max(start - 1, 0)
-    q_start = q0
-    if start > 0:
-        q_start = Q[start].copy()
-    return start + sweep(ts[start:], q_start, p, level, tol, xtol, maxit, method, Q[start:],
-                         QD[start:], QDD[start:], STATUS[start:], report)

@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from .continuation import sweep_on
+from .designs import sweep_on
 from .linalg import _fp_solve
 from .solve import pivot_ratio
 from .toy import (FORCE_BLOCK_COLS, FORCE_BLOCK_ROWS, FORCE_BLOCK_START, FORCE_POINT,
@@ -517,7 +517,7 @@ def force_rows_designs(ts, Q, QD, QDD, P, done, FACTORS, PIV, LAM):
 
 
 @njit(cache=True, nogil=True)
-def sweep_designs_forces(ts, q0, P, method, tol, xtol, maxit, Q, QD, QDD, STATUS, FACTORS,
+def sweep_designs_forces(ts, Q0, P, method, tol, xtol, maxit, Q, QD, QDD, STATUS, FACTORS,
                          PIV, LAM):
     """sweep_designs at level acceleration with the multipliers of a dynamic table: each
     design's quick path solves them on its way (sweep_fast_forces), the careful rest of
@@ -532,9 +532,9 @@ def sweep_designs_forces(ts, q0, P, method, tol, xtol, maxit, Q, QD, QDD, STATUS
     _nu = np.empty((0, LAM.shape[2]))
     _energy = np.empty((0, 3))
     for d in range(P.shape[0]):
-        fast = sweep_fast_forces(ts, q0, P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d],
+        fast = sweep_fast_forces(ts, Q0[d], P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d],
                                  STATUS[d], LAM[d], FACTORS[d], PIV[d])
-        k = sweep_on(ts, q0, P[d], 2, tol, xtol, maxit, method, Q[d], QD[d], QDD[d], STATUS[d],
+        k = sweep_on(ts, Q0[d], P[d], 2, tol, xtol, maxit, method, Q[d], QD[d], QDD[d], STATUS[d],
                      fast, report)
         done[d] = k
         start = max(fast - 1, 0)            # where sweep() went on (its points: not yet)
@@ -546,7 +546,7 @@ def sweep_designs_forces(ts, q0, P, method, tol, xtol, maxit, Q, QD, QDD, STATUS
 
 
 @njit(cache=True, nogil=True)
-def sweep_designs_statics(ts, q0, P, method, tol, xtol, maxit, Q, STATUS, FACTORS, PIV, LAM):
+def sweep_designs_statics(ts, Q0, P, method, tol, xtol, maxit, Q, STATUS, FACTORS, PIV, LAM):
     """sweep_designs at level position with the multipliers of a static table: each
     design's quick path solves them on its way (sweep_fast_statics), the careful rest of
     it by force_rows (q̇ = q̈ = 0) after sweep(); rows as sweep_designs_forces'. Only for
@@ -561,9 +561,9 @@ def sweep_designs_statics(ts, q0, P, method, tol, xtol, maxit, Q, STATUS, FACTOR
     _nu = np.empty((0, LAM.shape[2]))
     _energy = np.empty((0, 3))
     for d in range(P.shape[0]):
-        fast = sweep_fast_statics(ts, q0, P[d], tol, xtol, maxit, Q[d], _none, _none,
+        fast = sweep_fast_statics(ts, Q0[d], P[d], tol, xtol, maxit, Q[d], _none, _none,
                                   STATUS[d], LAM[d], FACTORS[d], PIV[d])
-        k = sweep_on(ts, q0, P[d], 0, tol, xtol, maxit, method, Q[d], _none, _none,
+        k = sweep_on(ts, Q0[d], P[d], 0, tol, xtol, maxit, method, Q[d], _none, _none,
                      STATUS[d], fast, report)
         done[d] = k
         start = max(fast - 1, 0)            # where sweep() went on (its points: not yet)

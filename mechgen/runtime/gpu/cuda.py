@@ -174,9 +174,10 @@ def flat_slots(mech, slots, lev):
 
 
 def table_inputs(mech, ts, P, q0):
-    """(ts, P, q0) as a kernel takes them (contiguous float64), or a MechgenError that
+    """(ts, P, Q0) as a kernel takes them (contiguous float64), or a MechgenError that
     says which is not: ts a non-empty 1-D array of times, P designs × parameters, q0 the
-    coordinates, all finite."""
+    coordinates (every design's start) or designs × coordinates (each design's: Q0), all
+    finite."""
     ts = np.ascontiguousarray(ts, dtype=np.float64)
     P = np.ascontiguousarray(np.atleast_2d(P), dtype=np.float64)
     q0 = np.ascontiguousarray(q0, dtype=np.float64)
@@ -185,8 +186,11 @@ def table_inputs(mech, ts, P, q0):
     if P.ndim != 2 or P.shape[1] != len(mech.parameter_names) or P.shape[0] == 0:
         raise MechgenError(f"P: give an array of designs × {len(mech.parameter_names)} "
                            f"parameters ({', '.join(mech.parameter_names)}), got {P.shape}")
-    if q0.shape != (len(mech.coordinates),):
-        raise MechgenError(f"q0: give {len(mech.coordinates)} coordinates, got {q0.shape}")
+    n = len(mech.coordinates)
+    if q0.shape == (n,):
+        q0 = np.ascontiguousarray(np.broadcast_to(q0, (P.shape[0], n)))
+    if q0.shape != (P.shape[0], n):
+        raise MechgenError(f"q0: give {n} coordinates, or designs × {n}, got {q0.shape}")
     if not (np.all(np.isfinite(P)) and np.all(np.isfinite(ts)) and np.all(np.isfinite(q0))):
         raise MechgenError("ts, P and q0 must be finite")
     return ts, P, q0
@@ -196,7 +200,8 @@ def run_table_cuda(mech, ts, P, q0, lev, tol, maxit, slots=None, method=None, th
                    max_registers=None) -> dict:
     """A design table on the GPU: row d of ``P`` (designs × parameters) swept over ``ts``
     from ``q0`` at level ``lev`` (0, 1, 2 or a name), one CUDA thread per design, as the
-    module's sweep_designs() sweeps it on the CPU.
+    module's sweep_designs() sweeps it on the CPU (``q0``: every design's start, or designs ×
+    coordinates, each design's).
 
     Two kernels run: the first sweeps every design with sweep_fast(), the second, only
     where the first stopped early, goes on with sweep() (sweep_designs' two steps; the
@@ -217,8 +222,8 @@ def run_table_cuda(mech, ts, P, q0, lev, tol, maxit, slots=None, method=None, th
     cuda = require_cuda()
     lev = mech._level(LEVELS[_level_of(lev)])
     meth = mech._method(method)
-    ts, P, q0 = table_inputs(mech, ts, P, q0)
-    D, N, n = P.shape[0], ts.shape[0], q0.shape[0]
+    ts, P, Q0 = table_inputs(mech, ts, P, q0)
+    D, N, n = P.shape[0], ts.shape[0], Q0.shape[1]
     reducing = slots is not None
     if reducing:
         flat, nord = flat_slots(mech, slots, lev)
@@ -228,7 +233,7 @@ def run_table_cuda(mech, ts, P, q0, lev, tol, maxit, slots=None, method=None, th
     nsl = flat.size if reducing else 0
     ns = twin(numba_module(mech), max_registers)
     tpb = threads or (SIM_THREADS if simulated() else THREADS)
-    d_ts, d_q0, d_P, d_sl = (cuda.to_device(a) for a in (ts, q0, P, flat))
+    d_ts, d_Q0, d_P, d_sl = (cuda.to_device(a) for a in (ts, Q0, P, flat))
     d_R = cuda.to_device(np.full((D, 4, max(nsl, 1)), np.nan))
     d_done = cuda.to_device(np.zeros(D, dtype=np.int64))
     d_status = cuda.to_device(np.zeros(D, dtype=np.int64))
@@ -246,7 +251,7 @@ def run_table_cuda(mech, ts, P, q0, lev, tol, maxit, slots=None, method=None, th
             (cuda.to_device(np.zeros((D, N, STATUS_COLUMNS), dtype=np.int16)),)
         kind = "table"
     # first pass: sweep_fast() for every design (a small kernel, no careful sweep in it)
-    ns["_cu_fast_" + kind][-(-D // tpb), tpb](d_ts, d_q0, d_P, meth, *common, *arrays, *tail)
+    ns["_cu_fast_" + kind][-(-D // tpb), tpb](d_ts, d_Q0, d_P, meth, *common, *arrays, *tail)
     done = d_done.copy_to_host()
     pending = np.nonzero(done < 0)[0]
     if pending.size:

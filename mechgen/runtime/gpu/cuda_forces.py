@@ -98,7 +98,7 @@ def _cu_point_forces(k, ts, Q, QD, QDD, S, LAM, FAC, FPIV, p, ctx):
 
 # The reducing kernel, once per fused sweep it runs (the names replaced)
 KERNEL_SOURCE = '''
-def _cu_forces_reduce(ts, q0, P, tol, xtol, maxit, SL, nsl, nord, DRV, R, DONE, DSTATUS):
+def _cu_forces_reduce(ts, Q0, P, tol, xtol, maxit, SL, nsl, nord, DRV, R, DONE, DSTATUS):
     \"\"\"One thread per design: sweep_fast_forces() over every time, one thread-local
     row of each array, the reductions R[design] = (min, max, tmin, tmax) of the slots SL.
     DONE[d]: the count of times, or -1 where the host must solve the design (the quick
@@ -122,7 +122,7 @@ def _cu_forces_reduce(ts, q0, P, tol, xtol, maxit, SL, nsl, nord, DRV, R, DONE, 
         FAC[0, j] = 0.0
     FPIV[0] = 0.0
     ctx = (SL, nsl, R[d], F, OUT, nord, 0, DRV)
-    n = sweep_fast_forces(ts, q0, P[d], tol, xtol, maxit, Q, QD, QDD, S, LAM, FAC, FPIV, ctx)
+    n = sweep_fast_forces(ts, Q0[d], P[d], tol, xtol, maxit, Q, QD, QDD, S, LAM, FAC, FPIV, ctx)
     if n == ts.shape[0]:
         _cu_point_forces(n - 1, ts, Q, QD, QDD, S, LAM, FAC, FPIV, P[d], ctx)
     if n == ts.shape[0] and F[2] == 0:
@@ -203,7 +203,7 @@ def run_forces_cuda(mech, ts, P, q0, tol, xtol, maxit, slots, threads=None,
     (the indices of the designs left to the host), ``slots`` and their ``names``. No
     point comes back: only these per-design arrays."""
     cuda = require_cuda()
-    ts, P, q0 = table_inputs(mech, ts, P, q0)
+    ts, P, Q0 = table_inputs(mech, ts, P, q0)
     flat, nord, DRV, names = device_slots(mech, slots)
     ns = twin(numba_module(mech), max_registers)
     D, nsl = P.shape[0], flat.size
@@ -211,7 +211,7 @@ def run_forces_cuda(mech, ts, P, q0, tol, xtol, maxit, slots, threads=None,
     d_R = cuda.to_device(np.full((D, 4, nsl), np.nan))
     d_done = cuda.to_device(np.zeros(D, dtype=np.int64))
     d_status = cuda.to_device(np.zeros(D, dtype=np.int64))
-    ns[KERNELS[level][1]][-(-D // tpb), tpb](cuda.to_device(ts), cuda.to_device(q0), cuda.to_device(P),
+    ns[KERNELS[level][1]][-(-D // tpb), tpb](cuda.to_device(ts), cuda.to_device(Q0), cuda.to_device(P),
                                   float(tol), float(xtol), int(maxit), cuda.to_device(flat),
                                   nsl, nord, cuda.to_device(DRV), d_R, d_done, d_status)
     done = d_done.copy_to_host()

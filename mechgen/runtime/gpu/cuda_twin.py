@@ -214,7 +214,7 @@ def _cu_row(Q, QD, QDD, S):
         S[0, j] = 0
 
 
-def _cu_fast_table(ts, q0, P, method, tol, xtol, maxit, SL, nsl, nord, Q, QD, QDD, S, R,
+def _cu_fast_table(ts, Q0, P, method, tol, xtol, maxit, SL, nsl, nord, Q, QD, QDD, S, R,
                    QS, FL, DONE, DSTATUS):
     \"\"\"First pass, one thread per design, every point kept (Q, QD, QDD, S: design, time,
     column; QD and QDD may have no rows below the levels that need them).\"\"\"
@@ -224,11 +224,11 @@ def _cu_fast_table(ts, q0, P, method, tol, xtol, maxit, SL, nsl, nord, Q, QD, QD
     F = _cu_flags(cuda.local.array(3, _cu_i8))
     OUT = cuda.local.array((3, _CU_NOUT), _cu_f8)
     ctx = (SL, nsl, R[d], F, OUT, nord, -1)
-    _cu_fast(d, ts, q0, P[d], method, tol, xtol, maxit, Q[d], QD[d], QDD[d], S[d], ctx,
+    _cu_fast(d, ts, Q0[d], P[d], method, tol, xtol, maxit, Q[d], QD[d], QDD[d], S[d], ctx,
              QS, FL, DONE, DSTATUS)
 
 
-def _cu_fast_reduce(ts, q0, P, method, tol, xtol, maxit, SL, nsl, nord, R, QS, FL, DONE,
+def _cu_fast_reduce(ts, Q0, P, method, tol, xtol, maxit, SL, nsl, nord, R, QS, FL, DONE,
                     DSTATUS):
     \"\"\"First pass, one thread per design, only the last point kept (a thread-local row);
     the reductions R[design] = (min, max, tmin, tmax) of the slots SL.\"\"\"
@@ -243,7 +243,7 @@ def _cu_fast_reduce(ts, q0, P, method, tol, xtol, maxit, SL, nsl, nord, R, QS, F
     S = cuda.local.array((1, _CU_SCOLS), _cu_i2)
     _cu_row(Q, QD, QDD, S)
     ctx = (SL, nsl, R[d], F, OUT, nord, 0)
-    _cu_fast(d, ts, q0, P[d], method, tol, xtol, maxit, Q, QD, QDD, S, ctx,
+    _cu_fast(d, ts, Q0[d], P[d], method, tol, xtol, maxit, Q, QD, QDD, S, ctx,
              QS, FL, DONE, DSTATUS)
 
 

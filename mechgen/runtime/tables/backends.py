@@ -43,11 +43,12 @@ def check_workers(workers):
     return int(workers)
 
 
-def run_cpu(module, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=None,
+def run_cpu(module, ts, Q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=None,
             progress=None) -> TableData:
     """The table on this machine's cores: chunks of designs on ``workers`` threads (None:
-    every core; 1: in this thread, one chunk after the other)."""
-    D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
+    every core; 1: in this thread, one chunk after the other); Q0: each design's start
+    (tables.starts)."""
+    D, N, nq = P.shape[0], ts.shape[0], Q0.shape[1]
     if getattr(module, "__mechgen_tier__", "compiled") == "python":
         workers = 1         # the plain-Python tier holds the GIL: threads gain nothing
     workers = cpu_count() if workers is None else workers
@@ -61,14 +62,14 @@ def run_cpu(module, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None, slots=
         Q, QD, QDD, INFO = out.arrays       # derivative arrays above its level)
 
         def job(a, b):
-            out.done[a:b] = sweep_chunk(module, ts, q0, P[a:b], lev, tol, xtol, maxit, meth,
+            out.done[a:b] = sweep_chunk(module, ts, Q0[a:b], P[a:b], lev, tol, xtol, maxit, meth,
                                         Q[a:b], None if QD is None else QD[a:b],
                                         None if QDD is None else QDD[a:b], INFO[a:b])
             out.status[a:b] = design_status(INFO[a:b], out.done[a:b], N)
     else:
         def job(a, b):
             scratch = local.__dict__
-            out.put(a, b, solve_chunk(module, ts, q0, P[a:b], lev, tol, xtol, maxit, meth,
+            out.put(a, b, solve_chunk(module, ts, Q0[a:b], P[a:b], lev, tol, xtol, maxit, meth,
                                       slots, scratch))
     total = 0
     if workers == 1 or len(spans) == 1:
@@ -105,7 +106,7 @@ def cuda_keeps_points(mech, slots, lev, meth) -> bool:
     return gpu_force_level(mech, slots, lev, meth) is None
 
 
-def run_cuda(mech, ts, q0, P, lev, tol, maxit, slots, xtol=None, meth=None,
+def run_cuda(mech, ts, Q0, P, lev, tol, maxit, slots, xtol=None, meth=None,
              workers=None) -> TableData:
     """The table as a generated GPU kernel (mechgen.runtime.gpu.cuda.run_table_cuda); a
     driver's effort reduced on the GPU where it can (mechgen.runtime.gpu.cuda_forces), the
@@ -118,18 +119,18 @@ def run_cuda(mech, ts, q0, P, lev, tol, maxit, slots, xtol=None, meth=None,
     if slots is not None and np.any(slots[:, 0] == DRIVER) and \
             not cuda_keeps_points(mech, slots, lev, meth):
         from ..gpu.cuda_forces import run_forces_cuda
-        res = run_forces_cuda(mech, ts, P, q0, tol, mech.xtol if xtol is None else xtol,
+        res = run_forces_cuda(mech, ts, P, Q0, tol, mech.xtol if xtol is None else xtol,
                               maxit, slots, level=gpu_force_level(mech, slots, lev, meth))
         done, status, host = res["done"], res["status"], res["host"]
         red = tuple(res[k] for k in ("min", "max", "tmin", "tmax"))
         if host.size:
-            part = run_cpu(mech.module, ts, q0, P[host], lev, tol,
+            part = run_cpu(mech.module, ts, Q0[host], P[host], lev, tol,
                            mech.xtol if xtol is None else xtol, maxit, meth, workers, slots)
             done[host], status[host] = part.done, part.status
             for arr, got in zip(red, part.red):
                 arr[host] = got
         return TableData(None, None, None, None, done, status, red)
-    res = run_table_cuda(mech, ts, P, q0, lev, tol, maxit, slots)
+    res = run_table_cuda(mech, ts, P, Q0, lev, tol, maxit, slots)
     status = np.asarray(res["status"], dtype=np.int64)
     N = ts.shape[0]
     failed = ~np.isin(status, (OK, JUMP, THROUGH_SINGULAR))
@@ -140,7 +141,7 @@ def run_cuda(mech, ts, q0, P, lev, tol, maxit, slots, xtol=None, meth=None,
         for arr in red:
             arr[done == 0] = np.nan
         return TableData(None, None, None, None, done, status, red)
-    D, nq = P.shape[0], q0.shape[0]
+    D, nq = P.shape[0], Q0.shape[1]
     arrays = []
     for order, key in enumerate(("Q", "QD", "QDD")):
         arr = res.get(key)
@@ -155,7 +156,7 @@ def run_cuda(mech, ts, q0, P, lev, tol, maxit, slots, xtol=None, meth=None,
     return TableData(*arrays, INFO, done, status)
 
 
-def run_backend(backend, mech, ts, q0, P, lev, tol, xtol, maxit, meth, workers=None,
+def run_backend(backend, mech, ts, Q0, P, lev, tol, xtol, maxit, meth, workers=None,
                 client=None, slots=None, progress=None) -> TableData:
     """The table on the backend asked for (see the module's docstring)."""
     if backend not in BACKENDS:
@@ -164,13 +165,13 @@ def run_backend(backend, mech, ts, q0, P, lev, tol, xtol, maxit, meth, workers=N
     if backend == "cpu":
         if client is not None:
             raise ValueError("client= is for backend='dask'")
-        return run_cpu(mech.module, ts, q0, P, lev, tol, xtol, maxit, meth, workers, slots,
+        return run_cpu(mech.module, ts, Q0, P, lev, tol, xtol, maxit, meth, workers, slots,
                        progress)
     if backend == "dask":
         from .dask_backend import run_dask
-        return run_dask(mech.module, ts, q0, P, lev, tol, xtol, maxit, meth, client, slots,
+        return run_dask(mech.module, ts, Q0, P, lev, tol, xtol, maxit, meth, client, slots,
                         progress)
-    return run_cuda(mech, ts, q0, P, lev, tol, maxit, slots, xtol, meth, workers)
+    return run_cuda(mech, ts, Q0, P, lev, tol, maxit, slots, xtol, meth, workers)
 
 
 def progress_reporter(progress, total):

@@ -105,22 +105,22 @@ def new_arrays(D, N, nq, lev):
             np.zeros((D, N, DESIGN_INFO_COLUMNS), dtype=DESIGN_INFO_DTYPE)]
 
 
-def sweep_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, Q, QD, QDD, INFO):
-    """The compiled sweep_designs over one chunk (QD, QDD None above the level): the
-    count of solved times per design."""
-    D, nq = P.shape[0], q0.shape[0]
-    return np.asarray(module.sweep_designs(ts, q0, P, lev, tol, xtol, maxit, meth, Q,
+def sweep_chunk(module, ts, Q0, P, lev, tol, xtol, maxit, meth, Q, QD, QDD, INFO):
+    """The compiled sweep_designs over one chunk (Q0: each design's start; QD, QDD None
+    above the level): the count of solved times per design."""
+    D, nq = P.shape[0], Q0.shape[1]
+    return np.asarray(module.sweep_designs(ts, Q0, P, lev, tol, xtol, maxit, meth, Q,
                                            no_rows(D, nq) if QD is None else QD,
                                            no_rows(D, nq) if QDD is None else QDD, INFO),
                       dtype=np.int64)
 
 
-def solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, scratch=None):
+def solve_chunk(module, ts, Q0, P, lev, tol, xtol, maxit, meth, slots, scratch=None):
     """One chunk of designs through the compiled sweep_designs: (done, status, Q, QD, QDD,
     INFO) with the full arrays (QD, QDD None above the table's level), or (done, status,
     min, max, tmin, tmax) with ``slots``. ``scratch`` (see scratch_arrays) lends the
     arrays not returned: only the rows a design solved are read back."""
-    D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
+    D, N, nq = P.shape[0], ts.shape[0], Q0.shape[1]
     if slots is None:
         Q, QD, QDD, INFO = new_arrays(D, N, nq, lev)
     else:
@@ -129,16 +129,16 @@ def solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, scratch=N
                                               names)))
         Q, QD, QDD, INFO = (lent.get(k) for k in ("Q", "QD", "QDD", "INFO"))
     if slots is not None and np.any(slots[:, 0] == DRIVER):
-        return _solve_forces(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots,
+        return _solve_forces(module, ts, Q0, P, lev, tol, xtol, maxit, meth, slots,
                              Q, QD, QDD, INFO)
-    done = sweep_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, Q, QD, QDD, INFO)
+    done = sweep_chunk(module, ts, Q0, P, lev, tol, xtol, maxit, meth, Q, QD, QDD, INFO)
     status = design_status(INFO, done, N)
     if slots is None:
         return done, status, Q, QD, QDD, INFO
     return (done, status) + reduce_chunk(module, slots, ts, P, Q, QD, QDD, done)
 
 
-def _solve_forces(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, Q, QD, QDD, INFO):
+def _solve_forces(module, ts, Q0, P, lev, tol, xtol, maxit, meth, slots, Q, QD, QDD, INFO):
     """solve_chunk with a driver's effort among the reductions: a few designs at a time
     (about FORCE_POINTS points), each reduced while its points are still in the cache
     (the multipliers read every coordinate, velocity and acceleration again)."""
@@ -157,16 +157,16 @@ def _solve_forces(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, Q, QD, 
             FACTORS = np.empty((b - a, N, len(module.DRIVER_ROWS)))
             PIV = np.empty((b - a, N))
             if FORCE_LEVELS[fused] == "dynamic":
-                done[a:b] = module.sweep_designs_forces(ts, q0, P[a:b], meth, tol, xtol,
+                done[a:b] = module.sweep_designs_forces(ts, Q0[a:b], P[a:b], meth, tol, xtol,
                                                         maxit, *part, FACTORS, PIV, LAM)
             else:                   # static: a position sweep, λ at q̇ = q̈ = 0
-                done[a:b] = module.sweep_designs_statics(ts, q0, P[a:b], meth, tol, xtol,
+                done[a:b] = module.sweep_designs_statics(ts, Q0[a:b], P[a:b], meth, tol, xtol,
                                                          maxit, part[0], part[3], FACTORS,
                                                          PIV, LAM)
             forces = {fused: repaired(module, ts, P[a:b], *part[:3], done[a:b], LAM, FACTORS,
                                       PIV)}
         else:
-            done[a:b] = sweep_chunk(module, ts, q0, P[a:b], lev, tol, xtol, maxit, meth,
+            done[a:b] = sweep_chunk(module, ts, Q0[a:b], P[a:b], lev, tol, xtol, maxit, meth,
                                     *part)
         status[a:b] = design_status(part[3], done[a:b], N)
         for arr, got in zip(red, reduce_chunk(module, slots, ts, P[a:b], *part[:3], done[a:b],

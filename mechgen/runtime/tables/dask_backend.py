@@ -88,15 +88,15 @@ def _read(path):
         return fh.read()
 
 
-def dask_chunk(text, digest, source, ts, q0, P, lev, tol, xtol, maxit, meth, slots):
-    """One chunk of designs on a worker (see solve_chunk)."""
+def dask_chunk(text, digest, source, ts, Q0, P, lev, tol, xtol, maxit, meth, slots):
+    """One chunk of designs on a worker (see solve_chunk; Q0: their starts)."""
     def warm(module):           # every compiled function a chunk may call, once
-        solve_chunk(module, ts[:2], q0, P[:1], lev, tol, xtol, maxit, meth, slots)
+        solve_chunk(module, ts[:2], Q0[:1], P[:1], lev, tol, xtol, maxit, meth, slots)
         if len(module.OUTPUTS):
-            z = np.zeros((1, q0.shape[0]))
+            z = np.zeros((1, Q0.shape[1]))
             module.eval_outputs(z, z, z, ts[:1], P[0], 0, np.zeros((1, len(module.OUTPUTS))))
     module = worker_module(text, digest, source, warm)
-    return solve_chunk(module, ts, q0, P, lev, tol, xtol, maxit, meth, slots, _SCRATCH.__dict__)
+    return solve_chunk(module, ts, Q0, P, lev, tol, xtol, maxit, meth, slots, _SCRATCH.__dict__)
 
 
 def get_client(client):
@@ -130,7 +130,7 @@ def _shipped(client, text, digest):
     return fut
 
 
-def run_dask(module, ts, q0, P, lev, tol, xtol, maxit, meth, client=None, slots=None,
+def run_dask(module, ts, Q0, P, lev, tol, xtol, maxit, meth, client=None, slots=None,
              progress=None):
     """The table over the cluster of ``client`` (or the current one): a TableData."""
     client = get_client(client)
@@ -142,14 +142,14 @@ def run_dask(module, ts, q0, P, lev, tol, xtol, maxit, meth, client=None, slots=
     text = _read(path)
     digest = content_digest(text)
     source = os.path.abspath(path)
-    D, N, nq = P.shape[0], ts.shape[0], q0.shape[0]
+    D, N, nq = P.shape[0], ts.shape[0], Q0.shape[1]
     threads = sum(w.get("nthreads", 1) for w in client.scheduler_info()["workers"].values())
     spans = chunks(D, N, 2 * max(threads, 1), least=TASK_POINTS)
     shipped = _shipped(client, text, digest)
     futures = {}
     for a, b in spans:
-        fut = client.submit(dask_chunk, shipped, digest, source, ts, q0,
-                            np.ascontiguousarray(P[a:b]), lev, tol, xtol, maxit, meth, slots,
+        fut = client.submit(dask_chunk, shipped, digest, source, ts,
+                            np.ascontiguousarray(Q0[a:b]), np.ascontiguousarray(P[a:b]), lev, tol, xtol, maxit, meth, slots,
                             pure=False)
         futures[fut] = (a, b)
     out = Collector(D, N, nq, slots, lev)

@@ -22,11 +22,11 @@ from ...protocol import JUMP, LEVEL, LEVELS, THROUGH_SINGULAR
 from ..forces import attach, is_force_level
 from ..forces.lookup import tables
 from ..guards import finite, fits, point_bytes, sweep_times
-from ..guesses import start_vector
 from ..quantity import _lookup, column_names
 from ..results import Sweep, pandas, write_csv
 from .backends import cuda_keeps_points, progress_reporter, run_backend
 from .chunks import reduce_threads
+from .starts import design_starts, mark_starts
 from .reduce import (Reduction, driver_efforts, driver_slot, reduce_chunk,
                      reduce_slots, status_name)
 
@@ -384,7 +384,6 @@ def design_table(mech, t0, t1, n, params, level="position", guess=None, method=N
     ts = sweep_times(t0, t1, n, times)
     tol = mech._tol(tol)
     maxit = mech._maxit(maxit)
-    q0 = start_vector(mech, guess)
     reduced, slots = ((), None) if reduce is None else \
         reduce_slots(mech, reduce, lev, force_level)
     # refused before the grid is made: designs x points must fit in memory
@@ -398,9 +397,11 @@ def design_table(mech, t0, t1, n, params, level="position", guess=None, method=N
         mech._tiers.expect(mech, P.shape[0] * ts.shape[0], "design")
     # a driver's effort the GPU cannot reduce: the kernel keeps the points (backends)
     on_host = backend == "cuda" and cuda_keeps_points(mech, slots, lev, meth)
-    data = run_backend(backend, mech, ts, q0, P, lev, tol, mech.xtol, maxit, meth,
+    Q0, S0 = design_starts(mech, ts, P, guess, tol, maxit, meth, workers)
+    data = run_backend(backend, mech, ts, Q0, P, lev, tol, mech.xtol, maxit, meth,
                        workers=workers, client=client, slots=None if on_host else slots,
                        progress=progress_reporter(progress, P.shape[0]))
+    mark_starts(data, S0, ts.shape[0])
     if on_host:         # the kernel keeps the points; the multipliers are solved here
         data.red = reduce_threads(mech.module, slots, ts, P, data.Q, data.QD, data.QDD,
                                   data.done, workers)

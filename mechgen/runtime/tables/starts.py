@@ -1,0 +1,99 @@
+"""Where each design of a table starts: on the assembly mode of the guess, carried to the
+design's parameters (the module's start_designs, on threads), and what the table's
+results say of a design whose start could not be carried.
+
+Without a guess, the reference is the mechanism's own guess, a configuration at its time
+(``guess_t``) for its parameters (``guess_p``; mechgen.runtime.follow): each design moves
+from there to its parameters at that time, then to the table's first time, as
+``mech.with_params(...).sweep(...)`` of that design starts. With ``guess=``, the
+reference is the guess solved at the table's first time with the mechanism's parameters.
+A design whose parameters the mode cannot be carried to (a singular configuration on the
+way, or parameters at which it does not assemble) starts from the guess itself, as a
+table of Mech's does, and is flagged (its first point JUMP or THROUGH_SINGULAR: a
+BranchJumpWarning, and mech.optimize rejects it); one that cannot reach the table's first
+time from the guess's is not solved (the status of the solve that failed on the way).
+"""
+from __future__ import annotations
+
+import math
+import os
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from ...protocol import JUMP, OK, POINT_INFO_SIZE, STATUS_CODE, THROUGH_SINGULAR
+from ..entry import module_attr, solve_point
+from ..follow import CELL
+from ..guesses import start_vector
+
+CHUNK = 4096            # designs a thread carries in one call
+
+
+def design_starts(mech, ts, P, guess, tol, maxit, meth, workers=None):
+    """(Q0, S0): each design's start vector (designs × coordinates) and its start status
+    (int64: OK, JUMP, THROUGH_SINGULAR or the status of a failed way; see the module's
+    docstring)."""
+    D, n = P.shape[0], mech.n
+    mod = mech.module
+    if guess is None:
+        t_ref, p_ref, g = float(mech.guess_t), mech.guess_p, mech.guess.copy()
+    else:
+        t_ref, p_ref, g = float(ts[0]), mech.p, start_vector(mech, guess)
+    start = module_attr(mod, "start_designs")
+    q = g.copy()
+    if start is None or D == 0 or solve_point(mod, q, t_ref, p_ref, tol, mech.xtol, maxit,
+                                              meth, np.zeros(POINT_INFO_SIZE)) != OK:
+        # no mode to carry (the guess does not assemble where it was given): every design
+        # from the guess, as Mech's Table[SetGuess[]; SolveMech[...]] does
+        return np.tile(g, (D, 1)), np.zeros(D, dtype=np.int64)
+    tw = _way(t_ref, float(ts[0]))
+    Q0 = np.empty((D, n))
+    S0 = np.zeros(D, dtype=np.int64)
+    p_ref = np.ascontiguousarray(p_ref, dtype=np.float64)
+
+    def job(a, b):
+        start(tw, q, g, p_ref, P[a:b], tol, mech.xtol, maxit, meth, Q0[a:b], S0[a:b])
+
+    spans = [(a, min(D, a + CHUNK)) for a in range(0, D, CHUNK)]
+    threads = 1 if getattr(mod, "__mechgen_tier__", "compiled") == "python" else \
+        min(len(spans), workers or os.cpu_count() or 1)
+    if threads <= 1:
+        for a, b in spans:
+            job(a, b)
+    else:
+        with ThreadPoolExecutor(max_workers=threads) as pool:
+            for fut in [pool.submit(job, a, b) for a, b in spans]:
+                fut.result()
+    return Q0, S0
+
+
+def _way(t0, t1) -> np.ndarray:
+    """The times from the guess's time to the table's first: none between where they are
+    one; else steps of at most CELL, as solve(t) follows the motion."""
+    if t0 == t1:
+        return np.array([t0])
+    return np.linspace(t0, t1, max(2, math.ceil(abs(t1 - t0) / CELL) + 1))
+
+
+def mark_starts(data, S0, N):
+    """What each design's start says, put into a backend's results (chunks.TableData):
+    a flagged start (JUMP, THROUGH_SINGULAR) marks its design's first point and status
+    where they say OK; a failed one leaves its design unsolved (done 0, its status)."""
+    if not S0.any():
+        return
+    flagged = (S0 == JUMP) | (S0 == THROUGH_SINGULAR)
+    failed = (S0 != OK) & ~flagged
+    if failed.any():
+        data.done[failed] = 0
+        data.status[failed] = S0[failed]
+        if data.INFO is not None and N:
+            data.INFO[failed, 0, STATUS_CODE] = S0[failed]
+        if data.red is not None:
+            for arr in data.red:
+                arr[failed] = np.nan
+    mark = flagged & (data.done > 0)
+    if data.INFO is not None and N:
+        first = mark & (data.INFO[:, 0, STATUS_CODE] == OK)
+        data.INFO[first, 0, STATUS_CODE] = S0[first]
+    worse = mark & (data.status == OK)
+    data.status[worse] = S0[worse]
