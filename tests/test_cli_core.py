@@ -142,6 +142,32 @@ def test_equations_of_the_loop_model_and_model_selection(capsys, tmp_path):
     assert code == 0 and "Model second" in out and "[1]  -2*T + y = 0" in out
 
 
+def test_a_build_of_several_models_writes_none_when_one_fails(capsys, tmp_path):
+    """Every model of the file is rendered before any module is written: the second one
+    (not square) fails the build, and the first's module is not written either."""
+    path = write(tmp_path, """
+        from mechgen import Model, T, cos
+        a = Model("first_ok")
+        x = a.coordinate("x")
+        a.constraint(x - cos(T))
+        b = Model("second_bad")
+        y = b.coordinate("y")
+        z = b.coordinate("z")
+        b.constraint(y - 2 * T)
+    """)
+    out_dir = tmp_path / "out"
+    for extra in ((), ("--force",)):
+        code, out, err = run(capsys, "build", path, "--outdir", str(out_dir), *extra)
+        assert code == 1 and "second_bad" in err and "not square" in err
+        assert not out_dir.exists() or not list(out_dir.glob("*.py")), extra
+    fixed = path.replace("model.py", "fixed.py")
+    with open(fixed, "w") as fh:
+        fh.write(open(path).read() + "b.constraint(z - T)\n")
+    code, out, _ = run(capsys, "build", fixed, "--outdir", str(out_dir))
+    assert code == 0 and sorted(p.name for p in out_dir.glob("*.py")) == \
+        ["first_ok.py", "second_bad.py"]
+
+
 # -- mechgen check ----------------------------------------------------------------------------
 def test_check_quick_return(capsys):
     code, out, _ = run(capsys, "check", QR)

@@ -26,17 +26,22 @@ DESCRIPTION = ("Kinematics of planar mechanisms: symbolic equations compiled to 
 
 # -- commands -------------------------------------------------------------------------
 def cmd_build(args):
-    from ..compiler.build import build, update_module     # late: see mechgen.cli.loading
+    from ..compiler.build import commit_module, prepare_module, write_module   # late: see
+    from ..compiler.render import render                                     # cli.loading
     outdir = module_folder(args.outdir)
     outputs = [o.strip() for o in args.outputs.split(",") if o.strip()] if args.outputs else None
-    for model in models(args):
-        kwargs = dict(sort=not args.no_sort, level=args.level, outputs=outputs,
-                      closed_forms=args.closed_forms)
-        if args.force:
-            print(f"wrote {build(model, outdir, **kwargs)}")
-            continue
-        # an unchanged model keeps its module file (and numba's compiled cache of it)
-        path, written = update_module(model, outdir, **kwargs)
+    kwargs = dict(sort=not args.no_sort, level=args.level, outputs=outputs,
+                  closed_forms=args.closed_forms)
+    # every model rendered before any file is written: one that fails writes none
+    if args.force:
+        texts = [(os.path.join(outdir, f"{model.name}.py"), render(model, **kwargs))
+                 for model in models(args)]
+        for path, text in texts:
+            print(f"wrote {write_module(text, path)}")
+        return
+    # an unchanged model keeps its module file (and numba's compiled cache of it)
+    for prepared in [prepare_module(model, outdir, **kwargs) for model in models(args)]:
+        path, written = commit_module(*prepared)
         print(f"wrote {path}" if written else f"{path} is up to date (--force writes it again)")
 
 

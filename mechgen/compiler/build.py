@@ -61,15 +61,29 @@ def build_if_changed(model, outdir, **kwargs) -> str:
 
 def update_module(model, outdir, **kwargs) -> tuple[str, bool]:
     """build_if_changed, and whether it wrote the file: (path, written)."""
+    return commit_module(*prepare_module(model, outdir, **kwargs))
+
+
+def prepare_module(model, outdir, **kwargs) -> tuple:
+    """update_module's work before it writes anything: (path, text, digest), text None
+    where the module is up to date. A build of several models prepares every one before
+    it writes any (commit_module): one that fails leaves every file as it was."""
     path = os.path.join(outdir, f"{model.name}.py")
     try:
         digest = fingerprint(model, **kwargs)
     except Exception:  # noqa: BLE001 - a model the digest cannot read: render it
         digest = None
     if digest is not None and up_to_date(path, digest):
-        return path, False
+        return path, None, digest
     from .render import render
-    text = render(model, **kwargs)
+    return path, render(model, **kwargs), digest
+
+
+def commit_module(path, text, digest) -> tuple[str, bool]:
+    """Write what prepare_module rendered where the file holds other text: (path,
+    written)."""
+    if text is None:
+        return path, False
     try:
         with open(path, encoding="utf-8") as fh:
             same = fh.read() == text
