@@ -393,8 +393,9 @@ def design_table(mech, t0, t1, n, params, level="position", guess=None, method=N
     fits(designs, each, "designs", "params", f" of {ts.shape[0]:,} times each")
     make = design_grid if grid else design_list
     P = make(base, mech._param_index, names, axes)
-    if backend == "cpu":    # a big table in the python tier: compiled first (runtime.tiers)
-        mech._tiers.expect(mech, P.shape[0] * ts.shape[0], "design")
+    # a big table in the python tier: compiled first (runtime.tiers); elsewhere the
+    # designs' starts (a few solves each) are this process's work
+    mech._tiers.expect(mech, P.shape[0] * (ts.shape[0] if backend == "cpu" else 8), "design")
     # a driver's effort the GPU cannot reduce: the kernel keeps the points (backends)
     on_host = backend == "cuda" and cuda_keeps_points(mech, slots, lev, meth)
     Q0, S0 = design_starts(mech, ts, P, guess, tol, maxit, meth, workers)
