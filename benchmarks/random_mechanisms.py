@@ -80,6 +80,9 @@ def main(argv=None):
                 rc.tally(counts, f"{name}/table",
                          guarded(spec, lambda: rc.run_table(fam, spec, rng, designs=4)),
                          wrongs, args.show)
+                rc.tally(counts, f"{name}/table-carried",
+                         guarded(spec, lambda: rc.run_carried_table(fam, spec, rng, designs=4)),
+                         wrongs, args.show)
         print(f"# {name}: {per} mechanisms in {time.perf_counter() - t:.1f} s", flush=True)
     print(f"\nrandom mechanisms: {per * len(names)} ({per} a family), seed {args.seed}, "
           f"{time.perf_counter() - started:.0f} s")

@@ -312,6 +312,58 @@ def run_table(fam, spec, rng, designs=4, backend="cpu", client=None, mech=None):
     return out
 
 
+def mode_of(fam, p, t, q):
+    """The mode whose exact configuration at t is q (angles modulo 2 pi), or None."""
+    ts = np.array([t])
+    refs = {s: fam.exact(p, s, ts, 0) for s in fam.modes()}
+    errs = _errors(fam, refs, [np.asarray(q)[None]], 0, _scales(refs, 0))
+    hits = [s for s in refs if errs[s][0] <= 1.0]
+    return hits[0] if hits else None
+
+
+def run_carried_table(fam, spec, rng, designs=4, mech=None):
+    """A design table without a guess whose designs' dimensions move far from the spec's
+    (one dimension, by up to 30 %). The guess is a rough one, set at the spec's
+    parameters: the spec's exact start moved up to 40 % of the way to the nearest other
+    mode; its mode is the one a solve at t0 reaches from it. Each design must start on
+    that mode where the way from the spec's dimensions to its own keeps clear of
+    toggles at t0 (that mode's discriminant stays above 2 % along it: the mode is carried
+    there, never left to a Newton from the guess at the design's dimensions); a design
+    whose way is not clear is judged from the mode its first point is on. Returns
+    verdicts."""
+    p = spec.params
+    m = (mech or fam.mech()).with_params(**p)
+    dims = [k for k in fam.params if k not in ("f", "w", "th0", "ph", "cph", "g", "be", "ax",
+                                                 "ay", "gx", "gy", "ox", "oy", "xc")]
+    dim = dims[int(rng.integers(len(dims)))]
+    values = [p[dim] * float(x) for x in rng.uniform(0.7, 1.3, designs)]
+    values[0] = p[dim]
+    t0 = np.array([spec.t0])
+    q0 = fam.exact(p, spec.sigma, t0, 0)[0][0]
+    others = [fam.exact(p, s, t0, 0)[0][0] for s in fam.modes() if s != spec.sigma]
+    gap = min([np.max(np.abs(wrap(o - q0, fam.angle_mask))) for o in others
+               if np.isfinite(o).all()] + [1.0])
+    try:
+        m.set_guess(q0 + 0.4 * min(gap, 1.0) * rng.uniform(-1, 1, q0.shape), t=spec.t0)
+        sigma = mode_of(fam, p, spec.t0, m.solve(spec.t0, method=spec.method).q)
+        tab = m.sweep(spec.t0, spec.t1, spec.n, params={dim: values}, level=spec.level,
+                      method=spec.method, on_fail="ignore")
+    except REFUSALS:
+        return [Verdict("refused", Counter(raised=1))]
+    out = []
+    for d, value in enumerate(values):
+        pd = dict(p, **{dim: value})
+        way = [dict(p, **{dim: p[dim] + s * (value - p[dim])}) for s in np.linspace(0, 1, 41)]
+        clear = sigma is not None and \
+            min(float(np.min(fam.disc(w, t0, sigma))) for w in way) > 0.02
+        sw = tab.sweep(d)
+        what = f"{spec} carried design {d} ({dim}={value!r}, mode {sigma}, clear={clear})"
+        out.append(judge(fam, pd, sw.t, sw.Q, sw.QD, sw.QDD, sw.status,
+                         sigma=sigma if clear else None,
+                         raised=int(tab.done[d]) < len(tab.t), what=what))
+    return out
+
+
 CRASHES = []
 
 

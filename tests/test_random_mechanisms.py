@@ -217,6 +217,18 @@ def test_random_design_tables_stay_on_their_mode(family, seed):
     _no_wrong(f"{family}/table", rc.run_table(fam, spec, rng, designs=4))
 
 
+@pytest.mark.parametrize("family", list(FAMILIES))
+@settings(SETTINGS, max_examples=2)
+@given(seed=SEEDS)
+def test_random_design_tables_carry_the_guess_s_mode(family, seed):
+    """Designs far from the guess's dimensions: on the guess's mode where the way there
+    keeps clear of toggles (rc.run_carried_table)."""
+    fam = FAMILIES[family]
+    rng = np.random.default_rng(seed)
+    spec = rc.draw_spec(fam, rng)
+    _no_wrong(f"{family}/table-carried", rc.run_carried_table(fam, spec, rng, designs=4))
+
+
 @pytest.mark.parametrize("family,variant", [("fourbar", "nearmiss"), ("fourbar", "lockwin"),
                                             ("slider_crank", "lockwin"), ("inverted", "lockwin")])
 @settings(SETTINGS, max_examples=8)
