@@ -286,6 +286,14 @@ def test_the_other_assembly_mode_is_followed_over_the_cycle(mech):
     # a parameter change keeps to that mode
     data, _, _ = ex.compute({"longitud": 2.5})
     assert abs(data["X4"][100] - float(quick_return(data["t"][100], longitud=2.5, side=-1)[6])) < 1e-9
+    # and so does a long move of the slider (the mode carried from the last cycle's
+    # parameters to the new ones, not a Newton from its start at the new ones)
+    for L in (1.2, 4.1):
+        data, _, message = ex.compute({"longitud": L})
+        assert message == ""
+        for k in (0, 100):
+            want = float(quick_return(data["t"][k], longitud=L, side=-1)[6])
+            assert abs(data["X4"][k] - want) < 1e-9, (L, k)
 
 
 def test_a_model_with_masses_offers_its_driver_torque(tmp_path):

@@ -116,7 +116,8 @@ class Explorer:
             raise ValueError(f"plots: no quantity {', '.join(map(repr, unknown))} (choose from "
                              f"{', '.join(self.quantities)})")
         self.plots = plots
-        self.guess = None          # the start of the cycle in the assembly mode chosen
+        self.guess = None          # the start of the cycle in the assembly mode chosen,
+        self.guess_params = None   # and the parameters of that cycle
         self.message = ""
         self.detail = ""           # the solver's whole account of a failure
         self.extent = self._extent(sw)
@@ -151,15 +152,21 @@ class Explorer:
         values = dict(self.params)
         values.update(params or {})
         mech = self.mech.with_params(**values)
-        start = guess if guess is not None else self.guess
+        if guess is None and self.guess is not None:
+            # the mode chosen: the last cycle's start, carried from its parameters to
+            # these (Mechanism.with_params), not a Newton from it here
+            base = self.mech.with_params(**self.guess_params)
+            base.set_guess(self.guess, t=self.t0)
+            mech = base.with_params(**values)
         try:
-            sw = solve_cycle(mech, self.t0, self.t1, self.n, guess=start)
+            sw = solve_cycle(mech, self.t0, self.t1, self.n, guess=guess)
         except Failure as exc:
             self.params = values
             self.message = self._cannot(mech, values, params or {}, str(exc))
             return empty_columns(self.names), False, self.message
         self.params = values
-        self.guess = sw.Q[0].copy() if (guess is not None or self.guess is not None) else None
+        if guess is not None or self.guess is not None:
+            self.guess, self.guess_params = sw.Q[0].copy(), values
         shape = self._shape(mech, sw)
         again = shape.shape != self.shape.shape or \
             np.abs(shape - self.shape).max() > 1e-12 * (1.0 + np.abs(shape).max())
