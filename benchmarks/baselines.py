@@ -5,7 +5,9 @@
   velocity and acceleration formulas use Th4 = 0 (its derivatives vanish), as a hand
   derivation would.
 - ``hand_closed_sweep``: the same mechanism in closed form (atan2, square roots, the
-  derivatives of those formulas): the fastest loop one writes by hand.
+  derivatives of those formulas): the fastest loop one writes by hand;
+  ``hand_closed_sweep_full`` the same formulas filling every coordinate's rows, as a
+  sweep of mechgen returns them.
 - ``reference(t)``: closed form evaluated with mpmath at 50 digits — positions, velocities
   and accelerations (derivatives of the closed form by mpmath.diff).
 - ``lambdify_fsolve``: what most users write: sympy.lambdify + scipy.optimize.fsolve.
@@ -152,6 +154,60 @@ def hand_closed_sweep(ts, level, Q):
                 sqdd = -(ed * ed + e * edd + sqd * sqd) / sq
                 Q[k, 4] = th3dd
                 Q[k, 5] = cxdd + sqdd
+    return Q
+
+
+@njit(cache=True)
+def hand_closed_sweep_full(ts, level, Q, QD, QDD):
+    """hand_closed_sweep's formulas writing what a sweep of mechgen returns: every
+    coordinate (X2, Y2, Th2, X3, Y3, Th3, X4, Y4, Th4) into Q, its velocity into QD and
+    its acceleration into QDD (rows of 9; the ground-fixed ones constant), not only the
+    two that move: the arrays a user's code gets, and the memory they cost."""
+    for k in range(ts.shape[0]):
+        th2 = W * ts[k]
+        c2, s2 = math.cos(th2), math.sin(th2)
+        px, py = L * c2, 5.0 + L * s2
+        r2 = px * px + py * py
+        r = math.sqrt(r2)
+        th3 = math.atan2(-px, py)
+        s3, c3 = -px / r, py / r
+        cx, cy = -9.0 * s3, 9.0 * c3
+        e = 10.0 - cy
+        sq = math.sqrt(25.0 - e * e)
+        Q[k, 0] = 0.0
+        Q[k, 1] = 5.0
+        Q[k, 2] = th2
+        Q[k, 3] = 0.0
+        Q[k, 4] = 0.0
+        Q[k, 5] = th3
+        Q[k, 6] = cx + sq
+        Q[k, 7] = 10.0
+        Q[k, 8] = 0.0
+        if level >= 1:
+            pxd, pyd = -L * W * s2, L * W * c2
+            num = px * pyd - py * pxd
+            th3d = num / r2
+            cxd, cyd = -9.0 * c3 * th3d, -9.0 * s3 * th3d
+            ed = -cyd
+            sqd = -e * ed / sq
+            for j in range(9):
+                QD[k, j] = 0.0
+            QD[k, 2] = W
+            QD[k, 5] = th3d
+            QD[k, 6] = cxd + sqd
+            if level >= 2:
+                pxdd, pydd = -W * W * (px), -W * W * (py - 5.0)
+                numd = px * pydd - py * pxdd
+                r2d = 2.0 * (px * pxd + py * pyd)
+                th3dd = (numd * r2 - num * r2d) / (r2 * r2)
+                cxdd = 9.0 * s3 * th3d * th3d - 9.0 * c3 * th3dd
+                cydd = -9.0 * c3 * th3d * th3d - 9.0 * s3 * th3dd
+                edd = -cydd
+                sqdd = -(ed * ed + e * edd + sqd * sqd) / sq
+                for j in range(9):
+                    QDD[k, j] = 0.0
+                QDD[k, 5] = th3dd
+                QDD[k, 6] = cxdd + sqdd
     return Q
 
 

@@ -7,6 +7,9 @@ the committed module's sweep_fast text, side by side in one process, ns a point.
   reach margins, the branch test, the finite test, det Φ_q's signs and rate, and a
   position sweep's evaluations of det Φ_q): what the solver's own arithmetic costs,
   safety aside (its position sweep then vouches for no point: timed all the same);
+- "hand, every coordinate": the hand-written closed form filling every coordinate's
+  row of Q, QD and QDD, as mechgen's sweep returns them (the hand loop above writes six
+  numbers a point; a sweep of mechgen 27, plus its status);
 - "two passes": the positions first (sweep_fast at level position, storing the sin and
   cos that the derivative code shares), then the derivatives of every point in a loop
   of their own (the iterations independent of each other), det Φ_q's signs checked at
@@ -129,7 +132,8 @@ def main():
     ts = np.linspace(0.0, 1.0, N, endpoint=False)
     p, q0 = np.array(emitted.PARAMETER_DEFAULTS), np.array(emitted.GUESS)
     none = np.zeros((0, n))
-    A = {k: np.zeros((N, n)) for k in ("Q", "QD", "QDD", "Q2", "QD2", "QDD2")}
+    A = {k: np.zeros((N, n)) for k in ("Q", "QD", "QDD", "Q2", "QD2", "QDD2", "Q3", "QD3",
+                                        "QDD3")}
     S = np.zeros((N, 3), dtype=np.int16)
     SC = np.zeros((N, 8))
     H = np.zeros((N, 6))
@@ -145,6 +149,10 @@ def main():
     cases = {
         "hand-written closed form, all levels": lambda: baselines.hand_closed_sweep(ts, 2, H),
         "hand-written closed form, positions": lambda: baselines.hand_closed_sweep(ts, 0, H),
+        "hand, every coordinate, all levels":
+            lambda: baselines.hand_closed_sweep_full(ts, 2, A["Q3"], A["QD3"], A["QDD3"]),
+        "hand, every coordinate, positions":
+            lambda: baselines.hand_closed_sweep_full(ts, 0, A["Q3"], none, none),
         "as emitted, all levels": fast(emitted, True),
         "as emitted, positions": fast(emitted, False),
         "no checks, all levels": fast(bare, True),
@@ -155,6 +163,9 @@ def main():
         f()
     assert fast(emitted, True)() == N and both() == N
     same = all(np.array_equal(A[k], A[k + "2"]) for k in ("Q", "QD", "QDD"))
+    baselines.hand_closed_sweep_full(ts, 2, A["Q3"], A["QD3"], A["QDD3"])
+    full_err = max(float(np.max(np.abs(A[k] - A[k + "3"]) / (1.0 + np.abs(A[k]))))
+                   for k in ("Q", "QD", "QDD"))
     best = {name: float("inf") for name in cases}
     for _ in range(args.rounds):
         for name, f in cases.items():
@@ -166,6 +177,8 @@ def main():
     for name, ns in best.items():
         print(f"  {name:40s} {ns:7.1f}   {ns / hand:5.2f} × the hand-written all levels")
     print(f"  two passes against as emitted: the same bits: {same}")
+    print(f"  hand, every coordinate against as emitted: largest relative difference "
+          f"{full_err:.1e}")
 
 
 if __name__ == "__main__":
