@@ -175,3 +175,18 @@ def test_a_way_through_parameters_that_do_not_assemble_is_said(fourbar):
     assert tab.INFO[0, 0, STATUS_CODE] == OK
     assert tab.INFO[1, 0, STATUS_CODE] in (JUMP, THROUGH_SINGULAR)
     assert tab.status[1] in (JUMP, THROUGH_SINGULAR)
+
+
+def test_a_table_of_a_model_with_stages_starts_across_a_switch():
+    """Stages (a switch at t = 0.5): a table from t = 0.6 starts each design where
+    with_params(...).solve(0.6) is (the guess's mode followed across the switch, then
+    carried to the design)."""
+    m = mechgen.load(os.path.join(GENERATED, "quick_return_stages.py"), tier="python")
+    values = [3.0, 3.3, 2.6]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        tab = m.sweep(0.6, 0.7, 3, params={"longitud": values})
+    for i, L in enumerate(values):
+        s = m.with_params(longitud=L).solve(0.6)
+        assert np.abs(tab.Q[i, 0] - s.q).max() < 1e-9, L
+        assert tab.status[i] == OK

@@ -21,9 +21,10 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from ...errors import MechgenError
 from ...protocol import JUMP, OK, POINT_INFO_SIZE, STATUS_CODE, THROUGH_SINGULAR
 from ..entry import module_attr, solve_point
-from ..follow import CELL
+from ..follow import CELL, follow
 from ..guesses import start_vector
 
 CHUNK = 4096            # designs a thread carries in one call
@@ -41,6 +42,16 @@ def design_starts(mech, ts, P, guess, tol, maxit, meth, workers=None):
         t_ref, p_ref, g = float(ts[0]), mech.p, start_vector(mech, guess)
     start = module_attr(mod, "start_designs")
     q = g.copy()
+    if start is not None and D and guess is None and t_ref != float(ts[0]) and \
+            module_attr(mod, "SWITCH_TIMES", ()):
+        # stages: the guess's mode followed to the table's first time at the guess's
+        # parameters (stage by stage: runtime.follow), then carried to each design there
+        ref = mech.with_params(**dict(zip(mech.parameter_names, map(float, p_ref))))
+        try:
+            g = follow(ref, float(ts[0]), tol, maxit, meth, what="the table's start")
+        except MechgenError:
+            return np.tile(g, (D, 1)), np.zeros(D, dtype=np.int64)
+        q, t_ref = g.copy(), float(ts[0])
     if start is None or D == 0 or solve_point(mod, q, t_ref, p_ref, tol, mech.xtol, maxit,
                                               meth, np.zeros(POINT_INFO_SIZE)) != OK:
         # no mode to carry (the guess does not assemble where it was given): every design
