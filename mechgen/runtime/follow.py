@@ -97,7 +97,7 @@ def _start(mech, tol, maxit, meth) -> Path:
         return path
     t0 = float(mech.guess_t)
     info = np.zeros(POINT_INFO_SIZE)
-    q, note = carried(mech, mech.guess, t0, mech.guess_p, tol, maxit, meth, info)
+    q, note = carried(mech, tol, maxit, meth, info)
     status = solve_point(mech.module, q, t0, mech.p, tol, mech.xtol, maxit, meth, info)
     if status != 0:
         from .analysis.locks import convergence_error     # an error path: imported when needed
@@ -112,16 +112,24 @@ def _start(mech, tol, maxit, meth) -> Path:
     return path
 
 
-def carried(mech, guess, t0, p0, tol, maxit, meth, info):
-    """(start vector, note): a start at the mechanism's parameters for ``guess``, a
-    configuration at time t0 with parameters p0. The guess itself where those are the
-    mechanism's; else the guess solved at p0 and carried along its assembly mode to the
+def at_guess_params(mech) -> bool:
+    """Whether the mechanism's parameters are those its guess was given for (guess_p):
+    then the guess needs no carrying."""
+    p0, p = mech.guess_p, mech.p
+    return p0 is p or p0.tobytes() == p.tobytes()
+
+
+def carried(mech, tol, maxit, meth, info):
+    """(start vector, note): a start at the mechanism's parameters for its guess, a
+    configuration at time guess_t with parameters guess_p. The guess itself where those
+    are the mechanism's (at_guess_params); else the guess solved at p0 and carried along its assembly mode to the
     mechanism's parameters (the module's carry_params). Where that way is blocked (a
     singular configuration, or parameters on the way at which it does not assemble) the
     guess itself, and ``note`` says so (a solve from it may land in another mode); where
     the guess does not assemble at p0, the guess itself: there is no mode to carry."""
-    p, mod = mech.p, mech.module
-    if p0 is p or np.array_equal(p0, p):
+    guess, t0, p0, p = mech.guess, float(mech.guess_t), mech.guess_p, mech.p
+    mod = mech.module
+    if at_guess_params(mech):
         return guess.copy(), None
     carry = module_attr(mod, "carry_params")
     q = guess.copy()

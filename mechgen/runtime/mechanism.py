@@ -22,7 +22,7 @@ from ..protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, L
                         VELOCITY)
 from .entry import (module_attr, solve_acceleration, solve_point, solve_point_derivatives,
                     solve_velocity)
-from .follow import follow
+from .follow import at_guess_params, follow
 from .forces.lookup import is_force_level
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
                      point_bytes, sweep_count, sweep_times)
@@ -434,9 +434,7 @@ class Mechanism:
         tol = self.tol if tol is None else positive_tol(tol)
         maxit = self.maxit if maxit is None else positive_count(maxit, "maxit")
         self._tiers.expect(self, ts.shape[0])
-        if guess is None and ts[0] == self.guess_t and (self.guess_p is self.p or
-                                                         self.p.tobytes() ==
-                                                         self.guess_p.tobytes()):
+        if guess is None and ts[0] == self.guess_t and at_guess_params(self):
             q0 = self.guess.copy()      # the guess where it was given: Newton from it
         elif guess is None:     # where solve(ts[0]) is: the guess's mode followed there
             with self._lock:    # (the way is kept on the mechanism, as solve's)

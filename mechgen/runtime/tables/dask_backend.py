@@ -149,8 +149,8 @@ def run_dask(module, ts, Q0, P, lev, tol, xtol, maxit, meth, client=None, slots=
     futures = {}
     for a, b in spans:
         fut = client.submit(dask_chunk, shipped, digest, source, ts,
-                            np.ascontiguousarray(Q0[a:b]), np.ascontiguousarray(P[a:b]), lev, tol, xtol, maxit, meth, slots,
-                            pure=False)
+                            np.ascontiguousarray(Q0[a:b]), np.ascontiguousarray(P[a:b]), lev,
+                            tol, xtol, maxit, meth, slots, pure=False)
         futures[fut] = (a, b)
     out = Collector(D, N, nq, slots, lev)
     total = 0

@@ -16,7 +16,6 @@ time from the guess's is not solved (the status of the solve that failed on the 
 from __future__ import annotations
 
 import math
-import os
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
@@ -26,6 +25,7 @@ from ...protocol import JUMP, OK, POINT_INFO_SIZE, STATUS_CODE, THROUGH_SINGULAR
 from ..entry import module_attr, solve_point
 from ..follow import CELL, follow
 from ..guesses import start_vector
+from .backends import cpu_count
 
 CHUNK = 4096            # designs a thread carries in one call
 
@@ -67,7 +67,7 @@ def design_starts(mech, ts, P, guess, tol, maxit, meth, workers=None):
 
     spans = [(a, min(D, a + CHUNK)) for a in range(0, D, CHUNK)]
     threads = 1 if getattr(mod, "__mechgen_tier__", "compiled") == "python" else \
-        min(len(spans), workers or os.cpu_count() or 1)
+        min(len(spans), workers or cpu_count())
     if threads <= 1:
         for a, b in spans:
             job(a, b)
