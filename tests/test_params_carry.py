@@ -82,6 +82,34 @@ def test_a_table_from_a_later_time_starts_where_solve_follows_the_motion(qr):
             < 1e-12
 
 
+def qr_slider_at(L, t, side):
+    """The quick-return's X4 at time t (crank angle 2πt): the slider right (side +1) or
+    left (−1) of the lever's tip."""
+    pin = np.array([L * math.cos(2 * math.pi * t), 5.0 + L * math.sin(2 * math.pi * t)])
+    tip = 9.0 * pin / math.hypot(*pin)
+    return tip[0] + side * math.sqrt(25.0 - (10.0 - tip[1]) ** 2)
+
+
+def test_a_design_s_mechanism_stays_on_the_mode_of_the_table_s_guess(qr):
+    """A table given guess= (the slider left of the lever, not the model's right): each
+    design's sweep and its mechanism's later solves keep that side, and so does the
+    mechanism mech.optimize returns from tables given that guess."""
+    Ls = [2.0, 3.0, 3.5]
+    tab = qr.sweep(0.0, 0.2, 3, params={"longitud": Ls}, guess={"X4": 2.0})
+    for i, L in enumerate(Ls):
+        assert abs(tab["X4"][i, 0] - qr_slider_at(L, 0.0, -1)) < 1e-9, L
+        m = tab.sweep(i).mechanism
+        for t in (0.1, 0.37):
+            assert abs(m.solve(t)["X4"] - qr_slider_at(L, t, -1)) < 1e-9, (L, t)
+        assert abs(qr.with_params(longitud=L).solve(0.37)["X4"] - qr_slider_at(L, 0.37, 1)) \
+            < 1e-9, L                   # without the table's guess: the model's side
+    best = qr.optimize(lambda tab: -tab["X4"][:, 0], {"longitud": (2.0, 3.5)}, 0.0, 0.2, 3,
+                       guess={"X4": 2.0}, popsize=4, maxiter=2, polish=False, seed=1)
+    L = best.params["longitud"]
+    assert abs(best.mechanism.solve(0.0)["X4"] - qr_slider_at(L, 0.0, -1)) < 1e-9
+    assert abs(-best.fun - qr_slider_at(L, 0.0, -1)) < 1e-9
+
+
 def fourbar_at_zero(a, b, c, d, th, mode):
     """(Th3, Th4) of the four-bar at crank angle th: B to the left (mode +1) or right (−1)
     of the line from the crank pin A to the rocker's pivot D; None where it cannot

@@ -59,8 +59,9 @@ class DesignTable:
     """
 
     def __init__(self, mech, names, axes, t, P, data, level, grid=True, reduced=(),
-                 force_level=None):
+                 force_level=None, start=None):
         self.mechanism = mech
+        self._start = mech if start is None else start      # whose guess the designs left
         self.force_level = force_level      # "static" or "dynamic": λ on demand
         self.names = tuple(names)
         self.axes = tuple(axes)
@@ -135,7 +136,7 @@ class DesignTable:
         axes = [P[:, self._column[n]] for n in self.names]
         return DesignTable(self.mechanism, self.names, axes, self.t, P, data, self.level,
                            grid=False, reduced=tuple(self._reduced),
-                           force_level=self.force_level)
+                           force_level=self.force_level, start=self._start)
 
     def extremes(self, name) -> Reduction:
         """The exact minimum and maximum of ``name`` for every design and their times, as
@@ -195,12 +196,16 @@ class DesignTable:
         return int(np.ravel_multi_index(index, self.shape))
 
     def sweep(self, *index, **values):
-        """One design as a Sweep (only the points it solved)."""
+        """One design as a Sweep (only the points it solved). Its ``mechanism`` has the
+        design's parameters and, as its guess, the design's first point: its later solves
+        keep the mode the table gave the design (the guess= of the table's, if any)."""
         self._need_points("sweep()")
         d = self._flat(index if index else None, **values)
-        mech = self.mechanism.with_params(**{n: float(self.P[d, self._column[n]])
-                                             for n in self.names})
+        mech = self._start.with_params(**{n: float(self.P[d, self._column[n]])
+                                          for n in self.names})
         k = int(self.done[d])
+        if k:       # its mechanism on the table's mode: its first point is its guess
+            mech.set_guess(self.Q[d, 0], t=float(self.t[0]))
         QD = self.QD[d, :k].copy() if self._have >= LEVEL["velocity"] else None
         QDD = self.QDD[d, :k].copy() if self._have >= LEVEL["acceleration"] else None
         sw = Sweep(mech, self.t[:k].copy(), self.Q[d, :k].copy(), QD, QDD,
@@ -360,6 +365,18 @@ def design_list(base, index, names, axes) -> np.ndarray:
     return np.ascontiguousarray(P)
 
 
+def guess_reference(mech, t0, guess):
+    """The mechanism whose guess a table's designs start from (tables.starts): ``mech``,
+    or with ``guess=`` a copy whose guess is that one, a configuration at the table's
+    first time ``t0`` for mech's parameters. Its ``with_params`` is a design's mechanism
+    on the mode the table gave it."""
+    if guess is None:
+        return mech
+    ref = mech.with_params()
+    ref.set_guess(guess, t=float(t0))
+    return ref
+
+
 def design_table(mech, t0, t1, n, params, level="position", guess=None, method=None,
                  tol=None, maxit=None, times=None, progress=None, on_fail="warn",
                  backend="cpu", workers=None, client=None, reduce=None, grid=True,
@@ -408,7 +425,8 @@ def design_table(mech, t0, t1, n, params, level="position", guess=None, method=N
                                   data.done, workers)
         data.Q = data.QD = data.QDD = data.INFO = None
     table = DesignTable(mech, names, axes, ts, P, data, LEVELS[lev], grid=grid,
-                        reduced=reduced, force_level=force_level)
+                        reduced=reduced, force_level=force_level,
+                        start=guess_reference(mech, ts[0], guess))
     report_failures(table, on_fail, stacklevel=stacklevel)
     return table
 

@@ -19,6 +19,8 @@ import numpy as np
 
 from ...errors import MechgenError
 from ...protocol import JUMP, THROUGH_SINGULAR
+from ..guards import sweep_times
+from .design import guess_reference
 
 
 class OptimizeResult:
@@ -118,8 +120,10 @@ def optimize(mech, objective, bounds, t0, t1, n, backend="cpu", level="position"
             x, fun = np.asarray(res.x, dtype=np.float64), float(res.fun)
         message.append(f"polish (Nelder-Mead): {res.message}")
     params = {n: float(v) for n, v in zip(names, x)}
+    # the best design on the mode its tables gave it: from the guess they started from
+    origin = guess_reference(mech, sweep_times(t0, t1, n, times)[0], guess)
     return OptimizeResult(params=params, x=x, names=tuple(names), fun=fun,
-                          mechanism=mech.with_params(**params), evaluated=score.evaluated,
+                          mechanism=origin.with_params(**params), evaluated=score.evaluated,
                           rejected=score.rejected, generations=int(de.nit),
                           seconds=time.perf_counter() - start, success=bool(de.success),
                           message="; ".join(str(m) for m in message), backend=backend)
