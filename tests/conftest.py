@@ -12,6 +12,16 @@ EXAMPLES = os.path.join(ROOT, "examples")
 GENERATED = os.path.join(ROOT, "generated")
 
 
+def cuda_sim_env(**more):
+    """The environment of a subprocess on numba's CUDA simulator (numba reads
+    NUMBA_ENABLE_CUDASIM when first imported). Its mechanisms answer in the plain tier:
+    the kernels are translated from the module's text whatever the tier, the CPU's tables
+    they are compared with are the compiled tier's bit for bit (tests/test_tiers.py), and
+    the checks that load a compiled tier say so; numba compiling the modules there cost a
+    minute and a half of a cold run's CPU for the same numbers."""
+    return dict(os.environ, NUMBA_ENABLE_CUDASIM="1", MECHGEN_TIER="python", **more)
+
+
 def pytest_addoption(parser):
     parser.addoption("--update-golden", action="store_true", default=False,
                      help="rewrite the committed modules in generated/ that differ from what "

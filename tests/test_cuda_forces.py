@@ -12,12 +12,12 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import ROOT
+from conftest import ROOT, cuda_sim_env
 
 
 @pytest.fixture(scope="module")
 def sim():
-    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1", PYTHONPATH=ROOT)
+    env = cuda_sim_env(PYTHONPATH=ROOT)
     out = subprocess.run([sys.executable, os.path.join(ROOT, "tests", "cuda_forces_check.py")],
                          env=env, capture_output=True, text=True, timeout=600)
     assert out.returncode == 0, out.stderr[-3000:]

@@ -3,17 +3,12 @@ driver names"): the drivers' efforts of every design against the closed-form sli
 of test_forces (its power form, with the slider's mass varied), reductions (peak torque per
 design in one call) against the full table, each design's sweep against a single sweep,
 the backends against each other, mech.optimize on a force objective against a scan of the
-closed form."""
-import json
+closed form. The CUDA backend's force tables: tests/test_cuda_forces.py."""
 import math
-import os
-import subprocess
-import sys
 
 import numpy as np
 import pytest
 
-from conftest import ROOT
 from test_forces import M4, W, closed_form, power_torque, slider_crank
 
 import mechgen
@@ -113,27 +108,6 @@ def test_optimize_the_slider_mass_for_the_least_peak_torque(sc):
     assert best.fun <= min(scan) * (1 + 1e-7)
     assert best.fun == pytest.approx(np.max(np.abs([torque(t, best.params["mass4"])
                                                     for t in ts])), rel=1e-9)
-
-
-def test_cuda_force_reduce_on_the_simulator():
-    """backend="cuda" with reduce= on a driver (numba's CUDA simulator, a subprocess): the
-    kernel solves the kinematics, the multipliers are solved on the host; the same numbers
-    as the CPU's."""
-    code = f"""
-import json, numpy as np, mechgen
-mech = mechgen.load({os.path.join(ROOT, "generated", "quick_return_forces.py")!r})
-kw = dict(params={{"longitud": [2.5, 3.0]}}, level="dynamic", reduce=["crank driver", "X4"])
-a = mech.sweep(0.0, 1.0, 12, backend="cuda", **kw)
-b = mech.sweep(0.0, 1.0, 12, **kw)
-print(json.dumps({{n: max(float(np.max(np.abs(getattr(a.reduced(n), w) - getattr(b.reduced(n), w))))
-                         for w in ("min", "max", "tmin", "tmax")) for n in kw["reduce"]}}))
-"""
-    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1", PYTHONPATH=ROOT)
-    out = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
-                         text=True, timeout=300)
-    assert out.returncode == 0, out.stderr[-3000:]
-    diffs = json.loads(out.stdout.strip().splitlines()[-1])
-    assert diffs["crank driver"] <= 1e-9 * 5e4 and diffs["X4"] <= 1e-12, diffs
 
 
 def test_the_hosts_force_reduction_on_threads_is_the_one_pass(sc, monkeypatch):

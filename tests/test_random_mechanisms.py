@@ -33,7 +33,7 @@ from hypothesis import strategies as st
 
 import random_checks as rc
 import random_families
-from conftest import ROOT
+from conftest import ROOT, cuda_sim_env
 from random_families import FAMILIES, FOURBAR, SliderDriven
 
 random_families.TIER = "python"         # (see the docstring)
@@ -310,8 +310,7 @@ def test_dask_design_tables_stay_on_their_mode(client, variant):
 def test_cuda_simulator_design_tables_stay_on_their_mode():
     """numba reads NUMBA_ENABLE_CUDASIM when first imported: the tables run in a
     subprocess (tests/random_cuda_sim.py, tiny) and are judged here."""
-    env = dict(os.environ, NUMBA_ENABLE_CUDASIM="1",
-               PYTHONPATH=os.pathsep.join([ROOT, os.path.join(ROOT, "tests")]))
+    env = cuda_sim_env(PYTHONPATH=os.pathsep.join([ROOT, os.path.join(ROOT, "tests")]))
     out = subprocess.run([sys.executable, os.path.join(ROOT, "tests", "random_cuda_sim.py")],
                          env=env, capture_output=True, text=True, timeout=300)
     assert out.returncode == 0, out.stderr[-3000:]
