@@ -221,12 +221,13 @@ def test_spy_sees_calls(spied):
     spied.solve(0.1, guess=spied.guess)
     # the sorted solver with the checks: the full Newton is not called (nor compiled)
     assert spied.module.calls == ["solve_point_sorted"], spied.module.calls
-    # without a guess: the guess solved at t = 0, the careful sweep to t, the solve at t
+    # without a guess: the guess solved at t = 0, the continuation to t (its quick path:
+    # nothing is hard on the way, so the careful sweep is not called), the solve at t
     spied.module.calls.clear()
     spied.solve(0.1)
     calls = spied.module.calls
     assert calls[0] == calls[-1] == "solve_point_sorted" and set(calls) == \
-        {"solve_point_sorted", "sweep"}, calls
+        {"solve_point_sorted", "sweep_fast"}, calls
 
 
 def test_unknown_names_when_indexing(qr):

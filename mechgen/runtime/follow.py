@@ -4,7 +4,9 @@ from its guess to t, never the one a Newton from the guess happens to fall into.
 The guess is a configuration at a time: the model's own guess at t = 0 (where ``mechgen
 check`` and sweeps start), or what ``set_guess`` made it (a Solution at its time, or
 ``set_guess(q, t=...)``). Solved there, it fixes the assembly mode; the module's careful
-continuation (``sweep``, with its branch tests and step control) carries it to t. The
+continuation (``sweep``, with its branch tests and step control) carries it to t, its quick
+path (``sweep_fast``, which accepts a point only where it passes sweep()'s tests) first,
+as in a sweep. The
 configurations on the way are kept, one every CELL of time from the guess's time (a path
 per guess, parameters, tolerances and method), so that a later solve continues from the
 nearest kept one between the guess's time and its own: a solve costs one short
@@ -21,8 +23,8 @@ from math import floor as _floor
 import numpy as np
 
 from ..errors import BranchJumpWarning, SolveError
-from ..protocol import (JUMP, LEVEL, METHOD, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE, STATUS_CODE,
-                        STATUS_COLUMNS, THROUGH_SINGULAR)
+from ..protocol import (JUMP, LEVEL, METHOD, METHOD_FULL, POINT_INFO_SIZE, REPORT_JUMP,
+                        REPORT_SIZE, STATUS_CODE, STATUS_COLUMNS, THROUGH_SINGULAR)
 from .entry import module_attr, solve_point
 from .sweeping import failure, no_rows, outside
 
@@ -173,9 +175,29 @@ def _segment(mech, ts, q0, tol, maxit, meth):
         finally:
             mech._last = last
         return sw.Q[[0, -1]], N, S[[0, -1]], report      # (two times: the ends)
-    done = mech.module.sweep(ts, q0.copy(), mech.p, _POSITION, tol, mech.xtol, maxit, meth,
-                             Q, no_rows(n), no_rows(n), S, report)
+    none = no_rows(n)
+    done = _continue(mech.module, ts, q0, mech.p, tol, mech.xtol, maxit, meth, Q, none, S,
+                     report)
     return Q, done, S, report
+
+
+def _continue(mod, ts, q0, p, tol, xtol, maxit, meth, Q, none, S, report) -> int:
+    """The careful continuation over ts from q0 at the position level (the count of times
+    solved), its quick path first as a sweep's (runtime.sweeping.compiled): sweep_fast
+    while nothing is hard, which passes sweep()'s tests at every point it accepts or stops
+    there, then sweep() from the last point it accepted. (A compiled first solve at
+    another time than the guess's compiles sweep() only where the way is hard.)"""
+    N = ts.shape[0]
+    if meth != METHOD_FULL and mod.SORTED and mod.LEVEL >= 2:
+        k = mod.sweep_fast(ts, q0, p, tol, xtol, maxit, Q, none, none, S)
+        if k == N:
+            return N
+        k = max(k - 1, 0)                 # resume from the last accepted point
+        if k:
+            return k + mod.sweep(ts[k:], Q[k].copy(), p, _POSITION, tol, xtol, maxit, meth,
+                                 Q[k:], none, none, S[k:], report)
+    return mod.sweep(ts, q0.copy(), p, _POSITION, tol, xtol, maxit, meth, Q, none, none, S,
+                     report)
 
 
 def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth, what=None):
@@ -219,8 +241,8 @@ def _last_step(mech, path, tc, qc, t, tol, maxit, meth, what=None) -> np.ndarray
             step = path.step = _step_arrays(mech.n)
         ts, Q, S, report, none, times, codes, last = step
         times[0], times[1] = tc, t
-        done = mod.sweep(ts, qc.copy(), mech.p, _POSITION, tol, mech.xtol, maxit, meth,
-                         Q, none, none, S, report)
+        done = _continue(mod, ts, qc, mech.p, tol, mech.xtol, maxit, meth, Q, none, S,
+                         report)
         if done == 2 and codes[0] == 0 and codes[1] == 0:
             return last.copy()
     return _extend(mech, path, np.array([tc, t]), qc, 0, t, tol, maxit, meth, what).copy()
