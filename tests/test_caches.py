@@ -143,9 +143,9 @@ def test_a_damaged_numba_cache_is_deleted_and_compiled_again(module_copy):
     names = lambda pattern: sorted(glob.glob(os.path.join(cache, pattern)))  # noqa: E731
     targets = {
         "index cut short": names("fourbar.solve_point_sorted-*.nbi"),
-        "data cut short": names("fourbar.solve_position-*.nbc"),
+        "data cut short": names("fourbar.sweep_fast-*.nbc"),
         "data with a byte changed": names("fourbar.phi-*.nbc"),
-        "empty index": names("fourbar.newton_full-*.nbi"),
+        "empty index": names("fourbar.unwrap_turns-*.nbi"),
     }
     assert all(targets.values()), targets
     damage_truncate(targets["index cut short"][0])
@@ -156,7 +156,7 @@ def test_a_damaged_numba_cache_is_deleted_and_compiled_again(module_copy):
     assert second.returncode == 0, second.stderr
     assert "Traceback" not in second.stderr and "EOFError" not in second.stderr
     assert "numba's cache of" in second.stderr and "damaged" in second.stderr
-    for what in ("solve_point_sorted", "solve_position", "phi-", "newton_full"):
+    for what in ("solve_point_sorted", "sweep_fast", "phi-", "unwrap_turns"):
         assert what in second.stderr
     assert near_closed_form(float(second.stdout))
     assert not glob.glob(os.path.join(cache, "fourbar-*.compiled"))   # the tiers' mark gone

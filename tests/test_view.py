@@ -296,6 +296,29 @@ def test_the_other_assembly_mode_is_followed_over_the_cycle(mech):
             assert abs(data["X4"][k] - want) < 1e-9, (L, k)
 
 
+def test_a_mode_that_cannot_be_carried_is_noted_under_the_drawing():
+    """A slider moved across parameters where the chosen mode cannot be carried (the
+    four-bar's crank pointing at the rocker's pivot, a from 1 to 5: no assembly for a in
+    (2.5, 3.5)): the cycle is drawn, solved from the guess, and the page's note says that
+    its mode may be another; a cycle carried without trouble clears it."""
+    from mechgen.view.explorer import Explorer
+    from mechgen.view.page import Page
+    fb = mechgen.load(os.path.join(GENERATED, "fourbar.py"))
+    m0 = fb.with_params(a=1.0, theta2=0.0, omega=0.0)
+    m0.set_guess(m0.solve(0.0, guess={"Th3": 1.0, "Th4": 2.0}))
+    ex = Explorer(m0, n=5)
+    page = Page(ex)
+    assert ex.warning == "" and page.note.text == ""
+    data, _, message = ex.compute({"a": 5.0})
+    assert message == "" and len(data["t"]) == 5
+    assert "could not be carried" in ex.warning
+    page.show(data, None, message)
+    assert page.note.text.startswith("Note: ") and "could not be carried" in page.note.text
+    data, _, message = ex.compute({"a": 1.2})
+    page.show(data, None, message)
+    assert message == "" and ex.warning == "" and page.note.text == ""
+
+
 def test_a_model_with_masses_offers_its_driver_torque(tmp_path):
     from mechgen.view.explorer import Explorer
     # the plain-Python tier and a short cycle: nothing to compile

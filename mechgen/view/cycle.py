@@ -15,7 +15,7 @@ import warnings
 
 import numpy as np
 
-from ..errors import MechgenError
+from ..errors import BranchJumpWarning, MechgenError
 from .geometry import poses
 
 DRIVER = "driver: "      # the prefix of a driver effort's column
@@ -63,17 +63,25 @@ class Failure(Exception):
     """The cycle cannot be solved for these parameter values: ``message`` says where."""
 
 
-def solve_cycle(mech, t0, t1, n, guess=None):
+def solve_cycle(mech, t0, t1, n, guess=None, notes=None):
     """The sweep of one cycle at the level the plots need (dynamic where the model has
-    masses or loads), or Failure naming the time it stopped at and why."""
+    masses or loads), or Failure naming the time it stopped at and why. ``notes`` (a
+    list) receives what the solve warned of the assembly mode, each once: a mode that
+    could not be carried to these parameters, a singular configuration passed (the page
+    shows them under the drawing; other warnings are not the page's)."""
     level = "dynamic" if drivers(mech) else "acceleration"
     try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
             sw = mech.sweep(float(t0), float(t1), int(n), level=level, guess=guess)
     except MechgenError as exc:
         first = str(exc).split("\n")[0]
         raise Failure(first) from None
+    if notes is not None:
+        for w in caught:
+            text = str(w.message)
+            if issubclass(w.category, BranchJumpWarning) and text not in notes:
+                notes.append(text)
     return sw
 
 

@@ -90,8 +90,9 @@ class Explorer:
             if not hi > lo:
                 raise ValueError(f"ranges[{name!r}]: need low < high, got {rng!r}")
             self.ranges[name] = (lo, hi)
+        notes = []
         try:
-            sw = solve_cycle(mech, self.t0, self.t1, self.n)
+            sw = solve_cycle(mech, self.t0, self.t1, self.n, notes=notes)
         except Failure as exc:
             raise MechgenError(f"'{mech.name}' does not run over [{self.t0:g}, {self.t1:g}] "
                                f"with its default parameters: {exc}") from None
@@ -120,6 +121,7 @@ class Explorer:
         self.guess_params = None   # and the parameters of that cycle
         self.message = ""
         self.detail = ""           # the solver's whole account of a failure
+        self.warning = "\n".join(notes)   # what the last cycle's solve warned of its mode
         self.extent = self._extent(sw)
 
     @staticmethod
@@ -158,12 +160,15 @@ class Explorer:
             base = self.mech.with_params(**self.guess_params)
             base.set_guess(self.guess, t=self.t0)
             mech = base.with_params(**values)
+        notes = []
         try:
-            sw = solve_cycle(mech, self.t0, self.t1, self.n, guess=guess)
+            sw = solve_cycle(mech, self.t0, self.t1, self.n, guess=guess, notes=notes)
         except Failure as exc:
             self.params = values
+            self.warning = ""
             self.message = self._cannot(mech, values, params or {}, str(exc))
             return empty_columns(self.names), False, self.message
+        self.warning = "\n".join(notes)
         self.params = values
         if guess is not None or self.guess is not None:
             self.guess, self.guess_params = sw.Q[0].copy(), values

@@ -109,7 +109,8 @@ class Page:
             s.js_link("value", sp, "value")
             sp.js_link("value", s, "value")
             self.sliders[name], self.spinners[name] = s, sp
-        self.note = Div(text="", width=420, name="note",
+        self.note = Div(text="Note: " + ex.warning if getattr(ex, "warning", "") else "",
+                        width=420, name="note",
                         styles={"color": "#444444", "white-space": "pre-wrap"})
 
         # the plots
@@ -223,8 +224,10 @@ class Page:
             if not same_rows(self.labels.data, labels):
                 self.labels.data = labels
         self.message.text = message
-        self.note.text = "" if not message else "Why (the solver's account): " + \
-            (getattr(self.ex, "detail", "") or message)
+        warning = getattr(self.ex, "warning", "")
+        self.note.text = "Why (the solver's account): " + \
+            (getattr(self.ex, "detail", "") or message) if message else \
+            "Note: " + warning if warning else ""
         if self.server:
             self.pack(self.shown(data), verts if picture is not None else None)
         else:
