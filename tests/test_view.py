@@ -319,6 +319,31 @@ def test_a_mode_that_cannot_be_carried_is_noted_under_the_drawing():
     assert message == "" and ex.warning == "" and page.note.text == ""
 
 
+def test_the_frame_grows_to_take_in_a_larger_mechanism():
+    """Parameters that make the mechanism larger (the four-bar's pivots 4 apart instead
+    of 3, its coupler and rocker longer): the drawing's ranges grow to take in every
+    glyph over the new cycle, x and y kept at the frame's one scale; a smaller one after
+    it leaves them as they are."""
+    from mechgen.view.explorer import Explorer
+    from mechgen.view.page import Page
+    ex = Explorer(mechgen.load(os.path.join(GENERATED, "fourbar.py")), n=40)
+    page = Page(ex)
+    xr, yr = page.figure.x_range, page.figure.y_range
+    scale = (xr.end - xr.start) / (yr.end - yr.start)
+    assert xr.end < 4.0
+    data, again, message = ex.compute({"b": 3.3, "c": 2.7, "d": 4.0})
+    assert message == "" and again
+    page.show(data, ex.picture, message)
+    x0, x1, y0, y1 = ex.extent
+    assert xr.start <= x0 and xr.end >= x1 >= 4.0 and yr.start <= y0 and yr.end >= y1
+    assert abs((xr.end - xr.start) / (yr.end - yr.start) - scale) < 1e-12 * scale
+    assert (xr.reset_end, page.clock.x, page.clock.y) == (xr.end, xr.start, yr.end)
+    grown = (xr.start, xr.end, yr.start, yr.end)
+    data, _, message = ex.compute({"b": 2.5, "c": 2.0, "d": 3.0})
+    page.show(data, ex.picture, message)
+    assert (xr.start, xr.end, yr.start, yr.end) == grown
+
+
 def test_a_model_with_masses_offers_its_driver_torque(tmp_path):
     from mechgen.view.explorer import Explorer
     # the plain-Python tier and a short cycle: nothing to compile

@@ -122,7 +122,7 @@ class Explorer:
         self.message = ""
         self.detail = ""           # the solver's whole account of a failure
         self.warning = "\n".join(notes)   # what the last cycle's solve warned of its mode
-        self.extent = self._extent(sw)
+        self.extent = self._extent(self.data)
 
     @staticmethod
     def _shape(mech, sw):
@@ -139,11 +139,12 @@ class Explorer:
                 out.append((c * d[0] + s * d[1], -s * d[0] + c * d[1]))
         return np.array(out)
 
-    def _extent(self, sw):
-        """The drawing's frame: the glyphs' over the motion, the traced paths taken in."""
+    def _extent(self, data):
+        """The drawing's frame: the glyphs' over the motion, the traced paths of the
+        cycle's columns ``data`` taken in."""
         x0, x1, y0, y1 = self.picture.extent
         for j in range(len(self.traces)):
-            xs, ys = self.data[f"tr{j}x"], self.data[f"tr{j}y"]
+            xs, ys = data[f"tr{j}x"], data[f"tr{j}y"]
             x0, x1 = min(x0, xs.min()), max(x1, xs.max())
             y0, y1 = min(y0, ys.min()), max(y1, ys.max())
         return (float(x0), float(x1), float(y0), float(y1))
@@ -180,7 +181,9 @@ class Explorer:
                                    ax=self.ax, keep_labels=self.picture.labels)
             self.shape = shape
         self.message = ""
-        return columns(mech, sw, self.picture.frames, self.traces), again, ""
+        data = columns(mech, sw, self.picture.frames, self.traces)
+        self.extent = self._extent(data)
+        return data, again, ""
 
     def _cannot(self, mech, values, changed, why):
         """The message shown in place of the drawing: where it stops, and the range of

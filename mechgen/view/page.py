@@ -224,6 +224,8 @@ class Page:
             if not same_rows(self.labels.data, labels):
                 self.labels.data = labels
         self.message.text = message
+        if not message:
+            self.fit(self.ex.extent)
         warning = getattr(self.ex, "warning", "")
         self.note.text = "Why (the solver's account): " + \
             (getattr(self.ex, "detail", "") or message) if message else \
@@ -232,6 +234,30 @@ class Page:
             self.pack(self.shown(data), verts if picture is not None else None)
         else:
             self.cycle.data = data
+
+    def fit(self, extent):
+        """Grow the drawing's ranges to take in ``extent`` (xmin, xmax, ymin, ymax: a
+        cycle whose parameters made the mechanism larger, or move it), x and y kept at
+        one scale in the frame's pixels; never shrunk (the drawing does not jump as a
+        slider moves back)."""
+        xr, yr = self.figure.x_range, self.figure.y_range
+        x0, x1, y0, y1 = extent
+        pad = 0.03 * max(x1 - x0, y1 - y0)
+        x0, x1, y0, y1 = x0 - pad, x1 + pad, y0 - pad, y1 + pad
+        if x0 >= xr.start and x1 <= xr.end and y0 >= yr.start and y1 <= yr.end:
+            return
+        scale = (xr.end - xr.start) / (yr.end - yr.start)      # x per y, the frame's
+        x0, x1 = min(x0, xr.start), max(x1, xr.end)
+        y0, y1 = min(y0, yr.start), max(y1, yr.end)
+        dx, dy = x1 - x0, y1 - y0
+        if dx < dy * scale:
+            x0, x1 = x0 - (dy * scale - dx) / 2, x1 + (dy * scale - dx) / 2
+        else:
+            y0, y1 = y0 - (dx / scale - dy) / 2, y1 + (dx / scale - dy) / 2
+        xr.update(start=x0, end=x1, reset_start=x0, reset_end=x1)
+        yr.update(start=y0, end=y1, reset_start=y0, reset_end=y1)
+        self.clock.update(x=x0, y=y1)
+        self.message.update(x=(x0 + x1) / 2, y=(y0 + y1) / 2)
 
     def pack(self, data, verts=None):
         """Send a cycle's columns (and the drawing's vertices) as one array (UNPACK)."""
