@@ -7,6 +7,8 @@ the committed module's sweep_fast text, side by side in one process, ns a point.
   reach margins, the branch test, the finite test, det Φ_q's signs and rate, and a
   position sweep's evaluations of det Φ_q): what the solver's own arithmetic costs,
   safety aside (its position sweep then vouches for no point: timed all the same);
+  with --each, also the module without each one of those tests in turn (what that
+  test costs);
 - "hand, every coordinate": the hand-written closed form filling every coordinate's
   row of Q, QD and QDD, as mechgen's sweep returns them (the hand loop above writes six
   numbers a point; a sweep of mechgen 27, plus its status);
@@ -15,7 +17,7 @@ the committed module's sweep_fast text, side by side in one process, ns a point.
   of their own (the iterations independent of each other), det Φ_q's signs checked at
   every point; compared bit for bit with "as emitted".
 
-    python benchmarks/bench_gap.py [--points 100000] [--rounds 15]
+    python benchmarks/bench_gap.py [--points 100000] [--rounds 15] [--each]
 
 A measurement tool, not a product path: the variants are cut from the module's text by
 the emitter's own lines, and it raises where they are not found.
@@ -40,17 +42,20 @@ import baselines  # noqa: E402
 
 MODULE = os.path.join(ROOT, "generated", "quick_return.py")
 
-# sweep()'s tests as sweep_fast prints them: (first line, last line) of each
+# sweep()'s tests as sweep_fast prints them: (first line, last line) of each, and which
+# test it belongs to (--each takes the tests out one at a time)
 CHECKS = (
-    ("        if k > 0 and (abs(_sw_q_", "return _sw_good\n"),
-    ("        if k > 0:\n            if not reach_kept", "_sw_ms = (_sw_mc - _sw_m) / abs(t - _sw_mt)\n"),
-    ("        if k > 1 or k == 1 and (_sw_all or", "return _sw_good\n"),
-    ("        if _sw_all:\n            _sw_bad = ", " * 0.0\n        else:"),
-    ("            _sw_bad = ", " * 0.0\n"),
-    ("        if _sw_bad != 0.0:", "return _sw_good\n"),
+    ("        if k > 0 and (abs(_sw_q_", "return _sw_good\n", "a body's turn"),
+    ("        if k > 0:\n            if not reach_kept", "_sw_ms = (_sw_mc - _sw_m) / abs(t - _sw_mt)\n",
+     "the reach margins"),
+    ("        if k > 1 or k == 1 and (_sw_all or", "return _sw_good\n", "the branch test"),
+    ("        if _sw_all:\n            _sw_bad = ", " * 0.0\n        else:", "the finite test"),
+    ("            _sw_bad = ", " * 0.0\n", "the finite test"),
+    ("        if _sw_bad != 0.0:", "return _sw_good\n", "the finite test"),
     ("            if k > 0 and (not _sw_piv_0 * _sw_det > 0.0",
-     "_sw_rate = abs(_sw_piv_0 - _sw_det) / abs(t - _sw_tk)\n"),
-    ("        else:\n            if k < 2 or k + 1 - _sw_good >= BRANCH_DET_EVERY", "_sw_tk = t\n"),
+     "_sw_rate = abs(_sw_piv_0 - _sw_det) / abs(t - _sw_tk)\n", "det Φ_q's signs and rate"),
+    ("        else:\n            if k < 2 or k + 1 - _sw_good >= BRANCH_DET_EVERY", "_sw_tk = t\n",
+     "det Φ_q's signs and rate"),
 )
 
 
@@ -64,12 +69,13 @@ def _function(src, name):
     return start, src.index("\n\n\n", start) + 3
 
 
-def no_checks(src):
-    """The module's text with sweep_fast's tests cut out."""
+def no_checks(src, which=None):
+    """The module's text with sweep_fast's tests cut out (``which``: only that one's)."""
     a, b = _function(src, "sweep_fast")
     body = src[a:b]
-    for first, last in CHECKS:
-        body = _cut(body, first, last)
+    for first, last, name in CHECKS:
+        if which is None or name == which:
+            body = _cut(body, first, last)
     return src[:a] + body + src[b:]
 
 
@@ -120,6 +126,8 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--points", type=int, default=100_000)
     ap.add_argument("--rounds", type=int, default=15)
+    ap.add_argument("--each", action="store_true",
+                    help="also each test's own cost: the module without that one test")
     args = ap.parse_args()
     with open(MODULE, encoding="utf-8") as fh:
         src = fh.read()
@@ -159,6 +167,11 @@ def main():
         "no checks, positions": fast(bare, False),
         "two passes, all levels": both,
     }
+    if args.each:
+        for name in dict.fromkeys(c[2] for c in CHECKS):
+            m = load("gap_without_" + str(len(cases)), no_checks(src, name))
+            cases[f"without {name}, all levels"] = fast(m, True)
+            cases[f"without {name}, positions"] = fast(m, False)
     for f in cases.values():
         f()
     assert fast(emitted, True)() == N and both() == N
@@ -175,7 +188,9 @@ def main():
     hand = best["hand-written closed form, all levels"]
     print(f"quick-return, {N} points, best of {args.rounds} interleaved rounds, ns a point")
     for name, ns in best.items():
-        print(f"  {name:40s} {ns:7.1f}   {ns / hand:5.2f} × the hand-written all levels")
+        print(f"  {name:48s} {ns:7.1f}   {ns / hand:5.2f} × the hand-written all levels")
+    print(f"  as emitted, positions / all levels: "
+          f"{best['as emitted, positions'] / best['as emitted, all levels']:.3f}")
     print(f"  two passes against as emitted: the same bits: {same}")
     print(f"  hand, every coordinate against as emitted: largest relative difference "
           f"{full_err:.1e}")
