@@ -6,11 +6,10 @@ check`` and sweeps start), or what ``set_guess`` made it (a Solution at its time
 ``set_guess(q, t=...)``). Solved there, it fixes the assembly mode; the module's careful
 continuation (``sweep``, with its branch tests and step control) carries it to t, its quick
 path (``sweep_fast``, which accepts a point only where it passes sweep()'s tests) first,
-as in a sweep. The
-configurations on the way are kept, one every CELL of time from the guess's time (a path
-per guess, parameters, tolerances and method), so that a later solve continues from the
-nearest kept one between the guess's time and its own: a solve costs one short
-continuation once the way is known. Where the way is blocked (a lock, no assembly, a jump
+as in a sweep. The configurations on the way are kept, one every CELL of time from the
+guess's time (a path per guess, parameters, tolerances and method), so that a later solve
+continues from the nearest kept one between the guess's time and its own: a solve costs
+one short continuation once the way is known. Where the way is blocked (a lock, no assembly, a jump
 the step control could not avoid) the solve raises the error of the sweep that stopped
 there, naming the time; a singular configuration passed on the way (a dead centre, where
 the mechanism may go on in either mode) is a BranchJumpWarning.
