@@ -342,6 +342,13 @@ def test_the_frame_grows_to_take_in_a_larger_mechanism():
     data, _, message = ex.compute({"b": 2.5, "c": 2.0, "d": 3.0})
     page.show(data, ex.picture, message)
     assert (xr.start, xr.end, yr.start, yr.end) == grown
+    # the page without a server: its frame takes in every precomputed cycle's drawing
+    from mechgen.view.standalone import standalone_page
+    ex = Explorer(mechgen.load(os.path.join(GENERATED, "fourbar.py")), n=40,
+                  ranges={"d": (2.5, 3.6)})
+    page = standalone_page(ex, vary=["d"], steps=3)
+    xr = page.figure.x_range
+    assert xr.start <= -0.8 and xr.end >= 3.6      # the crank's circle, the far pivot
 
 
 def test_a_model_with_masses_offers_its_driver_torque(tmp_path):

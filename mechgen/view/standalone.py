@@ -102,6 +102,8 @@ def standalone_page(ex, vary=None, steps=None, max_cycles=MAX_CYCLES):
         stop = failing.get(tuple(params.values()))
         if stop is None:
             data, _, said = ex.compute(params)
+            if not said:
+                page.fit(ex.extent)         # the frame takes in every cycle's drawing
         else:            # a cycle the table says cannot be solved: its message alone
             varied = [k for k in grid if len(grid[k]) > 1]
             said = ex._cannot(ex.mech.with_params(**params), params, varied,
