@@ -342,6 +342,13 @@ def test_the_frame_grows_to_take_in_a_larger_mechanism():
     data, _, message = ex.compute({"b": 2.5, "c": 2.0, "d": 3.0})
     page.show(data, ex.picture, message)
     assert (xr.start, xr.end, yr.start, yr.end) == grown
+    # a view the user zoomed stays zoomed; reset shows the frame grown again
+    xr.update(start=0.5, end=1.5)
+    yr.update(start=-0.3, end=0.7)
+    data, _, message = ex.compute({"b": 3.6, "c": 2.9, "d": 4.4})
+    page.show(data, ex.picture, message)
+    assert (xr.start, xr.end, yr.start, yr.end) == (0.5, 1.5, -0.3, 0.7)
+    assert xr.reset_end >= ex.extent[1] >= 4.4 and xr.reset_end > grown[1]
     # the page without a server: its frame takes in every precomputed cycle's drawing
     from mechgen.view.standalone import standalone_page
     ex = Explorer(mechgen.load(os.path.join(GENERATED, "fourbar.py")), n=40,

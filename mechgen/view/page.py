@@ -52,6 +52,7 @@ class Page:
         fig.yaxis.axis_label = "y (L)"
         fig.grid.grid_line_color = "#e4e4e4"
         self.figure = fig
+        self.frame = extent             # what the reset tool shows: the whole drawing
         self.cycle = ColumnDataSource(ex.data, name="cycle")
         layers, cut, all_rows, verts = drawing_columns(pic)
         self.kinds = [k for k, _ in layers]
@@ -236,26 +237,33 @@ class Page:
             self.cycle.data = data
 
     def fit(self, extent):
-        """Grow the drawing's ranges to take in ``extent`` (xmin, xmax, ymin, ymax: a
-        cycle whose parameters made the mechanism larger, or move it), x and y kept at
-        one scale in the frame's pixels; never shrunk (the drawing does not jump as a
-        slider moves back)."""
-        xr, yr = self.figure.x_range, self.figure.y_range
+        """Grow the drawing's frame (``self.frame``, what the reset tool shows) to take
+        in ``extent`` (xmin, xmax, ymin, ymax: a cycle whose parameters made the mechanism
+        larger, or moved it), x and y kept at one scale in the frame's pixels; never
+        shrunk (the drawing does not jump as a slider moves back). The view follows
+        unless the user has zoomed or panned it: then it stays, and reset shows the
+        grown frame."""
+        fx0, fx1, fy0, fy1 = self.frame
         x0, x1, y0, y1 = extent
         pad = 0.03 * max(x1 - x0, y1 - y0)
         x0, x1, y0, y1 = x0 - pad, x1 + pad, y0 - pad, y1 + pad
-        if x0 >= xr.start and x1 <= xr.end and y0 >= yr.start and y1 <= yr.end:
+        if x0 >= fx0 and x1 <= fx1 and y0 >= fy0 and y1 <= fy1:
             return
-        scale = (xr.end - xr.start) / (yr.end - yr.start)      # x per y, the frame's
-        x0, x1 = min(x0, xr.start), max(x1, xr.end)
-        y0, y1 = min(y0, yr.start), max(y1, yr.end)
+        scale = (fx1 - fx0) / (fy1 - fy0)       # x per y, the frame's
+        x0, x1, y0, y1 = min(x0, fx0), max(x1, fx1), min(y0, fy0), max(y1, fy1)
         dx, dy = x1 - x0, y1 - y0
         if dx < dy * scale:
             x0, x1 = x0 - (dy * scale - dx) / 2, x1 + (dy * scale - dx) / 2
         else:
             y0, y1 = y0 - (dx / scale - dy) / 2, y1 + (dx / scale - dy) / 2
-        xr.update(start=x0, end=x1, reset_start=x0, reset_end=x1)
-        yr.update(start=y0, end=y1, reset_start=y0, reset_end=y1)
+        xr, yr = self.figure.x_range, self.figure.y_range
+        whole = (xr.start, xr.end, yr.start, yr.end) == self.frame
+        self.frame = (x0, x1, y0, y1)
+        xr.update(reset_start=x0, reset_end=x1)
+        yr.update(reset_start=y0, reset_end=y1)
+        if whole:                               # not zoomed nor panned: shown grown
+            xr.update(start=x0, end=x1)
+            yr.update(start=y0, end=y1)
         self.clock.update(x=x0, y=y1)
         self.message.update(x=(x0 + x1) / 2, y=(y0 + y1) / 2)
 
