@@ -363,7 +363,8 @@ def test_an_unsorted_build_keeps_the_mode_too(tmp_path):
 @pytest.mark.parametrize("code", ["JUMP", "THROUGH_SINGULAR"])
 def test_a_flagged_step_on_the_way_is_said(fourbar_mech, monkeypatch, code):
     """Where the careful sweep (after the quick path, which hands a hard point to it) marks
-    a point reached by a jump it could not avoid, the solve raises; a singular configuration passed on the way is a BranchJumpWarning."""
+    a point reached by a jump it could not avoid, the solve raises; a singular
+    configuration passed on the way is a BranchJumpWarning."""
     from mechgen import protocol
     from mechgen.errors import BranchJumpWarning
     mech = fourbar_mech.with_params()
