@@ -6,13 +6,14 @@ check`` and sweeps start), or what ``set_guess`` made it (a Solution at its time
 ``set_guess(q, t=...)``). Solved there, it fixes the assembly mode; the module's careful
 continuation (``sweep``, with its branch tests and step control) carries it to t, its quick
 path (``sweep_fast``, which accepts a point only where it passes sweep()'s tests) first,
-as in a sweep. The configurations on the way are kept, one every CELL of time from the
-guess's time (a path per guess, parameters, tolerances and method), so that a later solve
-continues from the nearest kept one between the guess's time and its own: a solve costs
-one short continuation once the way is known. Where the way is blocked (a lock, no assembly, a jump
-the step control could not avoid) the solve raises the error of the sweep that stopped
-there, naming the time; a singular configuration passed on the way (a dead centre, where
-the mechanism may go on in either mode) is a BranchJumpWarning.
+as a sweep goes (runtime.sweeping.compiled). The configurations on the way are kept, one
+every CELL of time from the guess's time (a path per guess, parameters, tolerances and
+method), so that a later solve continues from the nearest kept one between the guess's
+time and its own: a solve costs one short continuation once the way is known. Where the
+way is blocked (a lock, no assembly, a jump the step control could not avoid) the solve
+raises the error of the sweep that stopped there, naming the time; a singular
+configuration passed on the way (a dead centre, where the mechanism may go on in either
+mode) is a BranchJumpWarning.
 """
 from __future__ import annotations
 
@@ -22,10 +23,10 @@ from math import floor as _floor
 import numpy as np
 
 from ..errors import BranchJumpWarning, SolveError
-from ..protocol import (JUMP, LEVEL, METHOD, METHOD_FULL, POINT_INFO_SIZE, REPORT_JUMP,
-                        REPORT_SIZE, STATUS_CODE, STATUS_COLUMNS, THROUGH_SINGULAR)
+from ..protocol import (JUMP, LEVEL, METHOD, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE,
+                        STATUS_CODE, STATUS_COLUMNS, THROUGH_SINGULAR)
 from .entry import module_attr, solve_point
-from .sweeping import failure, no_rows, outside
+from .sweeping import compiled, failure, no_rows, outside
 
 CELL = 1.0 / 16.0       # time between the configurations kept on the way (a 16th of a
                         # turn of a driver at one turn per unit of time)
@@ -123,11 +124,12 @@ def at_guess_params(mech) -> bool:
 def carried(mech, tol, maxit, meth, info):
     """(start vector, note): a start at the mechanism's parameters for its guess, a
     configuration at time guess_t with parameters guess_p. The guess itself where those
-    are the mechanism's (at_guess_params); else the guess solved at p0 and carried along its assembly mode to the
-    mechanism's parameters (the module's carry_params). Where that way is blocked (a
-    singular configuration, or parameters on the way at which it does not assemble) the
-    guess itself, and ``note`` says so (a solve from it may land in another mode); where
-    the guess does not assemble at p0, the guess itself: there is no mode to carry."""
+    are the mechanism's (at_guess_params); else the guess solved at p0 and carried along
+    its assembly mode to the mechanism's parameters (the module's carry_params). Where
+    that way is blocked (a singular configuration, or parameters on the way at which it
+    does not assemble) the guess itself, and ``note`` says so (a solve from it may land
+    in another mode); where the guess does not assemble at p0, the guess itself: there is
+    no mode to carry."""
     guess, t0, p0, p = mech.guess, float(mech.guess_t), mech.guess_p, mech.p
     mod = mech.module
     if at_guess_params(mech):
@@ -175,28 +177,9 @@ def _segment(mech, ts, q0, tol, maxit, meth):
             mech._last = last
         return sw.Q[[0, -1]], N, S[[0, -1]], report      # (two times: the ends)
     none = no_rows(n)
-    done = _continue(mech.module, ts, q0, mech.p, tol, mech.xtol, maxit, meth, Q, none, S,
-                     report)
+    done, _ = compiled(mech, ts, q0.copy(), _POSITION, tol, maxit, meth, Q, none, none, S,
+                       report, unwrap=False)
     return Q, done, S, report
-
-
-def _continue(mod, ts, q0, p, tol, xtol, maxit, meth, Q, none, S, report) -> int:
-    """The careful continuation over ts from q0 at the position level (the count of times
-    solved), its quick path first as a sweep's (runtime.sweeping.compiled): sweep_fast
-    while nothing is hard, which passes sweep()'s tests at every point it accepts or stops
-    there, then sweep() from the last point it accepted. (A compiled first solve at
-    another time than the guess's compiles sweep() only where the way is hard.)"""
-    N = ts.shape[0]
-    if meth != METHOD_FULL and mod.SORTED and mod.LEVEL >= 2:
-        k = mod.sweep_fast(ts, q0, p, tol, xtol, maxit, Q, none, none, S)
-        if k == N:
-            return N
-        k = max(k - 1, 0)                 # resume from the last accepted point
-        if k:
-            return k + mod.sweep(ts[k:], Q[k].copy(), p, _POSITION, tol, xtol, maxit, meth,
-                                 Q[k:], none, none, S[k:], report)
-    return mod.sweep(ts, q0.copy(), p, _POSITION, tol, xtol, maxit, meth, Q, none, none, S,
-                     report)
 
 
 def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth, what=None):
@@ -240,8 +223,8 @@ def _last_step(mech, path, tc, qc, t, tol, maxit, meth, what=None) -> np.ndarray
             step = path.step = _step_arrays(mech.n)
         ts, Q, S, report, none, times, codes, last = step
         times[0], times[1] = tc, t
-        done = _continue(mod, ts, qc, mech.p, tol, mech.xtol, maxit, meth, Q, none, S,
-                         report)
+        done, _ = compiled(mech, ts, qc.copy(), _POSITION, tol, maxit, meth, Q, none, none,
+                           S, report, unwrap=False)
         if done == 2 and codes[0] == 0 and codes[1] == 0:
             return last.copy()
     return _extend(mech, path, np.array([tc, t]), qc, 0, t, tol, maxit, meth, what).copy()

@@ -197,7 +197,8 @@ def out_arrays(out, N, n, lev):
     return Q, QD, QDD, S
 
 
-def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=None):
+def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=None,
+             unwrap=True):
     """The module's quick path (sweep_fast) while nothing is hard, then its careful
     continuation (sweep) from the last point the quick path accepted: (count solved, the
     first point the careful sweep solved: len(ts) when it did not run). Only the careful
@@ -205,13 +206,15 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
     dict; an acceleration sweep of a module with FORCE_FUSED, or a position sweep of one
     with STATIC_FUSED: a dynamic or a static sweep): the quick path solves the
     multipliers too, and the dict receives "LAM", "FACTORS", "FPIV" and "count", the
-    points before which they hold (the careful sweep's are not solved)."""
+    points before which they hold (the careful sweep's are not solved). ``unwrap``: q0's
+    angles are first turned as the drivers ask (a guess's; False for a configuration
+    already solved at ts[0])."""
     mod = mech.module
     N = ts.shape[0]
     start = 0
-    unwrap = getattr(mod, "unwrap_turns", None)
-    if unwrap is not None and N:
-        unwrap(q0, ts[0], mech.p)       # the guess's angles as its drivers ask (q0 is ours)
+    turn = getattr(mod, "unwrap_turns", None) if unwrap else None
+    if turn is not None and N:
+        turn(q0, ts[0], mech.p)         # the guess's angles as its drivers ask (q0 is ours)
     fused = None
     if forces is not None:          # the force level whose fused path sweeps at lev
         fused = next((f for f in (fused_path(mod, level, lev) for level in FUSED_PATHS)
