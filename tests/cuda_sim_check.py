@@ -52,7 +52,7 @@ def _starts(mech, tab):
     """Each design's start as the CPU table's (the guess's mode carried to its
     parameters: mechgen.runtime.tables.starts; the guess itself where it cannot be)."""
     from mechgen.runtime.tables.starts import design_starts
-    return design_starts(mech, tab.t, tab.P, None, mech.tol, mech.maxit, 0)[0]
+    return design_starts(mech, tab.t, tab.P, mech.tol, mech.maxit, 0)[0]
 
 
 def _needs(mech, name):

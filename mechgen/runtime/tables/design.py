@@ -26,7 +26,7 @@ from ..quantity import _lookup, column_names
 from ..results import Sweep, pandas, write_csv
 from .backends import cuda_keeps_points, progress_reporter, run_backend
 from .chunks import reduce_threads
-from .starts import design_starts, mark_starts
+from .starts import design_starts, guess_reference, mark_starts
 from .reduce import (Reduction, driver_efforts, driver_slot, reduce_chunk,
                      reduce_slots, status_name)
 
@@ -365,18 +365,6 @@ def design_list(base, index, names, axes) -> np.ndarray:
     return np.ascontiguousarray(P)
 
 
-def guess_reference(mech, t0, guess):
-    """The mechanism whose guess a table's designs start from (tables.starts): ``mech``,
-    or with ``guess=`` a copy whose guess is that one, a configuration at the table's
-    first time ``t0`` for mech's parameters. Its ``with_params`` is a design's mechanism
-    on the mode the table gave it."""
-    if guess is None:
-        return mech
-    ref = mech.with_params()
-    ref.set_guess(guess, t=float(t0))
-    return ref
-
-
 def design_table(mech, t0, t1, n, params, level="position", guess=None, method=None,
                  tol=None, maxit=None, times=None, progress=None, on_fail="warn",
                  backend="cpu", workers=None, client=None, reduce=None, grid=True,
@@ -415,7 +403,8 @@ def design_table(mech, t0, t1, n, params, level="position", guess=None, method=N
     mech._tiers.expect(mech, P.shape[0] * (ts.shape[0] if backend == "cpu" else 8), "design")
     # a driver's effort the GPU cannot reduce: the kernel keeps the points (backends)
     on_host = backend == "cuda" and cuda_keeps_points(mech, slots, lev, meth)
-    Q0, S0 = design_starts(mech, ts, P, guess, tol, maxit, meth, workers)
+    origin = guess_reference(mech, ts[0], guess)     # whose guess the designs leave
+    Q0, S0 = design_starts(origin, ts, P, tol, maxit, meth, workers)
     data = run_backend(backend, mech, ts, Q0, P, lev, tol, mech.xtol, maxit, meth,
                        workers=workers, client=client, slots=None if on_host else slots,
                        progress=progress_reporter(progress, P.shape[0]))
@@ -425,8 +414,7 @@ def design_table(mech, t0, t1, n, params, level="position", guess=None, method=N
                                   data.done, workers)
         data.Q = data.QD = data.QDD = data.INFO = None
     table = DesignTable(mech, names, axes, ts, P, data, LEVELS[lev], grid=grid,
-                        reduced=reduced, force_level=force_level,
-                        start=guess_reference(mech, ts[0], guess))
+                        reduced=reduced, force_level=force_level, start=origin)
     report_failures(table, on_fail, stacklevel=stacklevel)
     return table
 

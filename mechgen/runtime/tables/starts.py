@@ -2,11 +2,11 @@
 design's parameters (the module's start_designs, on threads), and what the table's
 results say of a design whose start could not be carried.
 
-Without a guess, the reference is the mechanism's own guess, a configuration at its time
-(``guess_t``) for its parameters (``guess_p``; mechgen.runtime.follow): each design moves
-from there to its parameters at that time, then to the table's first time, as
-``mech.with_params(...).sweep(...)`` of that design starts. With ``guess=``, the
-reference is the guess solved at the table's first time with the mechanism's parameters.
+The reference is a mechanism's guess, a configuration at its time (``guess_t``) for its
+parameters (``guess_p``; mechgen.runtime.follow): each design moves from there to its
+parameters at that time, then to the table's first time, as ``mech.with_params(...).
+sweep(...)`` of that design starts. A table's ``guess=`` makes that mechanism a copy whose
+guess it is, at the table's first time with the mechanism's parameters (guess_reference).
 A design whose parameters the mode cannot be carried to (a singular configuration on the
 way, or parameters at which it does not assemble) starts from the guess itself, as a
 table of Mech's does, and is flagged (its first point JUMP or THROUGH_SINGULAR: a
@@ -24,25 +24,33 @@ from ...errors import MechgenError
 from ...protocol import JUMP, OK, POINT_INFO_SIZE, STATUS_CODE, THROUGH_SINGULAR
 from ..entry import module_attr, solve_point
 from ..follow import CELL, follow
-from ..guesses import start_vector
 from .backends import cpu_count
 
 CHUNK = 4096            # designs a thread carries in one call
 
 
-def design_starts(mech, ts, P, guess, tol, maxit, meth, workers=None):
-    """(Q0, S0): each design's start vector (designs × coordinates) and its start status
-    (int64: OK, JUMP, THROUGH_SINGULAR or the status of a failed way; see the module's
-    docstring)."""
+def guess_reference(mech, t0, guess):
+    """The mechanism whose guess a table's designs start from: ``mech``, or with
+    ``guess=`` a copy whose guess is that one, a configuration at the table's first time
+    ``t0`` for mech's parameters. Its ``with_params`` is a design's mechanism on the mode
+    the table gave it (DesignTable.sweep, mech.optimize's result)."""
+    if guess is None:
+        return mech
+    ref = mech.with_params()
+    ref.set_guess(guess, t=float(t0))
+    return ref
+
+
+def design_starts(mech, ts, P, tol, maxit, meth, workers=None):
+    """(Q0, S0): each design's start vector (designs × coordinates), from ``mech``'s guess
+    (guess_reference), and its start status (int64: OK, JUMP, THROUGH_SINGULAR or the
+    status of a failed way; see the module's docstring)."""
     D, n = P.shape[0], mech.n
     mod = mech.module
-    if guess is None:
-        t_ref, p_ref, g = float(mech.guess_t), mech.guess_p, mech.guess.copy()
-    else:
-        t_ref, p_ref, g = float(ts[0]), mech.p, start_vector(mech, guess)
+    t_ref, p_ref, g = float(mech.guess_t), mech.guess_p, mech.guess.copy()
     start = module_attr(mod, "start_designs")
     q = g.copy()
-    if start is not None and D and guess is None and t_ref != float(ts[0]) and \
+    if start is not None and D and t_ref != float(ts[0]) and \
             module_attr(mod, "SWITCH_TIMES", ()):
         # stages: the guess's mode followed to the table's first time at the guess's
         # parameters (stage by stage: runtime.follow), then carried to each design there

@@ -20,7 +20,7 @@ import numpy as np
 from ...errors import MechgenError
 from ...protocol import JUMP, THROUGH_SINGULAR
 from ..guards import sweep_times
-from .design import guess_reference
+from .starts import guess_reference
 
 
 class OptimizeResult:
