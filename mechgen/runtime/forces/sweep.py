@@ -15,6 +15,12 @@ from .lookup import _constraints_of, _name_of, tables
 from .points import PointForces, solve_points
 from .solution import ForceSolution, _effort, _point_xy, _reaction
 
+def _largest(r) -> float:
+    """The largest size in a reaction array, NaN (unsolved points) left out; 0 if none."""
+    r = np.abs(r)
+    return float(np.max(r[np.isfinite(r)], initial=0.0))
+
+
 # -- a sweep -------------------------------------------------------------------------------
 class ForceSweep(Sweep):
     """A Sweep with λ at every point (``sw.LAM``, NaN where the force balance has no
@@ -110,9 +116,11 @@ class ForceSweep(Sweep):
 
     def force_columns(self) -> tuple[list, list]:
         """(names, arrays) of the force columns of the table: each driver's effort (its
-        name), then the reaction of every constraint on every body it acts on at the first
-        point, "<constraint> on <body> fx", "... fy", "... m" (the moment about the body's
-        origin)."""
+        name), then the reaction of every constraint on every body it acts on,
+        "<constraint> on <body> fx", "... fy", "... m" (the moment about the body's
+        origin): the moving bodies as the first point's reactions() names them, the
+        ground where the constraint loads it at any point of the sweep (a driver whose
+        force is zero at the first point still loads the frame later)."""
         mech = self.mechanism
         names, arrays = [], []
         short = {}
@@ -128,16 +136,29 @@ class ForceSweep(Sweep):
                 names.append(short[label])
         if not len(self):
             return names, arrays
+        tab = tables(mech)
         first = ForceSolution(mech, self.t[0], self.Q[0])
         first.lam = np.nan_to_num(self.LAM[0])
+        acts = {}                       # label -> the bodies it acts on
         for label, body in first.reactions():
+            acts.setdefault(label, set()).add(body)
+        for _, _, label, _, _ in mech.module.CONSTRAINTS:
             if free and all(mech.constraint_labels[r] in free
-                            for r in tables(mech).constraint(label, mech)[1]):
+                            for r in tab.constraint(label, mech)[1]):
                 continue
-            r = self.reaction(label, on=body)
-            for k, part in enumerate(("fx", "fy", "m")):
-                names.append(f"{short[label]} on {body} {part}")
-                arrays.append(r[:, k])
+            bodies = acts.get(label, set())
+            values = {b: self.reaction(label, on=b) for b in bodies}
+            ground = tab.ground
+            if ground is not None and ground not in bodies and bodies:
+                r = self.reaction(label, on=ground)
+                size = max(_largest(v) for v in values.values())
+                if _largest(r) > 1e-9 * max(size, 1e-300):
+                    values[ground] = r
+            for body in tab.bodies:     # in the model's order
+                if body in values:
+                    for k, part in enumerate(("fx", "fy", "m")):
+                        names.append(f"{short[label]} on {body} {part}")
+                        arrays.append(values[body][:, k])
         return names, arrays
 
     def table(self) -> tuple[list, np.ndarray]:
