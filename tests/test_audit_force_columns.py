@@ -66,3 +66,32 @@ def test_the_cli_takes_a_ground_column_that_is_zero_at_the_first_point(tmp_path,
     assert rows[0] == ["T", "push on base fx"]
     np.testing.assert_allclose([float(r[1]) for r in rows[1:]],
                                [MASS * 0.5 * np.sin(t) for t in (0.0, 0.5, 1.0)], atol=1e-12)
+
+
+def test_the_forces_command_prints_the_reactions_of_a_driver_without_an_effort(
+        tmp_path, monkeypatch, capsys):
+    # a driver row that does not separate into g(q) − f(T) has no effort (the sweep's
+    # table leaves its column out); `mechgen forces` printed the header "drivers" and
+    # stopped with an error, leaving out every reaction (well defined)
+    from mechgen.cli import main
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+    path = tmp_path / "arm.py"
+    path.write_text("from mechgen import Model, T\n"
+                    "m = Model('audit_arm_cli')\n"
+                    "base = m.ground('base', points=[(0, 0)])\n"
+                    "arm = m.body('arm', points=[(0, 0), (1, 0)], guess=(0, 0, 0.3), "
+                    "mass=2.0, inertia=0.1, centroid=(0.5, 0))\n"
+                    "m.revolute(base[1], arm[1], name='pin')\n"
+                    "m.constraint(arm.th * (1 + T) - 0.3 - T, name='drive')\n"
+                    "m.gravity(10)\n")
+    capsys.readouterr()
+    assert main(["forces", str(path), "-t", "0.7", "--static",
+                 "--outdir", str(tmp_path / "gen")]) == 0
+    out = capsys.readouterr().out
+    assert "not defined" in out
+    th = (0.3 + 0.7) / 1.7
+    line = next(x for x in out.splitlines() if "pin" in x and "on arm" in x)
+    np.testing.assert_allclose([float(v) for v in line.split()[-3:]], [0.0, 20.0, 0.0],
+                               atol=1e-9)
+    line = next(x for x in out.splitlines() if "drive" in x and "on arm" in x)
+    np.testing.assert_allclose(float(line.split()[-1]), 2.0 * 10 * 0.5 * np.cos(th), rtol=1e-9)

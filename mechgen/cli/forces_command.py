@@ -47,7 +47,11 @@ def print_forces(mech, args, level):
         print("drivers (effort; its power = effort x the rate of the driven quantity)")
         width = max(len(d) for d in drivers)
         for label in drivers:
-            print(f"  {label:<{width}}  {s.driver(label) + 0.0:.10g}")
+            try:
+                effort = f"{s.driver(label) + 0.0:.10g}"
+            except ValueError:      # a form of equation whose effort is not defined:
+                effort = "(not defined for this form of equation; its reactions below)"
+            print(f"  {label:<{width}}  {effort}")
     print("reactions: (fx, fy, moment about the body's origin) that each constraint "
           "applies to each body")
     rows = [(f"{label} on {body}", v) for (label, body), v in s.reactions().items()]
