@@ -95,3 +95,43 @@ def test_the_forces_command_prints_the_reactions_of_a_driver_without_an_effort(
                                atol=1e-9)
     line = next(x for x in out.splitlines() if "drive" in x and "on arm" in x)
     np.testing.assert_allclose(float(line.split()[-1]), 2.0 * 10 * 0.5 * np.cos(th), rtol=1e-9)
+
+
+def test_a_name_that_several_constraints_answer_to_is_refused_not_the_first_taken(tmp_path):
+    # two constraints named "P", or a constraint named "1" that is not constraint 1: the
+    # force results took the first constraint the text matched, silently (reaction("P")
+    # the pin's, driver("1") "not a driver" although the user named the driver "1")
+    import pytest
+    m = Model("audit_names")
+    base = m.ground("base", points=[(0, 0)])
+    arm = m.body("arm", points=[(0, 0), (1, 0)], guess=(0, 0, 0.3), mass=2.0, inertia=0.1,
+                 centroid=(0.5, 0))
+    m.revolute(base[1], arm[1], name="P")
+    m.rotation_lock(arm, 0.3 + T, name="P")
+    m.gravity(10)
+    mech = mechgen.compile(m, outdir=str(tmp_path), tier="python")
+    s = mech.solve(0.2, level="static")
+    with pytest.raises(ValueError, match="names 2 constraints"):
+        s.reaction("P", on="arm")
+    with pytest.raises(ValueError, match="names 2 constraints"):
+        s.driver("P")
+    np.testing.assert_allclose(s.reaction(1, on="arm"), [0.0, 20.0, 0.0], atol=1e-12)
+    torque = 2.0 * 10 * 0.5 * np.cos(0.5)
+    np.testing.assert_allclose(s.driver(2), torque, rtol=1e-12)
+    np.testing.assert_allclose(s.reaction("P: rotation_lock(arm, T + 0.3)", on="arm"),
+                               [0.0, 0.0, torque], rtol=1e-12)
+    with pytest.raises(ValueError, match="names 2 constraints"):
+        mech.sweep(0, 1, 3, level="static").driver("P")
+
+    m = Model("audit_numbers")
+    base = m.ground("base", points=[(0, 0)])
+    arm = m.body("arm", points=[(0, 0), (1, 0)], guess=(0, 0, 0.3), mass=2.0, inertia=0.1,
+                 centroid=(0.5, 0))
+    m.revolute(base[1], arm[1], name="2")
+    m.rotation_lock(arm, 0.3 + T, name="1")
+    m.gravity(10)
+    mech = mechgen.compile(m, outdir=str(tmp_path), tier="python")
+    s = mech.solve(0.2, level="static")
+    with pytest.raises(ValueError, match="names 2 constraints"):
+        s.driver("1")
+    np.testing.assert_allclose(s.driver(2), torque, rtol=1e-12)

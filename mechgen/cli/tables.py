@@ -65,7 +65,7 @@ def force_column(mech, name) -> bool:
     effort; --reduce takes it too) or "<constraint> on <body> fx" (fy, m: a reaction)."""
     from ..runtime.forces.lookup import tables
     tab = tables(mech)
-    entry = tab.constraints.get(name)
+    entry = tab.find(name, mech)
     if entry is not None:
         return entry[2]
     head, _, part = name.rpartition(" ")

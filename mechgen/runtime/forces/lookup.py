@@ -33,14 +33,22 @@ class _Tables:
         self.forces = bool(getattr(mod, "FORCES", False))
         self.driver_rows = tuple(getattr(mod, "DRIVER_ROWS", ()))
         self.constraints = {}        # name, label or number -> (label, rows, is driver)
+        self.ambiguous = {}          # a text that names several constraints -> their labels
         row = 0
         for number, kind, label, count, driver in mod.CONSTRAINTS:
             entry = (label, tuple(range(row, row + count)), bool(driver))
             row += count
-            for key in (number, str(number), label, _name_of(label, kind),
-                        *_stage_names(label, kind)):
-                if key is not None:
-                    self.constraints.setdefault(key, entry)
+            self.constraints[number] = entry
+            for key in (label, _name_of(label, kind), *_stage_names(label, kind),
+                        str(number)):
+                if key is None:
+                    continue
+                known = self.constraints.get(key, entry)
+                if known[0] != entry[0]:          # two constraints answer to this text
+                    self.ambiguous.setdefault(key, [known[0]]).append(entry[0])
+                self.constraints.setdefault(key, entry)
+        for key in self.ambiguous:
+            del self.constraints[key]
         index = {c: k for k, c in enumerate(mech.coordinates)}
         self.bodies = {}             # name -> (X, Y, Th) indices, or None for the ground
         self.ground = None
@@ -52,8 +60,20 @@ class _Tables:
                 self.bodies[name] = (index[f"X{number}"], index[f"Y{number}"],
                                      index[f"Th{number}"])
 
+    def find(self, name, mech):
+        """The entry of constraint ``name`` (its name, label or number), None where no
+        constraint has it; a ValueError where it names several (two constraints with one
+        name=, or a name that is another constraint's number): never the first of them
+        silently."""
+        if name.__class__ is str and name in self.ambiguous:
+            labels = self.ambiguous[name]
+            raise ValueError(f"model '{mech.name}': {name!r} names {len(labels)} "
+                             f"constraints ({'; '.join(labels)}); give the number (an "
+                             "int) or the whole label")
+        return self.constraints.get(name)
+
     def constraint(self, name, mech):
-        entry = self.constraints.get(name)
+        entry = self.find(name, mech)
         if entry is None:
             names = sorted({str(v[0]) for v in self.constraints.values()})
             raise ValueError(f"model '{mech.name}' has no constraint {name!r} (constraints: "

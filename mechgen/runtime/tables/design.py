@@ -242,7 +242,7 @@ class DesignTable:
         self._need_points(f"tab[{name!r}]")
         mech = self.mechanism
         if self.force_level is not None and name not in mech.coordinates:
-            entry = tables(mech).constraints.get(name)
+            entry = tables(mech).find(name, mech)
             if entry is not None and entry[2]:
                 return self.driver(name)
         kind, k, order = _lookup(mech, name)

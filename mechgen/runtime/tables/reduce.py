@@ -26,7 +26,7 @@ COORDINATE, OUTPUT, DRIVER = 0, 1, 2
 def driver_slot(mech, name, force_level):
     """The slot of a driver's effort, or None when ``name`` names no driver."""
     tab = tables(mech)
-    entry = tab.constraints.get(name) if isinstance(name, (str, int)) else None
+    entry = tab.find(name, mech) if isinstance(name, (str, int)) else None
     if entry is None or not entry[2]:
         return None
     if force_level not in FORCE_LEVELS:
