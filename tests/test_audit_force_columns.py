@@ -135,3 +135,61 @@ def test_a_name_that_several_constraints_answer_to_is_refused_not_the_first_take
     with pytest.raises(ValueError, match="names 2 constraints"):
         s.driver("1")
     np.testing.assert_allclose(s.driver(2), torque, rtol=1e-12)
+
+
+def _arm_file(tmp_path):
+    path = tmp_path / "arm_table.py"
+    path.write_text("from mechgen import Model, T, sin\n"
+                    "m = Model('audit_arm_table')\n"
+                    "M = m.param('M', 2.0)\n"
+                    "base = m.ground('base', points=[(0, 0)])\n"
+                    "arm = m.body('arm', points=[(0, 0), (1, 0)], guess=(0, 0, 0.3), mass=M, "
+                    "inertia=0.1, centroid=(0.5, 0))\n"
+                    "m.revolute(base[1], arm[1], name='pin')\n"
+                    "m.rotation_lock(arm, 0.3 + T + 0.2 * sin(2 * T), name='drive')\n"
+                    "m.gravity(10)\n")
+    return path
+
+
+def _arm_torque(t, mass):
+    th, w, a = 0.3 + t + 0.2 * np.sin(2 * t), 1 + 0.4 * np.cos(2 * t), -0.8 * np.sin(2 * t)
+    return (0.1 + mass * 0.25) * a + mass * 10 * 0.5 * np.cos(th)
+
+
+def test_a_design_table_at_a_force_level_writes_its_drivers_efforts(tmp_path, monkeypatch,
+                                                                    capsys):
+    # `mechgen sweep --param M=1,3 --level dynamic` wrote the kinematic columns only, and
+    # `--columns drive` failed with "'drive' is not in list" (tab["drive"] and
+    # tab.driver("drive") had the efforts); a column a design table has not (a reaction)
+    # is now a clear error
+    from mechgen.cli import main
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+    path = _arm_file(tmp_path)
+    gen = str(tmp_path / "gen")
+    out = tmp_path / "table.csv"
+    for level in ("dynamic", "static"):
+        assert main(["sweep", str(path), "--t0", "0", "--t1", "1", "-n", "3", "--level", level,
+                     "--param", "M=1,3", "--outdir", gen, "-o", str(out)]) == 0
+        with open(out) as fh:
+            rows = list(csv.DictReader(fh))
+        assert len(rows) == 6 and "drive" in rows[0]
+        for row in rows:
+            t, mass = float(row["T"]), float(row["M"])
+            want = _arm_torque(t, mass) if level == "dynamic" else \
+                mass * 10 * 0.5 * np.cos(0.3 + t + 0.2 * np.sin(2 * t))
+            np.testing.assert_allclose(float(row["drive"]), want, rtol=1e-12)
+    assert main(["sweep", str(path), "--t0", "0", "--t1", "1", "-n", "3", "--level", "dynamic",
+                 "--param", "M=1,3", "--columns", "drive", "--outdir", gen, "-o",
+                 str(out)]) == 0
+    with open(out) as fh:
+        assert next(csv.reader(fh)) == ["M", "T", "drive"]
+    capsys.readouterr()
+    assert main(["sweep", str(path), "-n", "3", "--level", "dynamic", "--param", "M=1,3",
+                 "--columns", "pin on arm fx", "--outdir", gen]) != 0
+    assert "'pin on arm fx' not in this table" in capsys.readouterr().err
+    mech = mechgen.compile(str(path), outdir=gen, tier="python")
+    tab = mech.sweep(0, 1, 3, level="dynamic", params={"M": [1.0, 3.0]})
+    header, data = tab.table()
+    np.testing.assert_allclose(data[:, header.index("drive")], tab.driver("drive").reshape(-1))
+    assert "drive" not in mech.sweep(0, 1, 3, level="acceleration",
+                                     params={"M": [1.0, 3.0]}).table()[0]

@@ -79,6 +79,10 @@ def select(header, data, names, keep=1):
     table's parameters and T); all of it when names is None."""
     if names is None:
         return header, data
+    missing = [n for n in names if n not in header]
+    if missing:
+        raise MechgenError(f"column(s) {', '.join(repr(n) for n in missing)} not in this "
+                           f"table (its columns: {', '.join(header)})")
     index = [header.index(n) for n in names if n not in header[:keep]]
     cols = list(range(keep)) + index
     return [header[c] for c in cols], data[:, cols]

@@ -20,7 +20,7 @@ import numpy as np
 from ...errors import BranchJumpWarning, MechgenError
 from ...protocol import JUMP, LEVEL, LEVELS, THROUGH_SINGULAR
 from ..forces import attach, is_force_level
-from ..forces.lookup import tables
+from ..forces.lookup import _name_of, tables
 from ..guards import finite, fits, point_bytes, sweep_times
 from ..quantity import _lookup, column_names
 from ..results import Sweep, pandas, write_csv
@@ -280,7 +280,8 @@ class DesignTable:
 
     def table(self) -> tuple[list, np.ndarray]:
         """A long table: one row per design and time; the varied parameters, T, then the
-        coordinates (and derivatives) and outputs the table's level provides. A table of
+        coordinates (and derivatives) and outputs the table's level provides, and at
+        level "static" or "dynamic" every driver's effort (named as in a sweep's table). A table of
         reductions has one row per design: the varied parameters, status, then min, max,
         tmin and tmax of each reduced quantity (``X4_min``, ...)."""
         grid = self.design_params()
@@ -300,7 +301,28 @@ class DesignTable:
         for name in column_names(mech, self._have, coordinates=mech.coordinates):
             header.append(name)
             cols.append(self[name].reshape(-1))
+        for name, label in self._driver_columns():
+            header.append(name)
+            cols.append(self.driver(label).reshape(-1))
         return header, np.column_stack(cols)
+
+    def _driver_columns(self) -> list:
+        """(column name, label) of every driver whose effort a table at a force level
+        gives, named as a force sweep's table names them (its name=, else its number);
+        none at a kinematic level."""
+        if self.force_level is None:
+            return []
+        mech = self.mechanism
+        out = []
+        for number, kind, label, _, driver in mech.module.CONSTRAINTS:
+            if not driver:
+                continue
+            try:
+                driver_slot(mech, label, self.force_level)
+            except ValueError:          # an effort this slice does not define: no column
+                continue
+            out.append((_name_of(label, kind) or str(number), label))
+        return out
 
     def to_csv(self, path):
         """Write the long table (see table()) to a CSV file; unsolved points are empty."""
