@@ -193,3 +193,20 @@ def test_a_design_table_at_a_force_level_writes_its_drivers_efforts(tmp_path, mo
     np.testing.assert_allclose(data[:, header.index("drive")], tab.driver("drive").reshape(-1))
     assert "drive" not in mech.sweep(0, 1, 3, level="acceleration",
                                      params={"M": [1.0, 3.0]}).table()[0]
+
+
+def test_the_flywheel_of_a_driver_that_goes_back_and_forth_is_refused(tmp_path):
+    # a driver whose mean rate over the sweep is zero (an oscillating arm): the flywheel's
+    # inertia ΔE / (cs ω̄²) came back as 1.8e36, no error
+    import pytest
+    m = Model("audit_swing")
+    base = m.ground("base", points=[(0, 0)])
+    arm = m.body("arm", points=[(0, 0), (1, 0)], guess=(0, 0, 0.3), mass=2.0, inertia=0.1,
+                 centroid=(0.5, 0))
+    m.revolute(base[1], arm[1], name="pin")
+    m.rotation_lock(arm, 0.3 + 0.5 * sin(T), name="drive")
+    m.gravity(10)
+    mech = mechgen.compile(m, outdir=str(tmp_path), tier="python")
+    sw = mech.sweep(0, 2 * np.pi, 101, level="dynamic")
+    with pytest.raises(ValueError, match="mean rate"):
+        sw.flywheel(0.05)

@@ -202,6 +202,10 @@ class ForceSweep(Sweep):
         swing = work - mean * (t - t[0])
         energy = float(swing.max() - swing.min())
         omega = float(np.sum(np.diff(t) * (rate[1:] + rate[:-1]) / 2) / (t[-1] - t[0]))
+        if not abs(omega) > 1e-9 * float(np.max(np.abs(rate), initial=0.0)):
+            raise ValueError(f"flywheel: driver {label!r} has a mean rate of {omega:.3g} over "
+                             "the sweep (it goes back and forth): a flywheel needs a driver "
+                             "turning one way at constant speed")
         return {"energy": energy, "inertia": energy / (cs * omega ** 2), "mean_power": mean}
 
     def shaking(self) -> np.ndarray:
