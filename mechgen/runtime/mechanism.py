@@ -451,7 +451,9 @@ class Mechanism:
                  method="dopri5", max_step=float("inf"), progress=None):
         """Motion under forces (API.md §6): the drivers named in ``free`` stop
         prescribing their motion at t0, and from the state there (the kinematic solution
-        at t0, or ``q0``/``qd0``, made consistent with the constraints still acting) the
+        at t0, or ``q0``/``qd0``, made consistent with the constraints still acting; each
+        takes an array or a dict by name, ``qd0={"Th2d": 5.0}``, whose values are kept where
+        the others can satisfy the constraints) the
         mechanism moves under its masses and loads, the other drivers still prescribing
         theirs; n output times from t0 to t1. ``rtol``, ``atol``, ``method`` set the
         integration: "dopri5" (the default: the Dormand–Prince 5(4) pair of scipy's RK45,

@@ -148,11 +148,12 @@ class _System:
         self.mod.phi_q(q, float(t), self.p, self.J)
         return self.J[self.keep]
 
-    def project(self, q, qd, t, size, held=()):
+    def project(self, q, qd, t, size, held=(), held_rates=()):
         """(q, q̇) put back on Φ_C = 0 and Φ_C q̇ = ν_C (minimum-norm corrections); the
         size of the position correction. ``held``: indices of coordinates the corrections
         leave as they are where the others alone can satisfy Φ_C (those a user named in
-        q0); else every coordinate moves."""
+        q0); else every coordinate moves. ``held_rates``: the same for the velocities (those
+        a user named in qd0)."""
         q, qd = q.copy(), qd.copy()
         start = q.copy()
         loose = [j for j in range(self.n) if j not in held]
@@ -165,8 +166,61 @@ class _System:
         J = self.jacobian(q, t)
         nu = np.empty(self.m)
         self.mod.nu(q, float(t), self.p, nu)
-        qd -= np.linalg.lstsq(J, J @ qd - nu[self.keep], rcond=None)[0]
+        nu = nu[self.keep]
+        loose = [j for j in range(self.n) if j not in held_rates]
+        if held_rates and loose:                # the named rates kept where the rest can
+            trial = qd.copy()
+            trial[loose] -= np.linalg.lstsq(J[:, loose], J @ qd - nu, rcond=None)[0]
+            scale = 1.0 + float(np.max(np.abs(nu), initial=0.0)) \
+                + float(np.max(np.abs(J), initial=0.0)) * float(np.max(np.abs(qd)))
+            if np.max(np.abs(J @ trial - nu), initial=0.0) <= 1e-10 * scale:
+                return q, trial, float(np.max(np.abs(q - start), initial=0.0))
+        qd -= np.linalg.lstsq(J, J @ qd - nu, rcond=None)[0]
         return q, qd, float(np.max(np.abs(q - start), initial=0.0))
+
+
+def _check_accuracy(rtol, atol, max_step):
+    """ValueError unless rtol and atol are finite and positive and max_step positive: the
+    compiled integrator would take a negative tolerance (and return a motion that is not
+    as accurate as asked) and a zero atol (0/0 on a coordinate that stays 0, then an
+    error about something else)."""
+    for name, value in (("rtol", rtol), ("atol", atol)):
+        try:
+            v = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            v = np.array(np.nan)
+        if v.ndim != 0 or not (np.isfinite(v) and v > 0.0):
+            raise ValueError(f"simulate: {name} must be a finite number above 0, got "
+                             f"{value!r}")
+    try:
+        ok = float(max_step) > 0.0
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ValueError(f"simulate: max_step must be above 0 (inf: no limit), got "
+                         f"{max_step!r}")
+
+
+def _named_rates(mech, rates, qd):
+    """(q̇, indices named) from qd0 given as a dict: velocity names ("Th2d") or the
+    coordinates' own ("Th2"); the rates not named keep qd's."""
+    qd = qd.copy()
+    named = []
+    for key, value in rates.items():
+        name = key[:-1] if isinstance(key, str) and key not in mech._index \
+            and key.endswith("d") else key
+        if name not in mech._index:
+            raise ValueError(f"simulate: qd0: {key!r} is not a velocity of '{mech.name}' "
+                             f"(velocities: {', '.join(c + 'd' for c in mech.coordinates)})")
+        try:
+            v = float(value)
+        except (TypeError, ValueError):
+            v = float("nan")
+        if not np.isfinite(v):
+            raise ValueError(f"simulate: qd0: {key!r} must be a finite number, got {value!r}")
+        qd[mech._index[name]] = v
+        named.append(mech._index[name])
+    return qd, named
 
 
 def _stalled(mech, t, t_a, t_b):
@@ -224,6 +278,7 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
     """See Mechanism.simulate."""
     from ..guards import sweep_times
     ts = sweep_times(t0, t1, n)
+    _check_accuracy(rtol, atol, max_step)
     system = _System(mech, free)
     # an integration makes thousands of calls: in the python tier of "auto", compiled first
     mech._tiers.expect(mech, SIMULATE_POINTS, "simulate")
@@ -234,17 +289,25 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
         q, qd = kin.q.copy(), kin.qd.copy()
     else:
         q, qd = start_vector(mech, q0), np.zeros(mech.n)
-    if qd0 is not None:
-        qd = np.asarray(qd0, dtype=float).reshape(-1).copy()
-        if qd.shape != (mech.n,) or not np.all(np.isfinite(qd)):
+    held_rates = ()
+    if isinstance(qd0, dict):
+        qd, held_rates = _named_rates(mech, qd0, qd)
+    elif qd0 is not None:
+        try:
+            qd = np.asarray(qd0, dtype=float).reshape(-1).copy()
+        except (TypeError, ValueError):
+            qd = None
+        if qd is None or qd.shape != (mech.n,) or not np.all(np.isfinite(qd)):
             raise ValueError(f"simulate: qd0 must be {mech.n} finite velocities (one per "
-                             f"coordinate: {', '.join(mech.coordinates)})")
+                             f"coordinate: {', '.join(mech.coordinates)}) or a dict of "
+                             "them by name ({'Th2d': 5.0})")
     size = 1.0 + float(np.max(np.abs(mech.points_at(q, t_start))))
     qd_in = qd.copy()
     held = [mech._index[c] for c in q0 if c in mech._index] if isinstance(q0, dict) else ()
-    q, qd, moved = system.project(q, qd, t_start, size, held)
+    q, qd, moved = system.project(q, qd, t_start, size, held, held_rates)
     if q0 is not None or qd0 is not None:
-        dv = float(np.max(np.abs(qd - qd_in), initial=0.0))
+        moved_rates = held_rates if held_rates else slice(None)   # a dict: what it named
+        dv = float(np.max(np.abs(qd[moved_rates] - qd_in[moved_rates]), initial=0.0))
         if moved > 1e-9 * size or dv > 1e-9 * (1.0 + float(np.max(np.abs(qd_in)))):
             warnings.warn(f"simulate: the initial state was made consistent with the "
                           f"constraints still acting (positions moved by up to {moved:.3g}, "
