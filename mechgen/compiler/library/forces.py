@@ -183,8 +183,12 @@ def _embedded(_J, _g, _M, _z, keep, _f, qdd, lam):
     accelerations u of the freed rows from the reduced equations T M Tᵀ u = T (Q − h −
     M x0); then Φ_qᵀ λ = Q − h − M q̈ by multipliers_sorted (λ is 0 on the freed rows).
     Four block-sorted solves and an _f × _f system instead of the whole saddle point.
-    False where a pivot falls below SING_RTOL (a configuration where the freed rows do
-    not drive the mechanism): the caller takes the general way."""
+    False where a pivot falls below √SING_RTOL (a configuration where the freed rows do
+    not drive the mechanism, or near a lock of the rows kept): the caller takes the general
+    way, whose Φ_C M⁻¹ Φ_Cᵀ has the squares of these pivots and so stops at a lock (at
+    SING_RTOL) as close to it as this way would have. At SING_RTOL here, a prescribed
+    motion reaching a dead centre was bounced back by a spike of acceleration a few 1e-6
+    from it, unseen by either way."""
     _n = N_COORDS
     _A = np.empty((_n, _n))
     _y = np.empty(_n)
@@ -192,7 +196,7 @@ def _embedded(_J, _g, _M, _z, keep, _f, qdd, lam):
     _x0 = np.empty(_n)
     for _i in range(_n):
         _r[_i] = _g[_i] if keep[_i] else 0.0
-    if not coordinates_sorted(_J, _r, _x0, _A, _y) >= SING_RTOL:
+    if not coordinates_sorted(_J, _r, _x0, _A, _y) >= SING_RTOL ** 0.5:
         return False
     _T = np.empty((_f, _n))
     _k = 0
@@ -201,7 +205,7 @@ def _embedded(_J, _g, _M, _z, keep, _f, qdd, lam):
             for _j in range(_n):
                 _r[_j] = 0.0
             _r[_i] = 1.0
-            if not coordinates_sorted(_J, _r, _T[_k], _A, _y) >= SING_RTOL:
+            if not coordinates_sorted(_J, _r, _T[_k], _A, _y) >= SING_RTOL ** 0.5:
                 return False
             _k += 1
     _MT = np.empty((_f, _n))
