@@ -263,9 +263,12 @@ def singularities(mech, ts, q):
                 if ok:
                     found.append(Singularity(mech, tsg, qs, "crossing",
                                              null_space(mech, qs, tsg, force=True)))
-            elif 0 < k < done - 1 and sv[k] < 0.05 and sv[k] <= sv[k - 1] and sv[k] < sv[k + 1]:
+            elif 0 < k < done - 1 and sv[k] < 0.05 and sv[k] <= sv[k - 1] and sv[k] < sv[k + 1] \
+                    and g[k - 1] * g[k] > 0:
                 # Φ_q may touch rank loss without det changing sign (an over-constrained
-                # model's minors vanish to second order): the least singular value
+                # model's minors vanish to second order): the least singular value. Not
+                # next to an interval where det changed sign: that crossing was found above
+                # (the dip in the smallest singular value is the same point)
                 qs, tsg, smin = refine_minimum(mech, Q[k - 1:k + 2], seg_t[k - 1:k + 2])
                 if smin < SING_RTOL:
                     found.append(Singularity(mech, tsg, qs, "crossing",
