@@ -359,11 +359,17 @@ class Mechanism:
         if isinstance(n, bool) or int(n) != n or n < 2:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
         ts = np.linspace(t0, t1, int(n))
+        if isinstance(guess, Solution) and float(guess.t) != float(ts[0]):
+            # its mode at its own time, followed to t0 (as a sweep from it starts)
+            q = self._carried(guess, float(ts[0]), self.tol, self.maxit,
+                              self._method(None), "singularities()' start")
+        else:
+            q = start_vector(self, guess)
         if module_attr(self.module, "SWITCH_TIMES", ()):     # stage by stage (runtime.stages)
             from .stages import staged_singularities
-            return staged_singularities(self, ts, start_vector(self, guess))
+            return staged_singularities(self, ts, q)
         from .analysis.locks import singularities
-        return singularities(self, ts, start_vector(self, guess))
+        return singularities(self, ts, q)
 
     # -- sweeps -----------------------------------------------------------------------
     def sweep(self, t0, t1, n, level="position", guess=None, method=None, tol=None,
@@ -443,9 +449,25 @@ class Mechanism:
                 except MechgenError as exc:
                     exc.sweep = no_points(self, ts, lev)    # (a sweep's error carries one)
                     raise
+        elif isinstance(guess, Solution) and float(guess.t) != float(ts[0]):
+            # a Solution is a configuration at its own time (as set_guess takes it): its
+            # mode followed to the sweep's start, not a Newton from it there, which may
+            # fall into another mode (a mode picked by assemblies(t), swept from t0)
+            try:
+                q0 = self._carried(guess, float(ts[0]), tol, maxit, meth, "the sweep's start")
+            except MechgenError as exc:
+                exc.sweep = no_points(self, ts, lev)
+                raise
         else:
             q0 = start_vector(self, guess)
         return run_sweep(self, ts, q0, lev, tol, maxit, meth, out, shared, forces)
+
+    def _carried(self, solution, t, tol, maxit, meth, what):
+        """The configuration at t on the assembly mode of ``solution`` (a Solution at
+        another time): followed from its time as solve(t) follows set_guess(solution)."""
+        ref = self.with_params()
+        ref.set_guess(solution)
+        return follow(ref, float(t), tol, maxit, meth, what=what)
 
     def simulate(self, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
                  method="dopri5", max_step=float("inf"), progress=None):
@@ -519,7 +541,9 @@ class Mechanism:
     def assemblies(self, t, starts=256, guess=None, level="position", flips=False):
         """Every distinct real assembly mode at time t (angles equal modulo 2π count once,
         reported in (−π, π]), from the guess and from quasi-random starts; the mode the
-        guess reaches comes first. Follow one with ``sweep(..., guess=mode)``. A body only
+        guess reaches comes first. Follow one with ``sweep(..., guess=mode)`` (a Solution
+        is a configuration at its own time: a sweep from another time starts where its
+        mode goes). A body only
         turned half a turn (a slider reversed on its guide) counts unless flips=True."""
         t = finite(t, "t")
         if isinstance(starts, bool) or int(starts) != starts or starts < 0:

@@ -24,6 +24,7 @@ from ...errors import MechgenError
 from ...protocol import JUMP, OK, POINT_INFO_SIZE, STATUS_CODE, THROUGH_SINGULAR
 from ..entry import module_attr, solve_point
 from ..follow import CELL, follow
+from ..results import Solution
 from .backends import cpu_count
 
 CHUNK = 4096            # designs a thread carries in one call
@@ -32,12 +33,16 @@ CHUNK = 4096            # designs a thread carries in one call
 def guess_reference(mech, t0, guess):
     """The mechanism whose guess a table's designs start from: ``mech``, or with
     ``guess=`` a copy whose guess is that one, a configuration at the table's first time
-    ``t0`` for mech's parameters. Its ``with_params`` is a design's mechanism on the mode
-    the table gave it (DesignTable.sweep, mech.optimize's result)."""
+    ``t0`` (a Solution: one at its own time, its mode carried to t0) for mech's
+    parameters. Its ``with_params`` is a design's mechanism on the mode the table gave it
+    (DesignTable.sweep, mech.optimize's result)."""
     if guess is None:
         return mech
     ref = mech.with_params()
-    ref.set_guess(guess, t=float(t0))
+    if isinstance(guess, Solution):     # a configuration at its own time, carried to t0
+        ref.set_guess(guess)
+    else:
+        ref.set_guess(guess, t=float(t0))
     return ref
 
 
