@@ -26,6 +26,8 @@ from ..errors import BranchJumpWarning, SolveError
 from ..protocol import (JUMP, LEVEL, METHOD, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE,
                         STATUS_CODE, STATUS_COLUMNS, THROUGH_SINGULAR)
 from .entry import module_attr, solve_point
+from .guesses import start_vector
+from .results import Solution
 from .sweeping import compiled, failure, no_rows, outside
 
 CELL = 1.0 / 16.0       # time between the configurations kept on the way (a 16th of a
@@ -112,6 +114,19 @@ def _start(mech, tol, maxit, meth) -> Path:
         warnings.warn(note, BranchJumpWarning, stacklevel=outside())
     path = mech._path = Path(key, t0, q)
     return path
+
+
+def start_at(mech, guess, t, tol, maxit, meth, what) -> np.ndarray:
+    """The start vector at t of a guess given to a sweep or a search from t: a Solution
+    at another time is a configuration at its own time (as set_guess takes it), its mode
+    followed to t as solve(t) follows it, not a Newton from it at t, which may fall into
+    another mode (a mode picked by assemblies(t'), swept from t); any other guess, the
+    Newton start at t (runtime.guesses.start_vector)."""
+    if not isinstance(guess, Solution) or float(guess.t) == float(t):
+        return start_vector(mech, guess)
+    ref = mech.with_params()
+    ref.set_guess(guess)
+    return follow(ref, float(t), tol, maxit, meth, what=what)
 
 
 def at_guess_params(mech) -> bool:

@@ -22,7 +22,7 @@ from ..protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, L
                         VELOCITY)
 from .entry import (module_attr, solve_acceleration, solve_point, solve_point_derivatives,
                     solve_velocity)
-from .follow import at_guess_params, follow
+from .follow import at_guess_params, follow, start_at
 from .forces.lookup import is_force_level
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
                      point_bytes, sweep_count, sweep_times)
@@ -359,12 +359,8 @@ class Mechanism:
         if isinstance(n, bool) or int(n) != n or n < 2:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
         ts = np.linspace(t0, t1, int(n))
-        if isinstance(guess, Solution) and float(guess.t) != float(ts[0]):
-            # its mode at its own time, followed to t0 (as a sweep from it starts)
-            q = self._carried(guess, float(ts[0]), self.tol, self.maxit,
-                              self._method(None), "singularities()' start")
-        else:
-            q = start_vector(self, guess)
+        q = start_at(self, guess, float(ts[0]), self.tol, self.maxit, self._method(None),
+                     "singularities()' start")
         if module_attr(self.module, "SWITCH_TIMES", ()):     # stage by stage (runtime.stages)
             from .stages import staged_singularities
             return staged_singularities(self, ts, q)
@@ -449,25 +445,13 @@ class Mechanism:
                 except MechgenError as exc:
                     exc.sweep = no_points(self, ts, lev)    # (a sweep's error carries one)
                     raise
-        elif isinstance(guess, Solution) and float(guess.t) != float(ts[0]):
-            # a Solution is a configuration at its own time (as set_guess takes it): its
-            # mode followed to the sweep's start, not a Newton from it there, which may
-            # fall into another mode (a mode picked by assemblies(t), swept from t0)
+        else:                   # (a Solution at another time: its mode followed to ts[0])
             try:
-                q0 = self._carried(guess, float(ts[0]), tol, maxit, meth, "the sweep's start")
+                q0 = start_at(self, guess, float(ts[0]), tol, maxit, meth, "the sweep's start")
             except MechgenError as exc:
                 exc.sweep = no_points(self, ts, lev)
                 raise
-        else:
-            q0 = start_vector(self, guess)
         return run_sweep(self, ts, q0, lev, tol, maxit, meth, out, shared, forces)
-
-    def _carried(self, solution, t, tol, maxit, meth, what):
-        """The configuration at t on the assembly mode of ``solution`` (a Solution at
-        another time): followed from its time as solve(t) follows set_guess(solution)."""
-        ref = self.with_params()
-        ref.set_guess(solution)
-        return follow(ref, float(t), tol, maxit, meth, what=what)
 
     def simulate(self, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
                  method="dopri5", max_step=float("inf"), progress=None):
