@@ -182,6 +182,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         inline=inline,
         forces=dict(functions=force_functions(text, FUSED), driver_rows=driver_rows,
                     point=text("multipliers_point") is not None,
+                    frame=text("frame_loads") is not None,
                     fused=text("sweep_fast_forces") is not None,
                     static=text("sweep_fast_statics") is not None,
                     blocks=force_blocks(plan, eq))

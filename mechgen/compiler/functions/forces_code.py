@@ -5,7 +5,10 @@ straight-line code like Φ and Φ_q:
   (conservative, −∂V/∂q) and I (inertial), so that Φ_qᵀ λ = Q_a + Q_c − I;
 - ``energies(q, qd, t, p, out)``: kinetic energy, potential energy and ∂V/∂t;
 - ``driver_factors(q, t, p, out)``: per driver row (DRIVER_ROWS), ∂Φ/∂f, f the driven
-  quantity: the driver's effort is λ·factor.
+  quantity: the driver's effort is λ·factor;
+- ``frame_loads(q, qd, t, p, out)``: Q_f, the part of Q_a + Q_c of the loads anchored on
+  the frame (FRAME_LOADS; a stub writing zeros where there are none): the frame takes
+  their opposite, which the shaking force adds to what the constraints pass it.
 
 A model without mass or loads gets none of them (its module is what it was).
 """
@@ -24,7 +27,8 @@ from .equations_code import TITLES, straight_line
 TITLES.update(force_terms="Q_a, Q_c and I, their nonzero entries",
               mass_matrix="M of I = M q̈ + h, its nonzero entries",
               energies="Kinetic energy, potential energy, ∂V/∂t",
-              driver_factors="∂Φ/∂f per driver row")
+              driver_factors="∂Φ/∂f per driver row",
+              frame_loads="Q_f, the loads anchored on the frame")
 
 
 def forces_bodies(plan, eq, model):
@@ -56,6 +60,10 @@ def forces_bodies(plan, eq, model):
     factors = [Store(f"out[{k}]", f, eq.labels[i]) for k, (i, f) in enumerate(dyn.drivers)]
     bodies["driver_factors"] = straight_line(plan, eq, factors, "driver_factors") \
         if factors else ([Code("pass")], [])
+    if any(x != 0 for x in dyn.frame):
+        frame = [Store(f"out[{j}]", dyn.frame[j], f"Q_f {q[j]}") for j in range(len(q))]
+        bodies["frame_loads"] = straight_line(plan, eq, frame, "frame_loads",
+                                              "q, qd, t, p, out", with_qd=True)
     return bodies, [i for i, _ in dyn.drivers]
 
 
@@ -235,6 +243,10 @@ FUNCTIONS = (
      False),
     ("driver_factors", "q, t, p, out",
      ("∂Φ/∂f per row of DRIVER_ROWS (f the driven quantity; NaN: not defined).",), False),
+    ("frame_loads", "q, qd, t, p, out",
+     ("Q_f: the part of Q_a + Q_c of the loads anchored on the frame (a moment between a",
+      "body and the ground, a spring or a damper with one end on it), over the",
+      "coordinates: the frame takes their opposite."), False),
     ("mass_matrix", "q, t, p, out",
      ("M of the inertial terms I = M q̈ + h, over the coordinates (a body's block couples",
       "its X, Y with its angle where its centroid is off its origin)."), True),
@@ -253,6 +265,7 @@ FUSED_STUB = ("Not written for this model (its multipliers are not written out, 
 STATIC_STUB = ("Not written for this model (its position solver is not written into the",
                "sweep, or its multipliers are not written out): STATIC_FUSED is False and a",
                "static sweep solves the multipliers after its positions (force_rows).")
+FRAME_STUB = ("No load is anchored on the frame in this model (FRAME_LOADS is False): Q_f = 0.",)
 POINT_STUB = ("Not written out for this model (a block of three or more rows, or no sorted",
               "build): FORCE_POINT is False and force_rows solves the multipliers otherwise.")
 
@@ -267,7 +280,9 @@ def force_functions(text, fused=()) -> list:
     out = []
     for name, args, doc, zero in FUNCTIONS:
         lines = text(name)
-        if lines is None:
+        if lines is None and name == "frame_loads":
+            doc, lines = FRAME_STUB, ["for _j in range(out.shape[0]):", "    out[_j] = 0.0"]
+        elif lines is None:
             doc, lines = POINT_STUB, ["return 0.0"]
         out.append(dict(name=name, args=args, doc="\n    ".join(doc), zero=zero,
                         lines=lines, options=""))

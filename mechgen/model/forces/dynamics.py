@@ -9,7 +9,11 @@ r_G = (X, Y) + R(Th)·c. With J_P = ∂r_P/∂q the Jacobian of a point:
   spring whose k or L0 reads the coordinates is an applied force −k(L − L0)·∂L/∂q instead);
 - inertial, I = Σ m J_Gᵀ a_G + J θ̈ on Th, a_G = J_G q̈ + J̇_G q̇ (the centroid offset's
   velocity terms come from J̇_G);
-- kinetic energy ½Σ(m|v_G|² + J θ̇²), potential V.
+- kinetic energy ½Σ(m|v_G|² + J θ̇²), potential V;
+- the frame's share Q_f, the part of Q_a + Q_c that loads react on the frame with: a
+  moment between a body and the ground, a spring or a damper with one end on the ground
+  (the frame takes the opposite of what they apply; a force at a point, gravity and a
+  moment on one body come from outside, not from the frame).
 
 The multipliers of a solution satisfy Φ_qᵀ λ = Q_a + Q_c − I (level "dynamic"; level
 "static" takes q̇ = q̈ = 0). A driver row's ``factor`` is ∂Φ/∂f, f its driven quantity, so
@@ -34,6 +38,7 @@ class Dynamics:
     kinetic: sp.Expr
     potential: sp.Expr
     potential_t: sp.Expr      # ∂V/∂T (a load or spring that changes with time)
+    frame: sp.Matrix          # Q_f: the part of Q_a + Q_c of the loads anchored on the frame
     drivers: tuple            # (row of Φ, factor ∂Φ/∂f) per driver row
 
 
@@ -47,6 +52,7 @@ def dynamics(model, eq=None) -> Dynamics:
     qd, qdd = list(eq.qd), list(eq.qdd)
     applied = sp.zeros(n, 1)
     inertial = sp.zeros(n, 1)
+    frame = sp.zeros(n, 1)
     kinetic = sp.Integer(0)
     potential = sp.Integer(0)
     g = model.gravity_vector
@@ -72,11 +78,16 @@ def dynamics(model, eq=None) -> Dynamics:
         if load.kind == "force":
             applied += jac(load.point.r).T * load.vector
         elif load.kind == "moment":
+            anchored = any(body.is_ground for body in load.bodies)
             for body, sign in zip(load.bodies, (1, -1)):
                 if not body.is_ground:
                     applied[index[body.th]] += sign * load.value
+                    if anchored:
+                        frame[index[body.th]] += sign * load.value
         elif load.kind == "spring":
             length = _distance(load.points)
+            if _anchored(load.points):
+                frame -= load.k * (length - load.length) * jac([length]).T
             if (sp.sympify(load.k).free_symbols | sp.sympify(load.length).free_symbols) & coords:
                 # k or the free length read the coordinates: ½k(L − L0)² is no potential
                 # of the tension k(L − L0) (its gradient would add ½(L − L0)²∂k/∂q and
@@ -88,10 +99,18 @@ def dynamics(model, eq=None) -> Dynamics:
             length = _distance(load.points)
             rate = total_derivative(length, q, 1)
             applied -= load.c * rate * jac([length]).T
+            if _anchored(load.points):
+                frame -= load.c * rate * jac([length]).T
     conservative = -jac([potential]).T if potential != 0 else sp.zeros(n, 1)
     return Dynamics(applied=applied, conservative=conservative, inertial=inertial,
                     kinetic=kinetic, potential=potential, potential_t=sp.diff(potential, T),
-                    drivers=driver_factors(model, eq))
+                    frame=frame, drivers=driver_factors(model, eq))
+
+
+def _anchored(points) -> bool:
+    """Whether a spring's or damper's points join a moving body to the frame (one of
+    them fixed in the ground, the other not)."""
+    return sum(bool(getattr(p.body, "is_ground", False)) for p in points) == 1
 
 
 def _distance(points):

@@ -210,10 +210,15 @@ class ForceSweep(Sweep):
 
     def shaking(self) -> np.ndarray:
         """(n, 3): the force and the moment about the ground origin that the moving parts
-        apply to the frame through the constraints (drivers included): Σ over the bodies
-        of Φ_qᵀλ (= Q_a + Q_c − I) on X, Y and Th, moved to the origin."""
+        apply to the frame: through the constraints (drivers included), Σ over the bodies
+        of Φ_qᵀλ (= Q_a + Q_c − I) on X, Y and Th, moved to the origin; and through the
+        loads anchored on it (a motor's moment(rotor, base, M), a spring or a damper to a
+        ground point), the opposite of what they apply to the moving parts (the module's
+        frame_loads, Q_f). Together Σ (Q_a + Q_c − Q_f − I): the inertia forces and the
+        loads from outside (gravity, forces at points, moments on one body), whatever
+        way the model drives the mechanism."""
         tab = tables(self.mechanism)
-        gen = self.TERMS[:, 0] + self.TERMS[:, 1] - self.TERMS[:, 2]
+        gen = self.TERMS[:, 0] + self.TERMS[:, 1] - self.TERMS[:, 2] - self._frame_loads()
         gen[np.isnan(self.LAM).any(axis=1)] = np.nan
         out = np.zeros((len(self), 3))
         for idx in tab.bodies.values():
@@ -223,6 +228,18 @@ class ForceSweep(Sweep):
             out[:, 0] += fx
             out[:, 1] += fy
             out[:, 2] += gen[:, idx[2]] + self.Q[:, idx[0]] * fy - self.Q[:, idx[1]] * fx
+        return out
+
+
+    def _frame_loads(self) -> np.ndarray:
+        """(n, N_COORDS): Q_f at every point (zeros where no load is anchored on the
+        frame, or the module predates frame_loads)."""
+        mod, mech = self.mechanism.module, self.mechanism
+        out = np.zeros_like(self.Q)
+        if getattr(mod, "FRAME_LOADS", False):
+            qd = self._velocities()
+            for k in range(len(self)):
+                mod.frame_loads(self.Q[k], qd[k], float(self.t[k]), mech.p, out[k])
         return out
 
 
