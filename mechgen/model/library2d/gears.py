@@ -7,8 +7,8 @@ radius makes it an internal gear (a ring, teeth inside). Two meshing gears at p1
     r1 (Th1 − β) + r2 (Th2 − β) = c,        β the angle of the centre line
 
 (Mech's constant C: e_i = Th_i − β is the angle from the centre line to gear i's x axis;
-β is the angle of the pitch direction w = u/(r1 + r2), u = r(p2) − r(p1): from gear 1's
-centre to the pitch point, for an internal gear too). mechgen writes the rolling
+β is the angle of the pitch direction w = r1 u/(r1 + r2), u = r(p2) − r(p1): from gear 1's
+centre to the pitch point, for an internal gear too, either gear first). mechgen writes the rolling
 relation as the angle from w to the direction ψ = (r1 Th1 + r2 Th2 − c)/(r1 + r2):
 
     (r1 + r2) atan2(w × e_ψ, w · e_ψ),   e_ψ = (cos ψ, sin ψ)      (mesh_angle)
@@ -116,15 +116,21 @@ def _across_along(ux, uy, psi, k=1):
     return (k * (ux * sp.sin(psi) - uy * sp.cos(psi)), k * (ux * sp.cos(psi) + uy * sp.sin(psi)))
 
 
-def rolling_row(u, psi, total):
-    """(r1 + r2) times the angle from the pitch direction w = u/(r1 + r2) to e_ψ, in
-    (−π, π]: (r1 + r2) atan2(w × e_ψ, w · e_ψ). Zero exactly where w points along e_ψ, the
-    gears meshed at phase c; where it points against e_ψ (phase c + π (r1 + r2), which
-    u × e_ψ = 0 allows too) the row is ±π (r1 + r2), not 0. The atan2's cut lies there,
-    half a turn of phase from every solution, so Φ is smooth along any motion; at a
-    solution the row's gradient is that of u × e_ψ."""
-    # the sign of r1 + r2 turns u into w; a number's sign is folded, a parameter's kept
-    side = 1 if total.is_positive else -1 if total.is_negative else total
+def rolling_row(u, psi, total, r1):
+    """(r1 + r2) times the angle from the pitch direction w = r1 u/(r1 + r2) to e_ψ, in
+    (−π, π]: (r1 + r2) atan2(w × e_ψ, w · e_ψ). w points from gear 1's centre to the
+    pitch point, whichever gear is the ring: the pitch point is r(p1) + r1 u/(r1 + r2)
+    (an external pair: r1 û; a pinion in a ring: −r1 û; a ring round its pinion: |r1| û).
+    Zero exactly where w points along e_ψ, the gears meshed at phase c; where it points
+    against e_ψ (phase c + π (r1 + r2), which u × e_ψ = 0 allows too) the row is
+    ±π (r1 + r2), not 0. The atan2's cut lies there, half a turn of phase from every
+    solution, so Φ is smooth along any motion; at a solution the row's gradient is that
+    of u × e_ψ."""
+    # the sign of r1 (r1 + r2) turns u into w; a number's sign is folded, a parameter's
+    # kept (u/(r1 + r2) alone pointed away from the pitch point for a ring given first,
+    # meshing it half a turn of phase from c)
+    lead = r1 * total
+    side = 1 if lead.is_positive else -1 if lead.is_negative else lead
     return total * mesh_angle(u[0], u[1], psi, side)
 
 
@@ -148,7 +154,7 @@ class _Gears(Constraint):
         u = p2.r - p1.r
         psi = (r1 * p1.body.th + r2 * p2.body.th - c) / total
         rows = {"distance": u[0] ** 2 + u[1] ** 2 - total ** 2,
-                "rolling": rolling_row(u, psi, total)}
+                "rolling": rolling_row(u, psi, total, r1)}
         self.exprs = [rows[k] for k in self.components]
         self.radii = (r1, r2)
         self.drawn = [p1, pitch_marker(p1, r1), p2, pitch_marker(p2, r2)]
