@@ -75,3 +75,42 @@ def test_a_planetary_arm_starts_where_its_gears_mesh_at_phase_c(ring_first, tmp_
         s = mech.solve(t, level="velocity")
         assert _same_angle(s["Th4"], w_arm * t), (t, s["Th4"])
         assert s["Th4d"] == pytest.approx(w_arm, abs=1e-12)
+
+
+# -- an open profile (a translating cam's track): the roller's side ------------------------
+def _track(c0, name):
+    """A wavy track y = c0 + 0.5 sin x fixed in a slider that moves along x, a roller
+    (radius 0.3) on a vertical guide at x = 2: the same track, c0 apart in the cam's frame."""
+    m = Model(name)
+    g = m.ground("g", points=[(0, 0), (1, 0), (2.0, 0), (2.0, 1)])
+    cam = m.body("cam", points=[(0, 0), (1, 0)], guess=(0, 0, 0))
+    f = m.body("f", points=[(0, 0), (0, 1)], guess=(2.0, c0 + 0.5 * math.sin(2.0), 0))
+    m.translate(g.line(1, 2), cam.line(1, 2))
+    m.relative_x(cam[0], 0.5 * T)
+    m.translate(g.line(3, 4), f.line(1, 2))
+    prof = m.profile("trk", xy=lambda s: (s, c0 + 0.5 * mechgen.sin(s)))
+    m.cam_to_point(cam, prof, f[1], contact="s", guess=2.0, radius=0.3)
+    return m
+
+
+def test_an_open_track_keeps_its_roller_on_one_side_wherever_it_lies(tmp_path):
+    """Shifting the track by c0 in its cam's frame shifts the follower by c0: the roller's
+    side may not depend on where the frame's origin is (it flipped below the track at
+    c0 = -1, above it at c0 = 0 and 1). Closed form: the roller's centre lies 0.3 along
+    the normal of the track, at the point where it meets x = 2 (found by bisection)."""
+    got = {}
+    for k, c0 in enumerate((-1.0, 0.0, 1.0)):
+        mech = _compile(_track(c0, f"track{k}"), tmp_path)
+        got[c0] = mech.solve(0.0)["Y3"] - c0
+    assert got[0.0] == pytest.approx(got[1.0], abs=1e-12)
+    assert got[-1.0] == pytest.approx(got[0.0], abs=1e-12)
+    # the right of the direction of travel (+x): below the track, as documented
+    def centre_x(s):
+        return s + 0.3 * 0.5 * math.cos(s) / math.hypot(1, 0.5 * math.cos(s)) - 2.0
+    lo, hi = 1.0, 3.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if centre_x(mid) < 0 else (lo, mid)
+    s = 0.5 * (lo + hi)
+    want = 0.5 * math.sin(s) - 0.3 / math.hypot(1, 0.5 * math.cos(s))
+    assert got[0.0] == pytest.approx(want, abs=1e-10)

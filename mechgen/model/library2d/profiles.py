@@ -299,8 +299,21 @@ def sample(model, profile, n=SAMPLES):
 
 
 def orientation(model, profile) -> int:
-    """+1 when the profile runs counter-clockwise (its outward normal is (y', −x')), else −1."""
-    _, v = sample(model, profile, 720)
+    """+1 when the profile runs counter-clockwise (its outward normal is (y', −x')), else −1.
+
+    An open profile (one that does not close over its period: a translating cam's track)
+    has no inside: +1, its "outside" the right of its direction of travel, (y', −x'). Its
+    signed area ∮ (x y' − y x')/2 would depend on where the track lies in the cam's frame
+    (shifting it across the frame's origin flipped the roller to the other side)."""
+    ss, v = sample(model, profile, 720)
+    period = float(ss[-1] + (ss[1] - ss[0]))
+    subs = {sym: val for sym, val in model.params.values()}
+    given = {p: float(subs[p]) for p in profile.params}
+    given[profile.var] = np.array([period])
+    end = np.array(evaluate([profile.fx.expr, profile.fy.expr], given, (1,)), dtype=float)
+    size = float(np.max(np.hypot(v[0] - v[0].mean(), v[1] - v[1].mean()))) or 1.0
+    if np.hypot(end[0][0] - v[0][0], end[1][0] - v[1][0]) > 1e-6 * size:
+        return 1
     area = 0.5 * np.sum(v[0] * v[3] - v[1] * v[2])
     return 1 if area >= 0 else -1
 
