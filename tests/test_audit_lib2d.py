@@ -114,3 +114,25 @@ def test_an_open_track_keeps_its_roller_on_one_side_wherever_it_lies(tmp_path):
     s = 0.5 * (lo + hi)
     want = 0.5 * math.sin(s) - 0.3 / math.hypot(1, 0.5 * math.cos(s))
     assert got[0.0] == pytest.approx(want, abs=1e-10)
+
+
+def test_an_open_arc_track_is_not_a_cusp(tmp_path):
+    """A half circle of radius 3 (period π, open) on a slider moving at 0.2 along x, a knife
+    edge on a vertical guide at x = 0.5: y = sqrt(9 − (0.5 − 0.2 t)²). Its end's tangent is
+    against its start's, which for a closed profile would be a cusp at the join (the
+    declaration was refused: 'has a cusp at s = 3.14002'); an open track has no join."""
+    m = Model("arc_track")
+    g = m.ground("g", points=[(0, 0), (1, 0), (0.5, 0), (0.5, 1)])
+    cam = m.body("cam", points=[(0, 0), (1, 0)], guess=(0, 0, 0))
+    f = m.body("f", points=[(0, 0), (0, 1)], guess=(0.5, 2.9, 0))
+    m.translate(g.line(1, 2), cam.line(1, 2))
+    m.relative_x(cam[0], 0.2 * T)
+    m.translate(g.line(3, 4), f.line(1, 2))
+    prof = m.profile("arc", xy=lambda s: (3 * mechgen.cos(s), 3 * mechgen.sin(s)), period=mechgen.pi)
+    m.cam_to_point(cam, prof, f[1], contact="s", guess=1.4)
+    mech = _compile(m, tmp_path)
+    for t in (0.0, 1.0, 4.0):
+        s = mech.solve(t, level="velocity")
+        x = 0.5 - 0.2 * t
+        assert s["Y3"] == pytest.approx(math.sqrt(9 - x * x), abs=1e-12)
+        assert s["Y3d"] == pytest.approx(0.2 * x / math.sqrt(9 - x * x), abs=1e-12)

@@ -298,6 +298,21 @@ def sample(model, profile, n=SAMPLES):
     return ss, np.array(evaluate(exprs, given, ss.shape))
 
 
+def closes(model, profile, ss=None, v=None) -> bool:
+    """Whether the profile closes on itself over its period (its end is its start), at the
+    parameters' defaults; an open one (a translating cam's track, an arc) has no inside and
+    no join from its end back to its start. ``ss, v``: a sample() already taken."""
+    if ss is None:
+        ss, v = sample(model, profile, 720)
+    period = float(ss[-1] + (ss[1] - ss[0]))
+    subs = {sym: val for sym, val in model.params.values()}
+    given = {p: float(subs[p]) for p in profile.params}
+    given[profile.var] = np.array([period])
+    end = np.array(evaluate([profile.fx.expr, profile.fy.expr], given, (1,)), dtype=float)
+    size = float(np.max(np.hypot(v[0] - v[0].mean(), v[1] - v[1].mean()))) or 1.0
+    return bool(np.hypot(end[0][0] - v[0][0], end[1][0] - v[1][0]) <= 1e-6 * size)
+
+
 def orientation(model, profile) -> int:
     """+1 when the profile runs counter-clockwise (its outward normal is (y', −x')), else −1.
 
@@ -306,13 +321,7 @@ def orientation(model, profile) -> int:
     signed area ∮ (x y' − y x')/2 would depend on where the track lies in the cam's frame
     (shifting it across the frame's origin flipped the roller to the other side)."""
     ss, v = sample(model, profile, 720)
-    period = float(ss[-1] + (ss[1] - ss[0]))
-    subs = {sym: val for sym, val in model.params.values()}
-    given = {p: float(subs[p]) for p in profile.params}
-    given[profile.var] = np.array([period])
-    end = np.array(evaluate([profile.fx.expr, profile.fy.expr], given, (1,)), dtype=float)
-    size = float(np.max(np.hypot(v[0] - v[0].mean(), v[1] - v[1].mean()))) or 1.0
-    if np.hypot(end[0][0] - v[0][0], end[1][0] - v[1][0]) > 1e-6 * size:
+    if not closes(model, profile, ss, v):
         return 1
     area = 0.5 * np.sum(v[0] * v[3] - v[1] * v[2])
     return 1 if area >= 0 else -1
@@ -329,6 +338,8 @@ def check_contact(where, model, profile, radius=None, side=1, convex=False):
         raise ModelError(f"{where}: the profile '{profile}' is not finite at s = {ss[k]:.6g}")
     speed = np.hypot(v[2], v[3])
     turn = v[2] * np.roll(v[2], -1) + v[3] * np.roll(v[3], -1)   # t_i · t_(i+1)
+    if not closes(model, profile, ss, v):
+        turn[-1] = 1.0      # an open profile: no join from its end back to its start
     scale = float(np.max(speed)) or 1.0
     if np.min(speed) < 1e-7 * scale or np.any(turn < 0):
         k = int(np.argmin(speed)) if np.min(speed) < 1e-7 * scale else int(np.argmax(turn < 0))
