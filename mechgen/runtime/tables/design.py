@@ -111,14 +111,32 @@ class DesignTable:
         that kept every point it is computed from them."""
         if name in self._reduced:
             return self._reduced[name]
+        same = self._reduced_as(name)       # another name of a reduced quantity (a
+        if same is not None:                # driver by its number, its name or its label)
+            return self._reduced[same]
         if not self.kept_points:
             raise KeyError(f"{name!r} was not reduced (this table reduced "
-                           f"{', '.join(self._reduced)}); pass reduce=[..., {name!r}]")
+                           f"{', '.join(map(str, self._reduced))}); pass reduce=[..., {name!r}]")
         names, slots = reduce_slots(self.mechanism, [name], self._have, self.force_level)
         red = reduce_chunk(self.mechanism.module, slots, self.t, self.P, self.Q, self.QD,
                            self.QDD, self.done)
         return Reduction(name, *(arr[:, 0].reshape(self.shape) for arr in red), self.ok,
                          self.status)
+
+    def _reduced_as(self, name):
+        """The key of the reduction of the quantity ``name`` names, where the table reduced
+        it under another name (a driver by number and by name); else None."""
+        if not self._reduced:
+            return None
+        try:
+            _, want = reduce_slots(self.mechanism, [name], self._have, self.force_level)
+        except (ValueError, TypeError, KeyError):
+            return None
+        _, have = reduce_slots(self.mechanism, list(self._reduced), self._have, self.force_level)
+        for key, slot in zip(self._reduced, have):
+            if np.array_equal(slot, want[0]):
+                return key
+        return None
 
     def take(self, designs) -> "DesignTable":
         """The designs picked by ``designs`` (flat indices or a boolean mask over the
@@ -271,7 +289,7 @@ class DesignTable:
     def _need_points(self, what):
         if not self.kept_points:
             raise MechgenError(f"{what}: this design table kept only the reductions of "
-                               f"{', '.join(self._reduced)} (reduce=...); use "
+                               f"{', '.join(map(str, self._reduced))} (reduce=...); use "
                                "tab.reduced(name), or make the table without reduce")
 
     def design_params(self) -> np.ndarray:
@@ -339,7 +357,7 @@ class DesignTable:
         if not self.grid:
             axes = "listed: " + axes
         if not self.kept_points:
-            axes += "; reduced: " + ", ".join(self._reduced)
+            axes += "; reduced: " + ", ".join(map(str, self._reduced))
         bad = len(self) - int(np.sum(self.done == len(self.t)))
         return (f"<DesignTable of '{self.mechanism.name}': {len(self)} designs ({axes}) × "
                 f"{len(self.t)} times, level {self.force_level or self.level}"
