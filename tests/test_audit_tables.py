@@ -98,3 +98,10 @@ def test_driver_by_number_in_reduce(sc2):
         by_number.reduced("Th3")
 
 
+def test_extremes_of_a_driver_says_what_to_use(sc2):
+    tab = sc2.sweep(0, 1, 25, params={"r": [1.0, 1.5]}, level="dynamic")
+    with pytest.raises(mechgen.MechgenError, match=r"tab.reduced\('drive'\)"):
+        tab.extremes("drive")
+    assert np.isfinite(tab.extremes("xs").max).all()
+
+

@@ -18,7 +18,7 @@ import numpy as np
 from ...errors import MechgenError
 from ...protocol import OK, REPORT_SIZE, STATUS_CODE, STATUS_COLUMNS
 from ..entry import module_attr
-from .reduce import COORDINATE, Reduction, reduce_chunk, reduce_slots
+from .reduce import COORDINATE, DRIVER, Reduction, reduce_chunk, reduce_slots
 
 NEWTON_STEPS = 12
 T_TOL = 1e-14           # relative to the table's time span
@@ -31,8 +31,12 @@ def extremes(tab, name) -> Reduction:
     tab._need_points(f"tab.extremes({name!r})")
     mech = tab.mechanism
     module = mech.module
-    _, slots = reduce_slots(mech, [name], tab._have)
+    _, slots = reduce_slots(mech, [name], tab._have, tab.force_level)
     kind, index, order = (int(v) for v in slots[0])
+    if kind == DRIVER:
+        raise MechgenError(f"tab.extremes({name!r}): a driver's effort is not refined off the "
+                           "time grid (it has no time derivatives in the module); its extremes "
+                           f"on the grid are tab.reduced({name!r})")
     need = order + 2 if kind == COORDINATE else mech.output_orders[index] + order + 2
     if need > 2 or mech.built_level < 2:
         raise MechgenError(f"tab.extremes({name!r}) refines with the second time derivative of "
