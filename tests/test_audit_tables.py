@@ -105,3 +105,39 @@ def test_extremes_of_a_driver_says_what_to_use(sc2):
     assert np.isfinite(tab.extremes("xs").max).all()
 
 
+CUDA_CHECK = textwrap.dedent('''
+    import json, sys, warnings
+    import numpy as np
+    import mechgen
+    warnings.simplefilter("ignore")
+    path, outdir = sys.argv[1], sys.argv[2]
+    mech = mechgen.compile(mechgen.load_model(path), outdir=outdir, tier="python")
+    kw = dict(params={"r": [1.0, 2.0, 2.5], "e": [1.0, -0.5]}, level="position")
+    c = mech.sweep(0, 1, 37, **kw)
+    g = mech.sweep(0, 1, 37, backend="cuda", **kw)
+    out = dict(status=[c.status.ravel().tolist(), g.status.ravel().tolist()],
+               done=[c.done.tolist(), g.done.tolist()],
+               Q=bool(np.array_equal(c.Q, g.Q, equal_nan=True)),
+               INFO=bool(np.array_equal(c.INFO, g.INFO)),
+               points=[[np.flatnonzero(t.sweep(*np.unravel_index(d, t.shape)).status).tolist()
+                        for d in range(len(t))] for t in (c, g)])
+    print(json.dumps(out))
+''')
+
+
+def test_cuda_table_marks_points_as_the_cpu_does(tmp_path):
+    path = _model_file(tmp_path)
+    script = tmp_path / "check.py"
+    script.write_text(CUDA_CHECK)
+    env = cuda_sim_env(PYTHONPATH=ROOT, MECHGEN_CACHE=str(tmp_path / "cache"))
+    out = subprocess.run([sys.executable, str(script), path, str(tmp_path)], env=env,
+                         capture_output=True, text=True, timeout=600)
+    assert out.returncode == 0, out.stderr[-3000:]
+    r = json.loads(out.stdout.strip().splitlines()[-1])
+    assert r["status"][0] == r["status"][1] and r["done"][0] == r["done"][1] and r["Q"]
+    # r = 2, e = 1 (design 2) and r = 2.5, e = -0.5 (design 5) pass a toggle on the grid
+    assert r["points"][0][2] and r["points"][0][5]
+    assert r["points"][1] == r["points"][0]
+    assert r["INFO"]
+
+

@@ -151,6 +151,12 @@ def run_cuda(mech, ts, Q0, P, lev, tol, maxit, slots, xtol=None, meth=None,
             arrays.append(np.zeros((D, N, nq)) if arr is None else
                           np.asarray(arr, dtype=np.float64))
     INFO = np.zeros((D, N, DESIGN_INFO_COLUMNS), dtype=DESIGN_INFO_DTYPE)
+    rows = res.get("STATUS")
+    if rows is not None:    # each point's status code, as the kernels wrote it (the
+        # points reached by a jump or through a singular configuration marked, as on the CPU)
+        rows = np.asarray(rows)
+        k = min(rows.shape[2], DESIGN_INFO_COLUMNS)
+        INFO[:, :, :k] = rows[:, :, :k]
     bad = np.nonzero(done < N)[0]
     INFO[bad, done[bad], STATUS_CODE] = status[bad]
     return TableData(*arrays, INFO, done, status)
