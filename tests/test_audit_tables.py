@@ -153,3 +153,47 @@ def test_assemblies_keeps_a_half_turned_rod_whose_end_moves(sc2):
     assert xs == [-2.0, 4.0]
 
 
+@pytest.mark.parametrize("bad, match", [
+    (dict(level="velocty"), "level must be one of"),
+    (dict(workers=0), "workers must be a positive integer"),
+    (dict(backend="gpu"), "backend must be one of"),
+    (dict(guess={"Zz": 1.0}), "not a coordinate"),
+])
+def test_optimize_says_what_is_wrong(sc2, bad, match):
+    """A bad argument of mech.optimize (or a ValueError of the objective) came back as
+    scipy's "The map-like callable must be of the form f(func, iterable) ..." RuntimeError:
+    differential_evolution replaces a TypeError or ValueError of the function it calls."""
+    args = dict(t0=0, t1=1, n=9, maxiter=1, popsize=3, polish=False)
+    args.update(bad)
+    with pytest.raises(ValueError, match=match):
+        sc2.optimize(lambda tab: tab.reduced("xs").max, {"r": (0.5, 2.5)}, **args)
+
+
+def test_optimize_passes_the_objectives_own_error(sc2):
+    def objective(tab):
+        raise ValueError("my objective's message")
+    with pytest.raises(ValueError, match="my objective's message"):
+        sc2.optimize(objective, {"r": (0.5, 2.5)}, 0, 1, 9, maxiter=1, popsize=3)
+
+
+def test_optimize_finds_the_closed_form_design(sc2):
+    """Stroke 3 and time ratio 1.2 of the offset slider-crank (l = 3): the exact extremes
+    in closed form are where crank and rod line up (fsolve here: r = 1.452743151657,
+    e = 0.647002322977)."""
+    from scipy.optimize import fsolve
+
+    def stroke_ratio(r, e, l=3.0):
+        xmax, xmin = np.sqrt((l + r) ** 2 - e * e), np.sqrt((l - r) ** 2 - e * e)
+        fwd = (np.pi + np.arctan2(e, xmin) - np.arctan2(e, xmax)) / (2 * np.pi)
+        return xmax - xmin, fwd / (1 - fwd)
+
+    want = fsolve(lambda v: np.array(stroke_ratio(*v)) - [3.0, 1.2], [1.5, 0.5], xtol=1e-12)
+
+    def objective(tab):
+        x = tab.extremes("xs")
+        fwd = (x.tmin - x.tmax) % 1.0
+        return ((x.max - x.min) / 3.0 - 1) ** 2 + (fwd / (1 - fwd) / 1.2 - 1) ** 2
+
+    best = sc2.optimize(objective, {"r": (0.5, 2.5), "e": (0.0, 1.5)}, 0, 1, 40,
+                        level="acceleration", seed=3, popsize=6, maxiter=30)
+    assert np.allclose(best.x, want, atol=1e-9), (best.x, want)

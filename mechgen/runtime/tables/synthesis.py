@@ -41,6 +41,12 @@ class OptimizeResult:
                 f"evaluated ({self.rejected} rejected) in {self.seconds:.2f} s>")
 
 
+class _Stop(Exception):
+    """Carries an error of a generation's table or of the objective through scipy's
+    differential_evolution, which replaces a TypeError or ValueError of the function it
+    calls by a RuntimeError of its own ("The map-like callable must be of the form ...")."""
+
+
 class _Scorer:
     """The objective over a batch of designs: one design table, rejected designs +inf."""
 
@@ -49,8 +55,16 @@ class _Scorer:
         self.sweep_args = sweep_args
         self.evaluated = 0
         self.rejected = 0
+        self.error = None
 
     def __call__(self, X, sweep_args=None):
+        try:
+            return self._score(X, sweep_args)
+        except (TypeError, ValueError) as exc:
+            self.error = exc
+            raise _Stop() from exc
+
+    def _score(self, X, sweep_args=None):
         X = np.atleast_2d(np.asarray(X, dtype=np.float64))     # (designs, parameters)
         params = {n: X[:, j] for j, n in enumerate(self.names)}
         tab = self.mech.design_sweep(params=params, grid=False, on_fail="ignore",
@@ -95,9 +109,13 @@ def optimize(mech, objective, bounds, t0, t1, n, backend="cpu", level="position"
                     dict(t0=t0, t1=t1, n=n, level=level, guess=guess, times=times,
                          backend=backend, workers=workers, client=client))
     start = time.perf_counter()
-    de = differential_evolution(lambda X: score(X.T), list(zip(lows, highs)), popsize=popsize,
-                                maxiter=maxiter, tol=tol, seed=seed, polish=False,
-                                vectorized=True, updating="deferred", **evolution)
+    try:
+        de = differential_evolution(lambda X: score(X.T), list(zip(lows, highs)),
+                                    popsize=popsize, maxiter=maxiter, tol=tol, seed=seed,
+                                    polish=False, vectorized=True, updating="deferred",
+                                    **evolution)
+    except _Stop:
+        raise score.error from None     # the table's or the objective's own error
     x, fun, message = np.asarray(de.x, dtype=np.float64), float(de.fun), [de.message]
     if not np.isfinite(fun):
         raise MechgenError(f"optimize: no design within the bounds could be solved at every "
@@ -112,7 +130,10 @@ def optimize(mech, objective, bounds, t0, t1, n, backend="cpu", level="position"
         def one(v):
             if np.any(v < lo) or np.any(v > hi):
                 return np.inf
-            return float(score(v[None, :], single)[0])
+            try:
+                return float(score(v[None, :], single)[0])
+            except _Stop:
+                raise score.error from None
         res = minimize(one, x, method="Nelder-Mead",
                        options={"xatol": 1e-13 * max(1.0, float(np.max(np.abs(x)))),
                                 "fatol": polish_tol, "maxiter": 4000})
