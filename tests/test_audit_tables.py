@@ -12,7 +12,8 @@ along the guide), built here in the plain-Python tier.
   driver's name too.
 - tab.extremes of a driver's effort on a force table says what to use instead (it said
   "needs a table at level 'static' or 'dynamic'" of a table at level "dynamic").
-- mech.assemblies(0) finds both ends of the rod on the guide (xfail: it merged them).
+- mech.assemblies(0) finds both ends of the rod on the guide (it merged them as a
+  'flip': the rod's end on the guide moves, a point a constraint places).
 - mech.optimize passes on its table's and its objective's errors (scipy's
   differential_evolution replaced every ValueError and TypeError by its own RuntimeError),
   and finds the closed-form design of a stroke and a time ratio.
@@ -141,10 +142,6 @@ def test_cuda_table_marks_points_as_the_cpu_does(tmp_path):
     assert r["INFO"]
 
 
-@pytest.mark.xfail(strict=True, reason="assemblies() merges a half-turned body as a 'flip' "
-                   "when the body's origin stays put, though a point of it that a constraint "
-                   "places (the rod's end on the guide) moves: the left-hand slider mode at "
-                   "t = 0 is dropped (found with flips=True)")
 def test_assemblies_keeps_a_half_turned_rod_whose_end_moves(sc2):
     """At t = 0 the rod (origin at the crank pin) reaches the guide at x = 4 or x = −2:
     two assemblies, differing only in Th3 by π (every other coordinate equal). A table's

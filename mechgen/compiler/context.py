@@ -245,10 +245,14 @@ def drawing_context(model, points):
 
     joints = [(c.number, c.kind, [at(pt) for pt in getattr(c, "points", ())])
               for c in model.constraints]
+    # the points a constraint places: a point it takes as such, not an axis' end (a body
+    # turned half a turn that moves one is another assembly: runtime.analysis.assembly)
+    placed = sorted({at(pt) for c in model.constraints for pt in getattr(c, "placed", ())
+                     if (pt.body.name, pt.local) in index})
     body_points = [(b.name, -1 if b.is_ground else at(b[0]),
                     [at(b[k]) for k in range(1, len(b.points) + 1)])
                    for b in model.bodies.values()]
     # springs and dampers, drawn between their points (the pictures of a model with loads)
     loads = [(ld.name or ld.kind, ld.kind, [at(pt) for pt in ld.points])
              for ld in getattr(model, "loads", ()) if ld.kind in ("spring", "damper")]
-    return dict(joints=joints, body_points=body_points, loads=loads)
+    return dict(joints=joints, body_points=body_points, loads=loads, placed=placed)

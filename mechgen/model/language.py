@@ -238,6 +238,7 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
                                  f"{expr} = 0 and involves no coordinate: it constrains "
                                  "nothing or cannot hold")
         con.points = _points_of(args)
+        con.placed = [a for a in con.points if any(a is b for b in args)]
         self.constraints.append(con)
         self._equations = None
         return con

@@ -176,7 +176,10 @@ def assemblies(mech, t, q_guess, starts, level, tol, method, flips=False):
 
     A body turned half a turn with every other coordinate unchanged (a slider reversed on
     its guide: u1 × u2 = 0 holds for opposite directions too) is the same mode unless
-    ``flips=True``; the representative kept is the one nearest the guess's angles.
+    ``flips=True``, where it leaves in place every point a constraint places (the module's
+    PLACED: a point a constraint takes as such, not an axis' end): a rod half-turned about
+    its crank pin, its end on the guide on the other side, is another assembly. The
+    representative kept is the one nearest the guess's angles.
 
     The arguments come checked (Mechanism.assemblies): t a float, starts a count, tol
     and method (an index into protocol.METHODS) as the solvers take them.
@@ -221,10 +224,18 @@ def assemblies(mech, t, q_guess, starts, level, tol, method, flips=False):
         def distance(w):   # to the guess, over the angles
             return sum(abs(math.remainder(w[j] - target[j], 2 * math.pi)) for j in angles)
 
+        placed = list(getattr(mod, "PLACED", ()))
+
+        def moves(a, b):    # a point that a constraint places is elsewhere
+            if not placed:
+                return False
+            d = mech.points_at(a, t)[placed] - mech.points_at(b, t)[placed]
+            return bool(np.max(np.abs(d)) > same)
+
         groups = []
         for w in found:
             for g in groups:
-                if _flip_of(g[0], w, angles, same):
+                if _flip_of(g[0], w, angles, same) and not moves(g[0], w):
                     g.append(w)
                     break
             else:
