@@ -19,6 +19,7 @@ along the guide), built here in the plain-Python tier.
   and finds the closed-form design of a stroke and a time ratio.
 """
 import json
+import re
 import os
 import subprocess
 import sys
@@ -194,3 +195,18 @@ def test_optimize_finds_the_closed_form_design(sc2):
     best = sc2.optimize(objective, {"r": (0.5, 2.5), "e": (0.0, 1.5)}, 0, 1, 40,
                         level="acceleration", seed=3, popsize=6, maxiter=30)
     assert np.allclose(best.x, want, atol=1e-9), (best.x, want)
+
+
+def test_check_counts_the_half_turned_rod_as_a_mode_as_assemblies_does(tmp_path, capsys):
+    """`mechgen check` counts modes as mech.assemblies does: both ends of the rod on the
+    guide (x = 4 and x = -2 at t = 0), while the quick-return's slider reversed on its
+    guide (its axis' end moves, no point a constraint places) still counts once."""
+    from mechgen.cli import main
+    code = main(["check", _model_file(tmp_path)])
+    out = capsys.readouterr().out
+    assert code == 0
+    assert "assembly modes at t = 0: 2 found" in out
+    assert re.search(r"2\s+3\.14159", out)
+    code = main(["check", os.path.join(ROOT, "examples", "quick_return.py")])
+    out = capsys.readouterr().out
+    assert code == 0 and "assembly modes at t = 0: 2 found" in out

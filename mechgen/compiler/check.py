@@ -158,14 +158,35 @@ def _differ(a, b, periodic):
     return d
 
 
-def _is_flip(a, b, periodic, same):
-    """b is a turned half a turn in some angles and equal elsewhere: the mirror root of a
-    parallel or point-on-line condition (a slider reversed on its guide), not another
-    assembly of the mechanism (as the runtime's mech.assemblies counts)."""
+def _is_flip(a, b, periodic, same, placed=None):
+    """b is a turned half a turn in some angles and equal elsewhere, every point a
+    constraint places (``placed``: their positions as a function of q) where it was: the
+    mirror root of a parallel or point-on-line condition (a slider reversed on its guide),
+    not another assembly of the mechanism (as the runtime's mech.assemblies counts)."""
     d = _differ(a, b, periodic)
     flipped = [j for j in periodic if abs(abs(d[j]) - math.pi) <= same]
     rest = np.delete(d, flipped)
-    return bool(flipped) and np.max(np.abs(rest), initial=0.0) <= same
+    return bool(flipped) and np.max(np.abs(rest), initial=0.0) <= same and \
+        _stays(a, b, same, placed)
+
+
+def _stays(a, b, same, placed):
+    """Whether every point a constraint places is where it was (no ``placed``: yes)."""
+    return placed is None or np.max(np.abs(placed(a) - placed(b)), initial=0.0) <= same
+
+
+def placed_points(model, eq, t):
+    """The positions of the points the model's constraints place (a point a constraint
+    takes as such, not an axis' end), as a numpy function of q at time t and the
+    parameters' defaults; None where there are none."""
+    pts = {(pt.body.name, pt.local): pt for c in model.constraints
+           for pt in getattr(c, "placed", ())}
+    if not pts:
+        return None
+    exprs = [e for pt in pts.values() for e in pt.r]
+    f = sp.lambdify((list(eq.q), list(eq.params), T), exprs, modules="numpy")
+    params = [float(v) for v in model.param_defaults.values()]
+    return lambda q: np.array(f(list(q), params, float(t)), dtype=float).reshape(-1)
 
 
 class Meshing:
@@ -191,14 +212,15 @@ class Meshing:
 
 
 def assembly_modes(system, guess, periodic, starts=STARTS, first=None, turns=(),
-                   meshing=None):
+                   meshing=None, placed=None):
     """Every distinct assembly found at the system's time from the guess and from
     ``starts`` quasi-random starts (angles over [−π, π), positions within the model's size
     of the guess; ``first`` is the solution Newton reaches from the guess, when known), as
     the runtime's mech.assemblies counts them: poses equal modulo 2π in the periodic
     angles and in ``turns`` (every body's rotation: a gear's, which Φ reads through its
     rolling relation, is a pose modulo 2π too) and a body turned half a turn with all else
-    equal (a slider reversed on its guide) count once. Returns (modes, index of the mode
+    equal and every point a constraint places where it was (``placed``, placed_points: a
+    slider reversed on its guide) count once. Returns (modes, index of the mode
     the guess reaches or None); the periodic angles come in (−π, π], the guess's mode
     first."""
     turns = sorted(set(periodic) | set(turns))
@@ -242,7 +264,8 @@ def assembly_modes(system, guess, periodic, starts=STARTS, first=None, turns=(),
             v[j] = wrap([w[j] + math.pi], [0])[0]
             if abs(math.remainder(v[j] - target[j], 2 * math.pi)) < \
                     abs(math.remainder(w[j] - target[j], 2 * math.pi)) - same and \
-                    np.max(np.abs(system(v)[0]), initial=0.0) < TOL:
+                    np.max(np.abs(system(v)[0]), initial=0.0) < TOL and \
+                    _stays(w, v, same, placed):
                 w = v
         return w
 
@@ -256,7 +279,7 @@ def assembly_modes(system, guess, periodic, starts=STARTS, first=None, turns=(),
         w = w if k == reached else turned(w)
         for g, kept in enumerate(modes):
             if np.max(np.abs(_differ(kept, w, turns)), initial=0.0) <= same or \
-                    _is_flip(kept, w, periodic, same):
+                    _is_flip(kept, w, periodic, same, placed):
                 break
         else:
             g = len(modes)
@@ -410,7 +433,8 @@ class _Check:
             if mesh_counts(self.eq) else None
         modes, reached = assembly_modes(self.system, self.guess, periodic, self.starts,
                                         first=q if converged else None, turns=self.shown,
-                                        meshing=meshing)
+                                        meshing=meshing,
+                                        placed=placed_points(self.model, self.eq, t))
         if not modes:
             return self.contradiction()
         target = wrap(self.guess, periodic)
