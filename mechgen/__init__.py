@@ -28,8 +28,8 @@ _QUANTITIES = ("location", "distance", "point_to_line_distance", "angle", "rotat
 _LAZY = {"Model": "model.language", "T": "model.geometry", "Line": "model.geometry",
          "load_model": "model.loader", "Mechanism": "runtime.mechanism",
          "Solution": "runtime.results", "Sweep": "runtime.results",
-         "DesignTable": "runtime.design", "Reduction": "runtime.reduce",
-         "OptimizeResult": "runtime.synthesis", "Equations": "model.symbolic"}
+         "DesignTable": "runtime.tables.design", "Reduction": "runtime.tables.reduce",
+         "OptimizeResult": "runtime.tables.synthesis", "Equations": "model.symbolic"}
 
 
 def __getattr__(name):
