@@ -19,3 +19,31 @@ def test_star_import_of_mechgen_gives_every_exported_name():
     assert res.stdout.split() == ["DesignTable", "Reduction", "OptimizeResult"]
     for name in mechgen.__all__:
         assert getattr(mechgen, name) is not None
+
+
+def test_the_rate_of_an_output_holding_accelerations_says_it_is_not_available():
+    # s["ad"] for an output a = acceleration(...) at level acceleration said "needs a
+    # solve at level acceleration", the level the solution had: it needs the jerk
+    import pytest
+    from mechgen import Model, T, acceleration, velocity
+    m = Model("jerk_names")
+    g = m.ground("g", points=[(0, 0)])
+    b = m.body("b", points=[(0, 0), (1, 0)], guess=(0, 0, 0))
+    m.revolute(g[1], b[1])
+    m.rotation_lock(b, T ** 2)
+    m.output("a", acceleration(b[2])[1])
+    m.output("v", velocity(b[2])[1])
+    mech = mechgen.compile(m, tier="python")
+    s = mech.solve(0.5, level="acceleration")
+    # y = sin(t²): y' = 2t cos t², y'' = 2 cos t² − 4t² sin t²
+    import math
+    assert s["a"] == pytest.approx(2 * math.cos(0.25) - math.sin(0.25), abs=1e-12)
+    assert s["vd"] == pytest.approx(s["a"], abs=1e-12)
+    for name in ("ad", "add", "vdd"):
+        with pytest.raises(KeyError, match="not available.*no third derivative"):
+            s[name]
+    with pytest.raises(KeyError, match="not available"):
+        mech.sweep(0, 1, 3, level="acceleration")["ad"]
+    with pytest.raises(KeyError, match=r"'vd' needs a solve at level acceleration \(this "
+                                       r"solve is at level velocity\)"):
+        mech.solve(0.5, level="velocity")["vd"]

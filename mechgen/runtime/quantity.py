@@ -17,6 +17,17 @@ from ..protocol import LEVEL, LEVELS
 SUFFIXES = ("", "d", "dd")
 
 
+def level_needed(label, need, have, what) -> str:
+    """Why a solve or sweep (``what``) at level ``have`` cannot give ``label``, which
+    needs derivatives of order ``need``: a higher level, or none at all where it would
+    take the rate of accelerations (the derivative of an output holding q̈)."""
+    if need > LEVEL["acceleration"]:
+        return (f"{label!r} is not available: it is the rate of a quantity that holds "
+                "accelerations, and mechgen solves no third derivative (jerk)")
+    return (f"{label!r} needs a {what} at level {LEVELS[need]} (this {what} is at level "
+            f"{LEVELS[have]})")
+
+
 def level_of(qd, qdd) -> int:
     """The level (an index into LEVELS) of a solution or sweep holding these derivatives."""
     return LEVEL["position"] if qd is None else \
@@ -120,9 +131,7 @@ class Quantity:
     def needs(self, have):
         """Raise KeyError unless a sweep at level ``have`` yields this quantity."""
         if self.level > have:
-            raise KeyError(f"{self.label!r} needs a sweep at level "
-                           f"{LEVELS[min(self.level, LEVEL['acceleration'])]} "
-                           f"(this sweep is at level {LEVELS[have]})")
+            raise KeyError(level_needed(self.label, self.level, have, "sweep"))
 
     def on_sweep(self, sw) -> np.ndarray:
         if self.kind == "expr":

@@ -10,7 +10,7 @@ import numpy as np
 from ..protocol import (INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP, INFO_STATUS, JUMP, LEVEL,
                         LEVELS, REPORT_JUMP, STATUS_CODE, STATUS_COLUMNS, STATUS_ITERATIONS,
                         STATUS_SUBSTEPS, INFO_SUBSTEPS)
-from .quantity import _lookup, column_names, level_of
+from .quantity import _lookup, column_names, level_needed, level_of
 
 __all__ = ["Solution", "Sweep", "write_csv", "_lookup"]
 
@@ -86,8 +86,8 @@ class Solution:
             return float(vec[k])
         need = self.mechanism.output_orders[k] + order
         if need > level_of(self.qd, self.qdd):
-            raise KeyError(f"output {name!r} needs a solve at level "
-                           f"{LEVELS[min(need, LEVEL['acceleration'])]}")
+            raise KeyError("output " + level_needed(name, need, level_of(self.qd, self.qdd),
+                                                    "solve"))
         return float(self.mechanism.output_values(self.q, self.qd, self.qdd, self.t, order)[k])
 
     def keys(self):
@@ -213,8 +213,7 @@ class Sweep:
             return arr[:, k].copy()
         need = self.mechanism.output_orders[k] + order
         if need > self._have():
-            raise KeyError(f"output {key!r} needs a sweep at level "
-                           f"{LEVELS[min(need, LEVEL['acceleration'])]}")
+            raise KeyError("output " + level_needed(key, need, self._have(), "sweep"))
         return self.outputs(order)[:, k].copy()
 
     def outputs(self, order=0) -> np.ndarray:
