@@ -47,3 +47,35 @@ def test_the_rate_of_an_output_holding_accelerations_says_it_is_not_available():
     with pytest.raises(KeyError, match=r"'vd' needs a solve at level acceleration \(this "
                                        r"solve is at level velocity\)"):
         mech.solve(0.5, level="velocity")["vd"]
+
+
+def test_dt_without_a_model_keeps_a_parameter_named_like_another_models_coordinate():
+    # dt() without model= took every name any model of the process had as a coordinate:
+    # model bmod's parameter L, named like model amod's coordinate L, got a rate Ld.
+    # Where bmod also has a coordinate Ld that gave a wrong number with no error.
+    import math
+    import pytest
+    from mechgen import Model, ModelError, T, dt, sin
+    a = Model("dt_amod")
+    la = a.coordinate("L", 1.0)
+    a.constraint(la - T)
+    b = Model("dt_bmod")
+    length = b.param("L", 2.0)
+    x = b.coordinate("x", 0.0)
+    ld = b.coordinate("Ld", 0.0)
+    b.constraint(x - sin(T))
+    b.constraint(ld - 5 * T)
+    b.output("v", dt(length * x))
+    s = mechgen.compile(b, tier="python").solve(0.3, level="velocity")
+    assert s["v"] == pytest.approx(2 * math.cos(0.3), abs=1e-12)      # L x' = 2 cos t
+    # L alone is a coordinate in one model and a parameter in another: ambiguous
+    with pytest.raises(ModelError, match=r"dt: which of L are coordinates depends on the "
+                                         r"model .*dt\(expr, model=m\)"):
+        dt(length ** 2)
+    assert dt(length ** 2, model=b) == 0
+    assert dt(la * T, model=a) == la + T * sp_symbol("Ld")
+
+
+def sp_symbol(name):
+    import sympy
+    return sympy.Symbol(name, real=True)

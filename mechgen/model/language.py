@@ -17,7 +17,7 @@ from .forces.loads import LoadsMixin
 from .geometry import Body, T
 from .library2d.cams import CamsMixin
 from .library2d.methods import Mech2D
-from .quantities import register_coordinates
+from .quantities import register_coordinates, register_model
 from .stages import StageMixin
 
 # The names a model may not give a parameter, coordinate, body or output: Python's keywords,
@@ -84,6 +84,7 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
         self._names: dict[str, str] = {}          # every user-visible name -> what it is
         self._equations = None
         self._where = _where()
+        register_model(self)                        # dt without a model: see quantities
         if _CREATED is not None:                    # a model file being loaded: see loader
             _CREATED.append(self)
 

@@ -6,6 +6,7 @@ Vectors come back as 2×1 sympy Matrices; scalars as sympy expressions. An "axis
 from __future__ import annotations
 
 import numbers
+import weakref
 
 import sympy as sp
 
@@ -14,13 +15,57 @@ from ..errors import ModelError
 from .geometry import Body, Line, Point, as_pair
 from .symbolic import total_derivative
 
-# Coordinate symbols of every model built in this process (for dt without a model).
+# Coordinate symbols of every model built in this process, and the models themselves
+# (for dt without a model).
 _COORDINATES: dict[str, sp.Symbol] = {}
+_MODELS = weakref.WeakSet()
 
 
 def register_coordinates(coords):
     for c in coords:
         _COORDINATES[c.name] = c
+
+
+def register_model(model):
+    _MODELS.add(model)
+
+
+def _coordinates_of(names):
+    """The coordinates of dt(expr) without a model, for an expression holding ``names``.
+    A symbol is one name whichever model declared it, so one model's parameter L is the
+    very symbol of another model's coordinate L: the coordinates are those of the models
+    that declare every name of the expression (as coordinates or parameters before as
+    rates), and must agree there; where no model declares them all, every coordinate of
+    the process named in the expression."""
+    names = set(names) - {"T"}
+    rated = {n[:-1] for n in names if n.endswith("d")} | \
+        {n[:-2] for n in names if n.endswith("dd")}
+    direct, through_rates = [], []
+    for mdl in list(_MODELS):
+        coords = {c.name for c in mdl.coords}
+        own = coords | set(mdl.params)
+        if names <= own:
+            direct.append(mdl)
+        elif names <= own | {c + "d" for c in coords} | {c + "dd" for c in coords}:
+            through_rates.append(mdl)
+    for group in (direct, through_rates):
+        if not group:
+            continue
+        picks = {}
+        for mdl in group:
+            key = tuple(c.name for c in mdl.coords if c.name in names | rated)
+            picks.setdefault(key, []).append(mdl.name)
+        if len(picks) > 1:
+            said = "; ".join(f"{', '.join(k) or 'none'} in model {', '.join(map(repr, v))}"
+                             for k, v in picks.items())
+            raise ModelError(f"dt: which of {', '.join(sorted(names))} are coordinates "
+                             f"depends on the model (coordinates: {said}); say which "
+                             "model: dt(expr, model=m)")
+        (key,) = picks
+        mdl = next(m for m in group if m.name in picks[key])
+        return [c for c in mdl.coords if c.name in key]
+    return [c for name, c in _COORDINATES.items()
+            if name in names or name + "d" in names or name + "dd" in names]
 
 
 def _vec(value, what) -> sp.Matrix:
@@ -180,9 +225,7 @@ def dt(expr, order: int = 1, model=None):
     if model is not None:
         coords = list(model.coords)
     else:
-        names = {s.name for s in expr.free_symbols}
-        coords = [c for name, c in _COORDINATES.items()
-                  if name in names or name + "d" in names or name + "dd" in names]
+        coords = _coordinates_of({s.name for s in expr.free_symbols})
     return total_derivative(expr, coords, order)
 
 
