@@ -79,3 +79,25 @@ def test_dt_without_a_model_keeps_a_parameter_named_like_another_models_coordina
 def sp_symbol(name):
     import sympy
     return sympy.Symbol(name, real=True)
+
+
+def test_a_symbol_named_like_a_declared_one_but_not_it_is_explained():
+    # sympy.Symbol("a") or the text "0.5*T" are not the model's a and T (sympy tells them
+    # apart by assumptions): the error said "a is not a declared parameter" of a model
+    # that had declared it, and "T is not ... T"
+    import pytest
+    import sympy
+    from mechgen import Model, ModelError
+    m = Model("namesakes")
+    m.param("a", 2.0)
+    g = m.ground("g", points=[(0, 0)])
+    with pytest.raises(ModelError, match=r"a \(parameter\): a symbol named like the "
+                                         r"model's but not it"):
+        m.body("b", points=[(0, sympy.Symbol("a"))], guess=(0, 0, 0))
+    b = m.body("b", points=[(0, 0)], guess=(0, 0, 0))
+    m.revolute(g[1], b[1])
+    with pytest.raises(ModelError, match=r"T \(time\): a symbol named like the model's"):
+        m.rotation_lock(b, "0.5*T")
+    with pytest.raises(ModelError, match=r"zz is not a declared parameter, coordinate or T "
+                                         r"of model 'namesakes'$"):
+        m.output("o", sympy.Symbol("zz"))

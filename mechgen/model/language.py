@@ -369,7 +369,7 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
             names = ", ".join(map(str, unknown))
             raise ModelError(f"{what}: {names} {'is' if len(unknown) == 1 else 'are'} not a "
                              f"declared parameter{', coordinate' if allow_coordinates else ''} "
-                             f"or T of model '{self.name}'")
+                             f"or T of model '{self.name}'{self._namesake(unknown)}")
         if expr.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
             raise ModelError(f"{what}: {expr} is not finite")
         return expr
@@ -382,10 +382,23 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
                 if bad:
                     raise ModelError(f"point {k} of body '{body.name}': "
                                      f"{', '.join(sorted(map(str, bad)))} is not a declared "
-                                     "parameter (points may hold parameters only)")
+                                     "parameter (points may hold parameters only)"
+                                     f"{self._namesake(bad)}")
                 if v.has(sp.zoo, sp.oo, sp.nan):
                     raise ModelError(f"point {k} of body '{body.name}' is not finite")
                 _real(v, f"point {k} of body '{body.name}'")
+
+    def _namesake(self, unknown) -> str:
+        """Why a symbol named like a declared one is not it: text, or a Symbol of its own
+        (sympy tells symbols by name and assumptions; the model's are real)."""
+        same = [s for s in unknown if getattr(s, "name", None) in self._names or
+                getattr(s, "name", None) == "T"]
+        if not same:
+            return ""
+        said = ", ".join(f"{s.name} ({self._names.get(s.name, 'time')})" for s in same)
+        return (f"; {said}: a symbol named like the model's but not it (a string, or a "
+                "sympy.Symbol made apart): use the symbol that m.param or m.coordinate "
+                "returned, body.x/.y/.th, or mechgen.T")
 
     def _guess_value(self, value, what):
         expr = self._expr(value, what)
