@@ -353,8 +353,10 @@ def compile_file(path, outdir=None, name=None, tier=None, **kwargs):
     from .model.loader import load_model
     model = load_model(path, name)
     module = build_if_changed(model, outdir, **kwargs)
+    imports = _local_imports(path, outdir)
+    imports.update({f: _digest(f) for f in getattr(model, "read_files", ())})
     entry = {"model_file": path, "name": name, "module": module, "digest": verify(module),
-             "imports": _local_imports(path, outdir)}
+             "imports": imports}
     os.makedirs(os.path.dirname(manifest), exist_ok=True)
     tmp = f"{manifest}.{os.getpid()}.tmp"
     with open(tmp, "w", encoding="utf-8") as fh:

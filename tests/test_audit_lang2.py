@@ -101,3 +101,25 @@ def test_a_symbol_named_like_a_declared_one_but_not_it_is_explained():
     with pytest.raises(ModelError, match=r"zz is not a declared parameter, coordinate or T "
                                          r"of model 'namesakes'$"):
         m.output("o", sympy.Symbol("zz"))
+
+
+def test_compile_by_path_rebuilds_when_a_data_file_the_model_reads_changes(tmp_path,
+                                                                           monkeypatch):
+    # mechgen.compile("model.py") checked the file's text and local imports only: a model
+    # reading its dimensions from dims.json kept the module built from the old numbers
+    # (x = 2T after dims.json said k = 5) with no error
+    import pytest
+    monkeypatch.setenv("MECHGEN_CACHE", str(tmp_path / "cache"))
+    (tmp_path / "dims.json").write_text('{"k": 2.0}')
+    model = tmp_path / "dims_model.py"
+    model.write_text(
+        "import json, os\n"
+        "from mechgen import Model, T\n"
+        "dims = json.load(open(os.path.join(os.path.dirname(__file__), 'dims.json')))\n"
+        "m = Model('audit_dims')\n"
+        "x = m.coordinate('x', 0.0)\n"
+        "m.constraint(x - dims['k'] * T)\n")
+    assert mechgen.compile(str(model), tier="python").solve(1.0)["x"] == pytest.approx(2.0)
+    (tmp_path / "dims.json").write_text('{"k": 5.0}')
+    assert mechgen.compile(str(model), tier="python").solve(1.0)["x"] == pytest.approx(5.0)
+    assert mechgen.compile(str(model), tier="python").solve(1.0)["x"] == pytest.approx(5.0)

@@ -4,6 +4,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import runpy
+import sys
 import traceback
 
 from ..errors import MechgenError, ModelError
@@ -37,14 +38,61 @@ def _line_in(path, exc) -> str:
     return path
 
 
+# the files a model file reads while it runs (a table of dimensions, a cam profile): its
+# module depends on them as on its text (bridge.compile_file's manifest lists them)
+_READING: set | None = None
+_HOOKED = False
+
+
+def _on_open(event, args):
+    if event == "open" and _READING is not None and args and \
+            isinstance(args[0], (str, bytes, os.PathLike)):
+        mode = args[1] if len(args) > 1 and isinstance(args[1], str) else "r"
+        if not any(c in mode for c in "wax"):
+            _READING.add(os.fsdecode(args[0]))
+
+
+def _data_files(opened, path) -> list[str]:
+    """The files of ``opened`` that are the model's data, not Python's nor mechgen's
+    (compiled bytecode, the standard library, site-packages, mechgen itself)."""
+    import site
+    import sysconfig
+    skip = {os.path.abspath(p) + os.sep for p in
+            (sys.prefix, sys.base_prefix, sys.exec_prefix, sysconfig.get_paths()["stdlib"],
+             os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+             *getattr(site, "getsitepackages", lambda: [])(),
+             getattr(site, "getusersitepackages", lambda: "")() or os.devnull)}
+    found = set()
+    for f in opened:
+        f = os.path.abspath(f)
+        if f == path or f.endswith(".pyc") or "__pycache__" in f or not os.path.isfile(f):
+            continue
+        if not any(f.startswith(s) for s in skip):
+            found.add(f)
+    return sorted(found)
+
+
 def _run(path: str) -> tuple[dict, list]:
-    """Run the model file: its namespace, and every Model it created (in order)."""
-    created = []
+    """Run the model file: its namespace, and every Model it created (in order); each
+    created Model's ``read_files`` lists the data files the run opened."""
+    global _READING, _HOOKED
+    created, opened = [], set()
+    if not _HOOKED:
+        sys.addaudithook(_on_open)      # an audit hook stays: it acts while _READING is set
+        _HOOKED = True
     collect_models(created)
+    outer, _READING = _READING, opened
     try:
-        return runpy.run_path(path, run_name="__mechgen_model__"), created
+        namespace = runpy.run_path(path, run_name="__mechgen_model__")
     finally:
+        _READING = outer
+        if outer is not None:
+            outer |= opened
         collect_models(None)
+    files = _data_files(opened, path)
+    for mdl in created:
+        mdl.read_files = files
+    return namespace, created
 
 
 def load_models(path: str) -> list[Model]:
