@@ -77,7 +77,8 @@ def _compiled(mech, expr):
     else:
         shape = None
         entries = [expr]
-    fn = sp.lambdify(syms, entries, modules="numpy")
+    from .model.rates import almost_everywhere       # the module's own rates
+    fn = sp.lambdify(syms, [almost_everywhere(e) for e in entries], modules="numpy")
     hit = (fn, [table[s.name] for s in syms], shape)
     cache[expr] = hit
     return hit

@@ -123,3 +123,39 @@ def test_compile_by_path_rebuilds_when_a_data_file_the_model_reads_changes(tmp_p
     (tmp_path / "dims.json").write_text('{"k": 5.0}')
     assert mechgen.compile(str(model), tier="python").solve(1.0)["x"] == pytest.approx(5.0)
     assert mechgen.compile(str(model), tier="python").solve(1.0)["x"] == pytest.approx(5.0)
+
+
+def test_outputs_and_constraints_with_abs_sign_max_mod_build_and_give_their_rates():
+    # Abs and sign are names mechgen exports for models; an output |x| (or Max, Mod,
+    # floor, frac) failed the build with sympy's "Unsupported by NumbaPrinter:
+    # DiracDelta" (a traceback from the command line), a constraint |x| = ... failed
+    # likewise, and mech.evaluate(dt(Abs(x), 2), s) raised NameError 'DiracDelta'
+    import math
+    import pytest
+    import sympy
+    from mechgen import Abs, Model, T, dt, sign, sin
+    m = Model("piecewise_rates")
+    x = m.coordinate("x", 0.0)
+    y = m.coordinate("y", 3.0)
+    m.constraint(x - sin(T))
+    m.constraint(Abs(y) - 2 - sin(T))               # y = 2 + sin t from the guess 3
+    m.output("mag", Abs(x))
+    m.output("sq", sign(x) * x ** 2)
+    m.output("top", sympy.Max(x, 0.1))
+    m.output("wrap", sympy.Mod(-3 * x, 1))
+    m.output("part", sympy.frac(2 * x))
+    m.output("step", sympy.floor(4 * x))
+    mech = mechgen.compile(m, tier="python")
+    t = -0.5                                          # x = sin t < 0
+    s = mech.solve(t, level="acceleration")
+    sx, cx = math.sin(t), math.cos(t)
+    assert (s["y"], s["yd"], s["ydd"]) == pytest.approx((2 + sx, cx, -sx), abs=1e-12)
+    expect = {"mag": (-sx, -cx, sx), "sq": (-sx * sx, -2 * sx * cx, -2 * (cx * cx - sx * sx)),
+              "top": (0.1, 0.0, 0.0), "wrap": ((-3 * sx) % 1, -3 * cx, 3 * sx),
+              "part": ((2 * sx) % 1, 2 * cx, -2 * sx), "step": (math.floor(4 * sx), 0, 0)}
+    for name, values in expect.items():
+        got = (s[name], s[name + "d"], s[name + "dd"])
+        assert got == pytest.approx(values, abs=1e-12), name
+    xs = m.coords[0]
+    assert mech.evaluate(dt(Abs(xs), 2), s) == pytest.approx(sx, abs=1e-12)
+    assert mech.evaluate(dt(sympy.Mod(3 * xs, 1), 2), s) == pytest.approx(-3 * sx, abs=1e-12)

@@ -14,6 +14,8 @@ import numpy as np
 import sympy as sp
 from sympy.logic import boolalg
 
+from .rates import almost_everywhere
+
 _UNARY = {
     sp.sin: np.sin, sp.cos: np.cos, sp.tan: np.tan, sp.exp: np.exp, sp.log: np.log,
     sp.asin: np.arcsin, sp.acos: np.arccos, sp.atan: np.arctan, sp.sinh: np.sinh,
@@ -120,7 +122,7 @@ def evaluate(exprs, values, shape):
     out = []
     with np.errstate(all="ignore"):
         for e in exprs:
-            v = np.asarray(graph(sp.sympify(e)), dtype=float)
+            v = np.asarray(graph(almost_everywhere(sp.sympify(e))), dtype=float)
             out.append(np.broadcast_to(v, shape))
     return out
 

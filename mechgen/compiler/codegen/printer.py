@@ -19,6 +19,8 @@ from __future__ import annotations
 import sympy as sp
 from sympy.printing.pycode import PythonCodePrinter
 
+from ...model.rates import almost_everywhere
+
 
 class Local(sp.Symbol):
     """A local variable of the generated code, printed by its name."""
@@ -119,4 +121,4 @@ def printer_for(names=None) -> NumbaPrinter:
 
 def pycode(expr, names=None) -> str:
     """``expr`` as Python code, its symbols named by ``names`` (a Names, or None)."""
-    return printer_for(names).doprint(sp.sympify(expr))
+    return printer_for(names).doprint(almost_everywhere(sp.sympify(expr)))

@@ -16,7 +16,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .ir import Assign, Guard, Store, replaced
-from .printer import Alias, Local
+from .printer import Alias, Local, almost_everywhere
 
 
 class TempNames:
@@ -44,7 +44,7 @@ class TempNames:
 
 
 def _expr_of(st):
-    return sp.sympify(st.bound if isinstance(st, Guard) else st.expr)
+    return almost_everywhere(sp.sympify(st.bound if isinstance(st, Guard) else st.expr))
 
 
 def _with(st, expr):
