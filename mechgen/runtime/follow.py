@@ -199,33 +199,80 @@ def _segment(mech, ts, q0, tol, maxit, meth):
 
 def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth, what=None):
     """Solve along ts from q0 (the last known cell, at ts[0]); the rows after the first
-    are the next cells when ``sign`` is nonzero. Returns the configuration at ts[-1]."""
-    Q, done, S, report = _segment(mech, ts, q0, tol, maxit, meth)
-    code = S[:done, STATUS_CODE]
-    if done == ts.shape[0] and not np.count_nonzero(code):    # the usual case, in short
-        if sign:
-            path.keep(sign, Q[1:])
+    are the next cells when ``sign`` is nonzero. Returns the configuration at ts[-1].
+    A step between two cells that the careful sweep could take only by a jump is taken
+    again in REFINE substeps (and REFINE² where those jump too) before it counts as one:
+    a fast driver turns a crank many times in one cell (CELL is a time, not an angle)."""
+    while True:
+        Q, done, S, report = _segment(mech, ts, q0, tol, maxit, meth)
+        code = S[:done, STATUS_CODE]
+        if done == ts.shape[0] and not np.count_nonzero(code):    # the usual case, in short
+            if sign:
+                path.keep(sign, Q[1:])
+            return Q[-1]
+        jumped = np.flatnonzero(code == JUMP)
+        ok = done if not jumped.size else int(jumped[0])
+        if sign and ok > 1:
+            path.keep(sign, Q[1:ok])
+        _crossed(path, ts, code[:ok])
+        if jumped.size:
+            k = int(jumped[0])
+            qk = _refined(mech, path, ts[k - 1], ts[k], Q[k - 1], tol, maxit, meth) \
+                if k >= 1 else None
+            if qk is not None:
+                if sign:
+                    path.keep(sign, qk[None, :])
+                if k == ts.shape[0] - 1:
+                    return qk
+                ts, q0 = ts[k:], qk         # on from the cell the substeps reached
+                continue
+            exc = SolveError(
+                f"the continuation could not keep the assembly mode on the way to "
+                f"t={ts[k]:.10g} (a jump of {report[REPORT_JUMP]:.3g} the smallest step "
+                "could not avoid): the configuration there may lie on another assembly mode "
+                "(mech.singularities locates singular configurations on the way; guess= "
+                "solves from a guess at t)")
+            exc.t = float(ts[k])
+            raise _context(exc, t, path.t0, what)
+        if done < ts.shape[0]:
+            exc = failure(mech, ts, done, Q, report, q0)
+            raise _context(exc, t, path.t0, what)
         return Q[-1]
-    jumped = np.flatnonzero(code == JUMP)
-    ok = done if not jumped.size else int(jumped[0])
-    if sign and ok > 1:
-        path.keep(sign, Q[1:ok])
-    for k in np.flatnonzero(code[:ok] == THROUGH_SINGULAR):
+
+
+REFINE = 64     # substeps of a step between two cells that jumped (see _extend)
+
+
+def _crossed(path, ts, code):
+    """Keep the times of the points reached at or through a singular configuration."""
+    for k in np.flatnonzero(code == THROUGH_SINGULAR):
         if float(ts[k]) not in path.crossings:
             path.crossings.append(float(ts[k]))
-    if jumped.size:
-        k = int(jumped[0])
-        exc = SolveError(
-            f"the continuation could not keep the assembly mode on the way to t={ts[k]:.10g} "
-            f"(a jump of {report[REPORT_JUMP]:.3g} the smallest step could not avoid): the "
-            "configuration there may lie on another assembly mode (mech.singularities "
-            "locates singular configurations on the way; guess= solves from a guess at t)")
-        exc.t = float(ts[k])
-        raise _context(exc, t, path.t0, what)
-    if done < ts.shape[0]:
-        exc = failure(mech, ts, done, Q, report, q0)
-        raise _context(exc, t, path.t0, what)
-    return Q[-1]
+
+
+def _refined(mech, path, ta, tb, qa, tol, maxit, meth, depth=2):
+    """The configuration at tb from qa at ta by the careful sweep in REFINE substeps (each
+    taken again in REFINE where it jumps, ``depth`` levels), or None where a jump remains
+    or a substep fails (the caller then reports the jump)."""
+    ts = np.linspace(ta, tb, REFINE + 1)
+    q = qa
+    while True:
+        Q, done, S, _report = _segment(mech, ts, q, tol, maxit, meth)
+        code = S[:done, STATUS_CODE]
+        jumped = np.flatnonzero(code == JUMP)
+        ok = done if not jumped.size else int(jumped[0])
+        if np.count_nonzero(code[:ok] == THROUGH_SINGULAR):
+            _crossed(path, np.full(ok, tb), code[:ok])     # (named by the cell's time)
+        if done == ts.shape[0] and not jumped.size:
+            return Q[-1].copy()
+        if not jumped.size or depth <= 1 or ok < 1:
+            return None
+        qk = _refined(mech, path, ts[ok - 1], ts[ok], Q[ok - 1], tol, maxit, meth, depth - 1)
+        if qk is None:
+            return None
+        if ok == ts.shape[0] - 1:
+            return qk
+        ts, q = ts[ok:], qk
 
 
 def _last_step(mech, path, tc, qc, t, tol, maxit, meth, what=None) -> np.ndarray:
