@@ -26,8 +26,26 @@ def _ranges(items):
     return out
 
 
+def _split_top(text):
+    """``text`` cut at the commas outside brackets: "a[1], foot.at(1, 2)" gives "a[1]"
+    and "foot.at(1, 2)" (a point's local coordinates keep their comma)."""
+    parts, depth, word = [], 0, []
+    for ch in text:
+        if ch in "([{":
+            depth += 1
+        elif ch in ")]}":
+            depth = max(0, depth - 1)
+        if ch == "," and depth == 0:
+            parts.append("".join(word))
+            word = []
+        else:
+            word.append(ch)
+    parts.append("".join(word))
+    return parts
+
+
 def _names(groups):
-    return [n.strip() for g in groups or () for n in g.split(",") if n.strip()] or None
+    return [n.strip() for g in groups or () for n in _split_top(g) if n.strip()] or None
 
 
 def explorer_factory(args):
