@@ -17,3 +17,35 @@ def test_view_trace_keeps_the_comma_of_a_local_point():
         ["colisa[2]", "foot.at(1, 2)", "crank[1]"]
     assert _names(["X4,X4d"]) == ["X4", "X4d"]
     assert _names(None) is None
+
+
+def test_the_server_pages_assembly_modes_button_reaches_its_callback():
+    # `mechgen view`: a click on "assembly modes at T" did nothing: the callback was
+    # registered after the layout joined the document, which Bokeh 3.9 never subscribes
+    # (the click arrived as a ButtonClick event that no callback received); the mode
+    # selector stayed empty, so no other assembly mode could be chosen
+    pytest.importorskip("bokeh")
+    import mechgen
+    from bokeh.document import Document
+    from bokeh.events import ButtonClick
+    from mechgen.view.explorer import Explorer
+    from mechgen.view.server import Session
+    mech = mechgen.compile(os.path.join(EXAMPLES, "fourbar.py"), tier="python")
+    doc = Document()
+    s = Session(doc, lambda: Explorer(mech, n=40, compiled=False))
+    s.page.time.value = 0.25
+    doc.callbacks.trigger_event(ButtonClick(s.page.mode_button))
+    options = s.page.modes.options
+    assert len(options) == 2, options
+    # choosing the second mode draws the cycle in it: the rocker below the ground line
+    s.page.modes.value = options[1]
+    i = int(np.argmin(np.abs(s.data["t"] - 0.25)))
+    th2 = math.pi / 3 + 2 * math.pi * s.data["t"][i]
+    A = np.array([0.8 * math.cos(th2), 0.8 * math.sin(th2)])
+    D = np.array([3.0, 0.0])
+    v = D - A
+    L = np.linalg.norm(v)
+    x = (2.5 ** 2 - 2.0 ** 2 + L * L) / (2 * L)
+    B = A + x * v / L - math.sqrt(2.5 ** 2 - x * x) * np.array([-v[1], v[0]]) / L
+    th4 = math.atan2(B[1], B[0] - 3.0)
+    assert abs(math.remainder(s.data["Th4"][i] - th4, 2 * math.pi)) < 1e-7

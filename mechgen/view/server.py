@@ -37,13 +37,16 @@ class Session:
         self.ex = ex
         self.page = Page(ex, server=True)
         doc = self.doc
+        # the button's callback before the layout joins the document: Bokeh (3.9) subscribes
+        # a model's event callbacks to its document when the model is attached, and no
+        # longer when on_click is called later (a click then reached no callback)
+        self.page.mode_button.on_click(self.find_modes)
         doc.clear()
         doc.title = f"mechgen view: {ex.mech.name}"
         doc.add_root(self.page.layout)
         doc.js_on_event("document_ready", self.page.redraw)
         for name, slider in self.page.sliders.items():
             slider.on_change("value", lambda attr, old, new, name=name: self.moved(name, new))
-        self.page.mode_button.on_click(self.find_modes)
         self.page.modes.on_change("value", lambda attr, old, new: self.choose_mode(new))
         for sel in self.page.selects + [self.page.against]:
             sel.on_change("value", lambda attr, old, new: self.choose())
