@@ -49,3 +49,23 @@ def test_the_server_pages_assembly_modes_button_reaches_its_callback():
     B = A + x * v / L - math.sqrt(2.5 ** 2 - x * x) * np.array([-v[1], v[0]]) / L
     th4 = math.atan2(B[1], B[0] - 3.0)
     assert abs(math.remainder(s.data["Th4"][i] - th4, 2 * math.pi)) < 1e-7
+
+
+def test_the_standalone_page_keeps_each_cycles_note_of_a_singular_passage():
+    # `mechgen view --html` / mech.explore(): a cycle whose solve passed a singular
+    # configuration (a four-bar at its change point, a = 1.5: it may go on in the other
+    # assembly mode, and here does) was shown with no note, where the server page says so
+    pytest.importorskip("bokeh")
+    import mechgen
+    from mechgen.view.explorer import Explorer
+    from mechgen.view.standalone import standalone_page
+    mech = mechgen.compile(os.path.join(EXAMPLES, "fourbar.py"), tier="python")
+    ex = Explorer(mech, n=60, compiled=False, ranges={"a": (0.5, 1.5)})
+    page = standalone_page(ex, vary=["a"], steps=3)
+    grid, table, _ = page.table
+    notes = dict(zip(grid["a"], table.data["note"]))
+    assert notes[0.8] == "" and notes[0.5] == ""
+    assert "singular" in notes[1.5]
+    # the page's script writes the picked cycle's note under the sliders
+    from mechgen.view.scripts import PICK
+    assert "table.data.note" in PICK and "note.text" in PICK

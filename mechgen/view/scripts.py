@@ -144,5 +144,8 @@ for (let m = 0; m < layers.length; m++) {
   layers[m].data = g;
 }
 message.text = table.data.message[index];
+// what the solve of this cycle warned of its assembly mode (a singular configuration passed)
+const warned = table.data.note ? table.data.note[index] : "";
+note.text = about + (warned ? "\nNote: " + warned : "");
 cycle.data = out;
 """

@@ -94,14 +94,17 @@ def standalone_page(ex, vary=None, steps=None, max_cycles=MAX_CYCLES):
     spans = {}                             # drawing -> (its first vertex, past its last)
     at = 0
     start, count, message, shape_of, seen = [], [], [], [], {}
+    notes = []           # what each cycle's solve warned of its assembly mode (or "")
     first_at = 0
     initial = None
     failing = _failing(ex, grid)
     for index, values in enumerate(itertools.product(*grid.values())):
         params = dict(zip(grid, (float(v) for v in values)))
         stop = failing.get(tuple(params.values()))
+        warned = ""
         if stop is None:
             data, _, said = ex.compute(params)
+            warned = "" if said else getattr(ex, "warning", "")
             if not said:
                 page.fit(ex.extent)         # the frame takes in every cycle's drawing
         else:            # a cycle the table says cannot be solved: its message alone
@@ -115,6 +118,7 @@ def standalone_page(ex, vary=None, steps=None, max_cycles=MAX_CYCLES):
         start.append(first_at)
         count.append(n)
         message.append(said)
+        notes.append(warned)
         first_at += n
         for name in names:
             cols[name].append(np.asarray(data[name], dtype=np.float32))
@@ -139,6 +143,7 @@ def standalone_page(ex, vary=None, steps=None, max_cycles=MAX_CYCLES):
     cycles = ColumnDataSource({k: np.concatenate(v) if v else np.zeros(0, np.float32)
                                for k, v in cols.items()}, name="table_cycles")
     table = ColumnDataSource({"start": start, "count": count, "message": message,
+                              "note": notes,
                               "shape": shape_of, "vbase": [spans[k][0] for k in shape_of],
                               "vend": [spans[k][1] for k in shape_of]},
                              name="table")
@@ -146,6 +151,9 @@ def standalone_page(ex, vary=None, steps=None, max_cycles=MAX_CYCLES):
     vert_source = ColumnDataSource({k: np.concatenate(v) if v else np.zeros(0)
                                     for k, v in points.items()}, name="table_verts")
     sliders = [page.sliders[name] for name in grid]
+    about = ("A page without a server: the cycles were computed beforehand for " +
+             ", ".join(f"{k} in {len(v)} values" for k, v in grid.items() if len(v) > 1) +
+             "; the nearest is shown.")
     for name in grid:
         if len(grid[name]) == 1:
             page.sliders[name].disabled = True
@@ -154,15 +162,14 @@ def standalone_page(ex, vary=None, steps=None, max_cycles=MAX_CYCLES):
                               table=table, cycles=cycles, names=names,
                               layers=page.layers[:len(kinds)], shapes=shape_sources,
                               verts=page.verts, points=vert_source,
-                              message=page.message, cycle=page.cycle), code=PICK)
+                              message=page.message, cycle=page.cycle, note=page.note,
+                              about=about), code=PICK)
     for s in sliders:
         s.js_on_change("value", pick)
-    page.note.text = ("A page without a server: the cycles were computed beforehand for " +
-                      ", ".join(f"{k} in {len(v)} values" for k, v in grid.items()
-                                if len(v) > 1) + "; the nearest is shown.")
     first = initial if initial is not None else 0     # the cycle the page opens on
     page.cycle.data = {name: cols[name][first] for name in names}
     page.message.text = message[first]
+    page.note.text = about + ("\nNote: " + notes[first] if notes[first] else "")
     page.message.visible = bool(message[first])
     page.table = (grid, table, cycles)
     return page
