@@ -69,3 +69,23 @@ def test_the_standalone_page_keeps_each_cycles_note_of_a_singular_passage():
     # the page's script writes the picked cycle's note under the sliders
     from mechgen.view.scripts import PICK
     assert "table.data.note" in PICK and "note.text" in PICK
+
+
+def test_the_views_plot_units_read_an_output_ending_in_d_as_itself():
+    # the live view labelled an output named "speed" "speed (per T)" and its rate
+    # "speedd" "(per T²)": the unit came from stripping every trailing d of the name
+    import mechgen
+    from mechgen.view.cycle import unit_of
+    model = mechgen.Model("feed_units")
+    g = model.ground("g", points=[(0, 0)])
+    crank = model.body("crank", points=[(0, 0), (1, 0)], guess=(0, 0, 0))
+    model.revolute(g[1], crank[1])
+    model.rotation_lock(crank, 2 * mechgen.pi * mechgen.T)
+    model.output("feed", mechgen.location(crank[2])[0])
+    model.output("speed", mechgen.dt(mechgen.location(crank[2])[0]))
+    mech = mechgen.compile(model, tier="python")
+    assert unit_of("speed", mech) == ""
+    assert unit_of("speedd", mech) == "per T"
+    assert unit_of("feed", mech) == "" and unit_of("feedd", mech) == "per T"
+    assert unit_of("feeddd", mech) == "per T²"
+    assert unit_of("Th2d", mech) == "rad/T" and unit_of("X2dd", mech) == "L/T²"

@@ -46,12 +46,22 @@ def quantity_names(mech) -> list:
     return names + [column for column, _ in drivers(mech)]
 
 
-def unit_of(name) -> str:
-    """A quantity's unit, in the model's length (L) and time (T) units."""
+def unit_of(name, mech=None) -> str:
+    """A quantity's unit, in the model's length (L) and time (T) units. With ``mech``,
+    the quantity is read as the mechanism names it (a coordinate or output, then its
+    rates X4d, X4dd): an output whose own name ends in d ("speed", "feed") is not a rate."""
     if name.startswith(DRIVER):
         return "model force or torque units"
-    base = name.rstrip("d")
-    order = len(name) - len(base)
+    base, order = name.rstrip("d"), None
+    if mech is not None:
+        known = set(mech.coordinates) | set(mech.outputs)
+        for k in (0, 1, 2):
+            stem = name[:len(name) - k] if k else name
+            if stem in known and name.endswith("d" * k):
+                base, order = stem, k
+                break
+    if order is None:
+        order = len(name) - len(base)
     if base.startswith("Th") and base[2:].isdigit():
         return ("rad", "rad/T", "rad/T²")[min(order, 2)]
     if base[:1] in "XY" and base[1:].isdigit():

@@ -115,7 +115,7 @@ class Page:
                         styles={"color": "#444444", "white-space": "pre-wrap"})
 
         # the plots
-        units = {q: unit_of(q) for q in ex.quantities}
+        units = {q: unit_of(q, ex.mech) for q in ex.quantities}
         units["t"] = "T: the model's time unit"
         options = ["t"] + ex.quantities
         self.against = Select(title="plots against", value="t", options=options, width=200,
