@@ -89,3 +89,30 @@ def test_the_views_plot_units_read_an_output_ending_in_d_as_itself():
     assert unit_of("feed", mech) == "" and unit_of("feedd", mech) == "per T"
     assert unit_of("feeddd", mech) == "per T²"
     assert unit_of("Th2d", mech) == "rad/T" and unit_of("X2dd", mech) == "L/T²"
+
+
+def test_the_views_pitch_circles_are_circles_not_20_gons():
+    # the live view drew every circle as a 20-gon: gear_train's pitch circle of radius
+    # 3 strayed 0.037 (a fifth of a bar's width) from the circle, its teeth ticks
+    # standing off the polygon; pins keep 20 vertices
+    import mechgen
+    from mechgen.view.geometry import Picture
+    mech = mechgen.compile(os.path.join(EXAMPLES, "gear_train.py"), tier="python")
+    s = mech.solve(0.1)
+    pic = Picture(mech, s.q, 0.1, mech.sweep(0, 1, 11))
+    w = pic.drawing.size
+    found = {}
+    for p in pic.pieces:
+        if p["kind"] != "patch" or p["owner"] != "BC":
+            continue
+        xy = p["xy"]                      # local to BC's frame, its centre at the origin
+        r = np.hypot(xy[:, 0], xy[:, 1])
+        if np.ptp(r) < 1e-9 and r[0] > 1.0:
+            # the polygon's chords: the mid-chord distance to the circle
+            mid = (xy + np.roll(xy, -1, axis=0)) / 2
+            sag = r[0] - np.hypot(mid[:, 0], mid[:, 1]).min()
+            found[round(r[0], 6)] = sag
+    assert set(found) >= {3.0, 1.5}, found
+    assert all(sag <= 0.03 * w + 1e-12 for sag in found.values()), (found, w)
+    pins = [p for p in pic.pieces if p["kind"] == "patch" and len(p["xy"]) == 20]
+    assert pins                                # the pins' 20 vertices (tests/test_view.py)
