@@ -116,3 +116,33 @@ def test_the_views_pitch_circles_are_circles_not_20_gons():
     assert all(sag <= 0.03 * w + 1e-12 for sag in found.values()), (found, w)
     pins = [p for p in pic.pieces if p["kind"] == "patch" and len(p["xy"]) == 20]
     assert pins                                # the pins' 20 vertices (tests/test_view.py)
+
+
+def _grid_explorer(params):
+    from types import SimpleNamespace
+    from mechgen.view.explorer import default_range
+    return SimpleNamespace(params=params, ranges={k: default_range(v) for k, v in params.items()},
+                           mech=SimpleNamespace(name="m"))
+
+
+def test_a_page_without_a_server_of_a_six_parameter_model_is_written_by_default():
+    # `mechgen view examples/fourbar.py --html page.html` (and fourbar's mech.explore())
+    # failed: "the table would hold 729 cycles; vary fewer parameters or take fewer
+    # steps" though the user had chosen neither: two steps each plus the current value
+    # (the middle of its range) made 3**6 cycles
+    from mechgen.view.standalone import MAX_CYCLES, grid_of
+    fourbar = {"a": 0.8, "b": 2.5, "c": 2.0, "d": 3.0, "theta2": math.pi / 3,
+               "omega": 2 * math.pi}
+    grid = grid_of(_grid_explorer(fourbar), None, None, MAX_CYCLES)
+    sizes = {k: len(v) for k, v in grid.items()}
+    assert int(np.prod(list(sizes.values()))) <= MAX_CYCLES
+    assert all(float(fourbar[k]) in list(v) for k, v in grid.items())   # opens on them
+    assert sum(n > 1 for n in sizes.values()) >= 4, sizes
+    # the quick-return's three as before: five values each, 125 cycles
+    qr = {"longitud": 3.0, "velocidad": 2 * math.pi, "anguloI": 0.0}
+    assert [len(v) for v in grid_of(_grid_explorer(qr), None, None, MAX_CYCLES).values()] == \
+        [5, 5, 5]
+    # named parameters and steps: as asked (an error where far too many)
+    assert len(grid_of(_grid_explorer(qr), ["longitud"], 7, MAX_CYCLES)["longitud"]) == 7
+    with pytest.raises(ValueError, match="would hold"):
+        grid_of(_grid_explorer(fourbar), None, 5, MAX_CYCLES)

@@ -9,7 +9,6 @@ efforts and the quantities the plots start with); ``max_cycles`` bounds the grid
 from __future__ import annotations
 
 import itertools
-import math
 
 import numpy as np
 from bokeh.models import ColumnDataSource, CustomJS
@@ -23,23 +22,39 @@ MAX_CYCLES = 125
 MAX_STEPS = 41           # values of one parameter, when it is the only one varied
 
 
+def _values(ex, name, steps):
+    """``steps`` values over a parameter's range, its current value among them."""
+    lo, hi = ex.ranges[name]
+    return np.unique(np.append(np.linspace(lo, hi, steps), ex.params[name]))
+
+
 def grid_of(ex, vary, steps, max_cycles):
     """{parameter: values} of the table: ``steps`` values over each varied parameter's
-    range (its current value among them), as many as keep the grid within max_cycles."""
+    range (its current value among them). Without ``steps``, as many as keep the grid
+    (current values included) within max_cycles; where even two steps each would not,
+    and the parameters to vary were not named, the first parameters that fit vary (the
+    others keep their values: their sliders are disabled on the page)."""
+    named = vary is not None
     vary = list(ex.params) if vary is None else list(vary)
     unknown = [v for v in vary if v not in ex.params]
     if unknown:
         raise ValueError(f"vary: '{ex.mech.name}' has no parameter "
                          f"{', '.join(map(repr, unknown))} (parameters: {', '.join(ex.params)})")
     if steps is None:
-        steps = max(2, min(MAX_STEPS, int(math.floor(max_cycles ** (1.0 / max(1, len(vary)))
-                                                    + 1e-9))))
+        def size(names, k):
+            return int(np.prod([len(_values(ex, n, k)) for n in names]))
+        fit = None
+        for count in ([len(vary)] if named else range(len(vary), 0, -1)):
+            fit = next(((count, k) for k in range(MAX_STEPS, 1, -1)
+                        if size(vary[:count], k) <= max_cycles), None)
+            if fit is not None:
+                break
+        count, steps = fit if fit is not None else (len(vary), 2)
+        vary = vary[:count]
     out = {}
     for name in ex.params:
         if name in vary:
-            lo, hi = ex.ranges[name]
-            values = np.unique(np.append(np.linspace(lo, hi, steps), ex.params[name]))
-            out[name] = values
+            out[name] = _values(ex, name, steps)
         else:
             out[name] = np.array([ex.params[name]])
     total = int(np.prod([len(v) for v in out.values()]))
