@@ -82,17 +82,14 @@ def test_velocity_of_a_regular_configuration_does_not_depend_on_the_unit(tmp_pat
     check(s, 0.13, S)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "newton_full (and the careful sweep that uses it) stops on max|Φ| <= tol, an absolute "
-    "bound on equations whose size grows with the unit: ‖r1 − r2‖² − d² is of order S², "
-    "whose rounding (~1e-16 S²) exceeds tol = 1e-10 from S ~ 1e3, so a well-posed model "
-    "gets ConvergenceError 'did not converge in 50 iterations (residual 7.5e-09) ... start "
-    "from a closer guess' from a guess 0.1% off. The sorted solver's closed forms accept "
-    "the same configuration (residual 9.5e-7 reported with status OK). Suggested fix: "
-    "judge each row's residual against its own rounding scale (tol × max(1, Σ_j |J_ij| "
-    "(1 + |q_j|))) or accept at step <= xtol once the residual stops falling"))
 @pytest.mark.parametrize("S", [1e3, 1e5])
 def test_full_newton_converges_whatever_the_unit(tmp_path, S):
+    """newton_full stopped on max|Φ| <= tol, an absolute bound on rows whose size grows
+    with the unit (‖r1 − r2‖² − d² is of order S², its rounding ~1e-16 S² above tol = 1e-10
+    from S ~ 1e3): ConvergenceError 'did not converge in 50 iterations (residual 7.5e-09)
+    ... start from a closer guess' for a well-posed model from a guess 0.1 % off. A
+    residual within the rounding of Φ's rows (64 eps Σ_j |J_ij| (1 + |q_j|)) with the
+    step within xtol is now met."""
     mech = model(tmp_path, S)
     th3, x4, _, _ = closed_form(0.13, S)
     guess = {"Th2": 2 * math.pi * 0.13, "Th3": th3 * 1.001, "X4": x4 * 1.001,
@@ -125,14 +122,10 @@ def test_same_mechanism_at_moderate_scales_and_speeds(tmp_path):
     check(mech.solve(500.0, level="velocity", guess=mech.guess), 500.0, 1.0, 1e-3)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "tol below the rounding of Φ (1e-16 on rows of size 25): method='sorted'/'auto' return "
-    "status OK with residual 7.1e-15 > tol, method='full' raises ConvergenceError "
-    "'did not converge in 50 iterations (residual 3.55e-15) ... A configuration does exist "
-    "near the guess: start from a closer guess' (wrong advice: the guess is not the "
-    "problem). Suggested fix: the same as for the unit scale (judge the residual against "
-    "each row's rounding scale), or refuse such a tol saying it is below the precision"))
 def test_a_tolerance_below_the_rounding_is_treated_alike(tmp_path):
+    """tol below the rounding of Φ (1e-16 on rows of size 25): the sorted solver returned
+    status OK with residual 7.1e-15 > tol, the full Newton raised ConvergenceError with the
+    wrong advice to start from a closer guess. Both now accept the rounding."""
     mech = model(tmp_path, 1.0)
     guess = {"Th2": 2 * math.pi * 0.3, "Th3": 0.3, "X4": 5.0, "Y2": 5.0, "Y4": 10.0}
     s = mech.solve(0.3, guess=guess, tol=1e-16, method="sorted")

@@ -43,7 +43,10 @@ def pivot_ratio(q, t, p):
 @njit(cache=True)
 def newton_full(q, t, p, tol, xtol, maxit, info):
     """Newton on all coordinates with a rank-revealing solve and step halving.
-    info = [iterations, residual, rank, method]."""
+    info = [iterations, residual, rank, method]. It stops where the step is within xtol
+    and max|Φ| within tol, or within the rounding of Φ's rows where that is larger
+    (64 eps Σ_j |∂Φ_i/∂q_j| (1 + |q_j|): rows such as ‖r1 − r2‖² − d² grow with the
+    square of the unit of length, and a model in micrometres cannot meet tol = 1e-10)."""
     r = np.empty(N_EQS)
     rt = np.empty(N_EQS)
     J = np.empty((N_EQS, N_COORDS))
@@ -58,11 +61,18 @@ def newton_full(q, t, p, tol, xtol, maxit, info):
             info[INFO_RESIDUAL] = res
             return NOT_FINITE
         phi_q(q, t, p, J)
+        floor = 0.0             # the rounding of Φ's rows at q
+        for i in range(N_EQS):
+            s = 0.0
+            for j in range(N_COORDS):
+                s += abs(J[i, j]) * (1.0 + abs(q[j]))
+            floor = max(floor, s)
+        near = res <= tol or res <= 64.0 * 2.220446049250313e-16 * floor
         rank = _fp_solve(J, r.copy(), dx, PIVOT_RTOL)
         step = 0.0
         for j in range(N_COORDS):
             step = max(step, abs(dx[j]) / (1.0 + abs(q[j])))
-        if res <= tol and step > xtol:
+        if near and step > xtol:
             # At a singular configuration (a toggle reached exactly) the residual is within
             # tol but the step along the lost direction is noise: judge the step on the
             # directions Φ_q still determines (pivots above SING_RTOL).
@@ -73,7 +83,7 @@ def newton_full(q, t, p, tol, xtol, maxit, info):
                 step = 0.0
                 for j in range(N_COORDS):
                     step = max(step, abs(dx[j]) / (1.0 + abs(q[j])))
-        if res <= tol and step <= xtol:
+        if near and step <= xtol:
             for j in range(N_COORDS):
                 q[j] -= dx[j]
             info[INFO_ITERATIONS] = it + 1
@@ -86,7 +96,7 @@ def newton_full(q, t, p, tol, xtol, maxit, info):
                 qt[j] = q[j] - lam * dx[j]
             phi(qt, t, p, rt)
             rest = _max_abs(rt)
-            if rest < res or res <= tol or lam < 1.0 / 1000.0:
+            if rest < res or near or lam < 1.0 / 1000.0:
                 break
             lam *= 0.5
         for j in range(N_COORDS):
