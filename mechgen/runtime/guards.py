@@ -30,10 +30,11 @@ def all_finite(x) -> bool:
     return s - s == 0.0 or bool(np.isfinite(x).all())
 
 
-def positive_tol(tol) -> float:
-    tol = finite(tol, "tol")
+def positive_tol(tol, what="tol") -> float:
+    """A finite tolerance above 0, or a ValueError naming ``what``."""
+    tol = finite(tol, what)
     if not tol > 0:
-        raise ValueError(f"tol must be positive, got {tol!r}")
+        raise ValueError(f"{what} must be positive, got {tol!r}")
     return tol
 
 

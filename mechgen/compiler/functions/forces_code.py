@@ -60,8 +60,8 @@ def forces_bodies(plan, eq, model):
     factors = [Store(f"out[{k}]", f, eq.labels[i]) for k, (i, f) in enumerate(dyn.drivers)]
     bodies["driver_factors"] = straight_line(plan, eq, factors, "driver_factors") \
         if factors else ([Code("pass")], [])
-    if any(x != 0 for x in dyn.frame):
-        frame = [Store(f"out[{j}]", dyn.frame[j], f"Q_f {q[j]}") for j in range(len(q))]
+    frame = [Store(f"out[{j}]", x, f"Q_f {q[j]}") for j, x in enumerate(dyn.frame) if x != 0]
+    if frame:
         bodies["frame_loads"] = straight_line(plan, eq, frame, "frame_loads",
                                               "q, qd, t, p, out", with_qd=True)
     return bodies, [i for i, _ in dyn.drivers]
@@ -232,24 +232,28 @@ def _bound(e):
     return None
 
 
+# the lines that zero ``out`` before a function writes its nonzero entries
+ZERO_ROWS = ("for _i in range(out.shape[0]):", "    for _j in range(out.shape[1]):",
+             "        out[_i, _j] = 0.0")
+ZERO = ("for _j in range(out.shape[0]):", "    out[_j] = 0.0")
 # the force functions the template lays out, in order: (name, arguments, docstring lines,
-# whether ``out`` is zeroed first); their bodies are the emitted ones
+# the lines that zero ``out`` first); their bodies are the emitted ones
 FUNCTIONS = (
     ("force_terms", "q, qd, qdd, t, p, out",
      ("out[0] = Q_a (applied forces, moments, dampers), out[1] = Q_c = −∂V/∂q (gravity,",
       "springs), out[2] = I (inertial: Σ m J_Gᵀ a_G + J θ̈), each over the coordinates."),
-     True),
+     ZERO_ROWS),
     ("energies", "q, qd, t, p, out", ("out = (kinetic energy, potential energy, ∂V/∂t).",),
-     False),
+     ()),
     ("driver_factors", "q, t, p, out",
-     ("∂Φ/∂f per row of DRIVER_ROWS (f the driven quantity; NaN: not defined).",), False),
+     ("∂Φ/∂f per row of DRIVER_ROWS (f the driven quantity; NaN: not defined).",), ()),
     ("frame_loads", "q, qd, t, p, out",
      ("Q_f: the part of Q_a + Q_c of the loads anchored on the frame (a moment between a",
       "body and the ground, a spring or a damper with one end on it), over the",
-      "coordinates: the frame takes their opposite."), False),
+      "coordinates: the frame takes their opposite."), ZERO),
     ("mass_matrix", "q, t, p, out",
      ("M of the inertial terms I = M q̈ + h, over the coordinates (a body's block couples",
-      "its X, Y with its angle where its centroid is off its origin)."), True),
+      "its X, Y with its angle where its centroid is off its origin)."), ZERO_ROWS),
     ("multipliers_point", "q, qd, qdd, t, p, lam",
      ("Φ_qᵀ λ = Q_a + Q_c − I at one point, written out block by block in the reverse of",
       "the solving order (Φ_qᵀ is block upper-triangular in it): a block of one row by one",
@@ -257,7 +261,7 @@ FUNCTIONS = (
       "their terms. Each pivot is measured on rows scaled by their largest entry (partial",
       "pivoting, as multipliers_sorted): below SING_RTOL it is returned at once (the caller",
       "solves Φ_q's rank instead: lam is then not to be used). Returns the smallest pivot."),
-     False),
+     ()),
 )
 FUSED_STUB = ("Not written for this model (its multipliers are not written out, or its",
               "derivative pass is too long for one function): FORCE_FUSED is False and a",
@@ -271,7 +275,8 @@ POINT_STUB = ("Not written out for this model (a block of three or more rows, or
 
 
 def force_functions(text, fused=()) -> list:
-    """The template's force functions: dict(name, args, doc, zero, lines, options), the
+    """The template's force functions: dict(name, args, doc, zero (the lines zeroing out
+    first), lines, options), the
     lines of each from ``text(name)`` (multipliers_point a stub that returns 0.0 where it
     is not written out); then ``fused``: (name, args, doc lines) of the functions of
     dynamics_code that the model has (numpy's error model; sweep_fast_forces and
@@ -281,7 +286,7 @@ def force_functions(text, fused=()) -> list:
     for name, args, doc, zero in FUNCTIONS:
         lines = text(name)
         if lines is None and name == "frame_loads":
-            doc, lines = FRAME_STUB, ["for _j in range(out.shape[0]):", "    out[_j] = 0.0"]
+            doc, lines = FRAME_STUB, []             # (zeroed: Q_f = 0)
         elif lines is None:
             doc, lines = POINT_STUB, ["return 0.0"]
         out.append(dict(name=name, args=args, doc="\n    ".join(doc), zero=zero,
@@ -293,6 +298,6 @@ def force_functions(text, fused=()) -> list:
         if lines is None and name == "sweep_fast_statics":
             doc, lines = STATIC_STUB, ["return 0"]
         if lines is not None:
-            out.append(dict(name=name, args=args, doc="\n    ".join(doc), zero=False,
+            out.append(dict(name=name, args=args, doc="\n    ".join(doc), zero=(),
                             lines=lines, options=', error_model="numpy"'))
     return out

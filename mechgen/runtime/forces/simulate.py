@@ -30,6 +30,7 @@ import warnings
 import numpy as np
 
 from ...errors import ConvergenceError, SingularError
+from ..guards import positive_tol, sweep_times
 from ..guesses import start_vector
 from ..results import Sweep
 from .lookup import tables
@@ -184,14 +185,8 @@ def _check_accuracy(rtol, atol, max_step):
     compiled integrator would take a negative tolerance (and return a motion that is not
     as accurate as asked) and a zero atol (0/0 on a coordinate that stays 0, then an
     error about something else)."""
-    for name, value in (("rtol", rtol), ("atol", atol)):
-        try:
-            v = np.asarray(value, dtype=float)
-        except (TypeError, ValueError):
-            v = np.array(np.nan)
-        if v.ndim != 0 or not (np.isfinite(v) and v > 0.0):
-            raise ValueError(f"simulate: {name} must be a finite number above 0, got "
-                             f"{value!r}")
+    positive_tol(rtol, "simulate: rtol")
+    positive_tol(atol, "simulate: atol")
     try:
         ok = float(max_step) > 0.0
     except (TypeError, ValueError):
@@ -276,7 +271,6 @@ def _compiled_span(system, rtol, atol, max_step):
 def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
              method=COMPILED, max_step=np.inf, progress=None) -> ForceSweep:
     """See Mechanism.simulate."""
-    from ..guards import sweep_times
     ts = sweep_times(t0, t1, n)
     _check_accuracy(rtol, atol, max_step)
     system = _System(mech, free)
