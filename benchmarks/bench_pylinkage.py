@@ -99,7 +99,7 @@ def main(argv=None):
         return run
 
     def api(level):
-        return lambda: mech.sweep(0.0, 1.0, N, level=level, times=ts)
+        return lambda: mech.sweep(None, None, None, level=level, times=ts)
 
     cases = {"pylinkage step_fast": py_pos, "pylinkage step_fast_with_kinematics": py_kin,
              "mechgen sweep_fast, position": mg(0), "mechgen sweep_fast, acceleration": mg(2),
@@ -117,7 +117,7 @@ def main(argv=None):
     # the same motion: the foot point G against pylinkage's G (its last joint; pylinkage's
     # row k is the crank turned k + 1 steps)
     traj = py_pos()[:-1]
-    sw = mech.sweep(0.0, 1.0, N, level="position", times=ts)
+    sw = mech.sweep(None, None, None, level="position", times=ts)
     foot = sw.points()[1:, mech.point_names.index("foot[3]"), :]
     diff = float(np.abs(foot - traj[:, -1, :]).max() / np.abs(foot).max())
 

@@ -88,7 +88,7 @@ def main():
 
     def gen(level, m=mech, method=None):
         def run():
-            sweeps[(id(m), level)] = m.sweep(0, 1, N, level=level, method=method,
+            sweeps[(id(m), level)] = m.sweep(None, None, None, level=level, method=method,
                                              times=ts)
         return run
 

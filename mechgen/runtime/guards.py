@@ -84,7 +84,31 @@ def sweep_times(t0, t1, n, times=None, each=8) -> np.ndarray:
     ts = np.asarray(times, dtype=np.float64)
     if ts.ndim != 1 or not np.all(np.isfinite(ts)):
         raise ValueError("times must be a 1-D array of finite numbers")
+    _agree(ts, t0, t1, n)
     return ts
+
+
+def _agree(ts, t0, t1, n) -> None:
+    """t0, t1 and n given beside ``times`` say the same (None: not given): a sweep of 101
+    points asked for with 50 times, or from 0 to 1 with times that end at 0.99, is refused
+    rather than one of them silently ignored."""
+    if n is not None and (isinstance(n, bool) or not isinstance(n, (int, np.integer, float))
+                          or n != ts.shape[0]):
+        raise ValueError(f"n={n!r} but times has {ts.shape[0]} points: give n=None or "
+                         f"n={ts.shape[0]}")
+    if ts.shape[0] == 0:
+        return
+    span = abs(float(ts[-1]) - float(ts[0])) + abs(float(ts[0])) + abs(float(ts[-1]))
+    for name, given, end in (("t0", t0, ts[0]), ("t1", t1, ts[-1])):
+        if given is None:
+            continue
+        try:
+            value = float(given)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must be a number or None, got {given!r}") from None
+        if not abs(value - float(end)) <= 1e-12 * span:
+            raise ValueError(f"{name}={given!r} but times {'starts' if name == 't0' else 'ends'}"
+                             f" at {float(end)!r}: give {name}=None or the same time")
 
 
 # -- sizes: refused before anything is allocated ------------------------------------------
