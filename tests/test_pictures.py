@@ -375,3 +375,11 @@ def test_readme_files_are_ignored():
     for kept in ("docs/quick_return.png", "docs/quick_return.gif", "docs/quick_return_x4.png"):
         got = subprocess.run(["git", "check-ignore", "-q", kept], cwd=ROOT)
         assert got.returncode == 1, f"{kept} must stay tracked"
+
+
+def test_an_axis_of_mixed_units_does_not_read_as_one(qr):
+    """A length (no unit stated) and an angle on one axis: 'Th3 [rad], X4', not
+    'X4, Th3 [rad]', which reads as both in radians."""
+    from mechgen.plot.timeplot import _axis_label
+    assert _axis_label(qr, ["X4", "Th3"], None, "s") == "Th3 [rad], X4"
+    assert _axis_label(qr, ["X4", "Th3"], "mm", "s") == "X4 [mm], Th3 [rad]"

@@ -76,8 +76,10 @@ def _axis_label(mech, names, length, time):
     if len(names) == 1:
         return _label(mech, names[0], length, time)
     units = {unit(mech, n, length=length, time=time) for n in names}
-    if len(units) > 1:
-        return ", ".join(_label(mech, n, length, time) for n in names)
+    if len(units) > 1:   # each its own unit; those with none stated last ("Th3 [rad], X4",
+        # not "X4, Th3 [rad]", which reads as both in rad)
+        ordered = sorted(names, key=lambda n: not unit(mech, n, length=length, time=time))
+        return ", ".join(_label(mech, n, length, time) for n in ordered)
     common = units.pop()
     return ", ".join(names) + (f" [{common}]" if common else "")
 
