@@ -147,12 +147,65 @@ def rotation(body):
     return body.th
 
 
+# Two axes whose sine of the angle between them is below this are parallel for
+# intersection(): the point would lie over 1e10 axis lengths away, every digit of it
+# made of the round-off in u × v (two axes parallel by symmetry at some instant give
+# u × v ~ 1e-17 and a "point" at -4.6e17), so it is NaN, and so are its rates.
+PARALLEL_SINE = 1e-10
+
+
+class unless_parallel(sp.Function):
+    """``unless_parallel(c, size)``: c = u × v where c² > PARALLEL_SINE² size (size =
+    |u|² |v|²), NaN where the axes are parallel. Its rate is c's (its derivative in c
+    is 1): a point divided by it, and that point's velocity and acceleration (dt), are
+    NaN where the axes are parallel, and no division by an exact 0.0 raises in the
+    generated code (the comparison is computed, never a quotient)."""
+
+    is_real = True
+
+    def fdiff(self, argindex=1):
+        if argindex == 1:
+            return sp.S.One
+        if argindex == 2:
+            return sp.S.Zero
+        raise sp.ArgumentIndexError(self, argindex)
+
+    @classmethod
+    def eval(cls, c, size):
+        if c.is_Number and size.is_Number:
+            return c if c ** 2 > PARALLEL_SINE ** 2 * size else sp.nan
+
+    def _code(self, printer, nan, where=None):
+        c, size = (printer._print(a) for a in self.args)
+        test = f"({c})*({c}) > {PARALLEL_SINE ** 2!r}*({size})"
+        return f"{where}({test}, {c}, {nan})" if where else f"(({c}) if {test} else {nan})"
+
+    def _pythoncode(self, printer):         # the generated module (math.nan: numba, CUDA)
+        return self._code(printer, "math.nan")
+
+    def _numpycode(self, printer):          # lambdify(modules="numpy"): mech.evaluate
+        return self._code(printer, "numpy.nan", where="numpy.where")
+
+    def _latex(self, printer):
+        return printer._print(self.args[0])
+
+
 def intersection(a1, a2) -> sp.Matrix:
-    """The intersection point of two axes."""
+    """The intersection point of two axes; NaN (as are its time derivatives) while they
+    are parallel (the sine of their angle below PARALLEL_SINE); two axes that are always
+    parallel are a ModelError."""
     a1, a2 = _axis(a1, "intersection"), _axis(a2, "intersection")
     p, u = a1.first.r, a1.u
     r, v = a2.first.r, a2.u
-    s = cross2(r - p, v) / cross2(u, v)
+    c = cross2(u, v)
+    d1, d2 = a1.local_difference(), a2.local_difference()
+    if d1 is not None and d2 is not None and a1.first.body is a2.first.body and \
+            sp.expand(d1[0] * d2[1] - d1[1] * d2[0]) == 0 or c == 0:
+        raise ModelError(f"intersection: the axes {a1} and {a2} are parallel at every "
+                         "configuration: they have no intersection point")
+    if c.free_symbols:
+        c = unless_parallel(c, dot2(u, u) * dot2(v, v))
+    s = cross2(r - p, v) / c
     return p + s * u
 
 
