@@ -26,7 +26,7 @@ import numpy as np
 
 from ...protocol import LEVEL, LEVELS
 from .cycle import one_cycle
-from .interpolate import interpolate
+from .interpolate import NotFinite, interpolate
 from ..quantity import Quantity
 
 
@@ -76,20 +76,45 @@ def _integrated(sw, k, t):
     return part[1]
 
 
+def _finite_abs_max(values) -> float:
+    """The largest |value| among the finite ones (0.0 when there are none)."""
+    a = np.abs(np.asarray(values, dtype=np.float64))
+    a = a[np.isfinite(a)]
+    return float(np.max(a)) if a.size else 0.0
+
+
 def _zero_tol(values, scale_extra=0.0):
-    """Values this small count as zero: round-off of a quantity that is really constant."""
-    big = float(np.max(np.abs(values))) if values.size else 0.0
-    return 1e-11 * max(big, scale_extra, 1e-300)
+    """Values this small count as zero: round-off of a quantity that is really constant.
+    Only finite values count: a NaN (an intersection of parallel axes) is no scale."""
+    big = _finite_abs_max(values)
+    return 1e-11 * max(big, scale_extra if math.isfinite(scale_extra) else 0.0, 1e-300)
+
+
+# the sign of a value that is not a number (NaN, ±inf): no bracket reaches across it
+_UNKNOWN = 2
+
+
+def _signs(v, tol):
+    """-1, 0 (|v| <= tol), +1 for each value, _UNKNOWN where it is not finite."""
+    v = np.asarray(v, dtype=np.float64)
+    finite = np.isfinite(v)
+    with np.errstate(invalid="ignore"):
+        s = np.where(np.abs(v) <= tol, 0, np.sign(v))
+    return np.where(finite, s, _UNKNOWN).astype(int)
 
 
 def _sign_changes(t, v, tol):
     """Brackets (k, exact) where v changes sign: (k, None) for a change inside
-    (t[k], t[k+1]), (k, k) when v[k] itself is zero between opposite signs."""
-    s = np.where(np.abs(v) <= tol, 0, np.sign(v)).astype(int)
+    (t[k], t[k+1]), (k, k) when v[k] itself is zero between opposite signs. A node whose
+    value is not finite brackets nothing."""
+    s = _signs(v, tol)
     out = []
     n = len(v)
     k = 0
     while k < n - 1:
+        if _UNKNOWN in (s[k], s[k + 1]):
+            k += 1
+            continue
         if s[k] != 0 and s[k + 1] != 0 and s[k] != s[k + 1]:
             out.append((k, None, s[k]))
             k += 1
@@ -98,7 +123,7 @@ def _sign_changes(t, v, tol):
             j = k + 1
             while j < n and s[j] == 0:
                 j += 1
-            if j < n and s[j] != s[k]:
+            if j < n and s[j] != s[k] and s[j] != _UNKNOWN:
                 if j == k + 2:
                     out.append((k + 1, k + 1, s[k]))
                 else:  # a flat stretch: report its middle node
@@ -115,8 +140,8 @@ def _cyclic_sign_changes(t, v, tol):
     round to it again, so that a change through the wrap is found once, and each bracket
     is given back in the sweep's own indices (a node at the wrap as node 0)."""
     n = len(v)
-    s = np.where(np.abs(v) <= tol, 0, np.sign(v))
-    nonzero = np.flatnonzero(s[:-1])
+    s = _signs(v, tol)
+    nonzero = np.flatnonzero((s[:-1] != 0) & (s[:-1] != _UNKNOWN))
     if not nonzero.size:
         return []
     r = int(nonzero[0])
@@ -136,9 +161,10 @@ def _cyclic_sign_changes(t, v, tol):
 
 
 def _first_sign(s):
-    """The first nonzero entry of s, or 0."""
+    """The first nonzero entry of s, or 0 (also where a value that is not finite comes
+    first: the quantity's way from that end is unknown)."""
     nz = np.flatnonzero(s)
-    return int(s[nz[0]]) if nz.size else 0
+    return int(s[nz[0]]) if nz.size and s[nz[0]] != _UNKNOWN else 0
 
 
 def _end_events(qty, t, y, f, tol, roots, method):
@@ -146,7 +172,7 @@ def _end_events(qty, t, y, f, tol, roots, method):
     where the quantity falls away from the end into the sweep (the sign of its derivative
     f, skipping a flat stretch); for roots, an end where the quantity itself is zero, rising
     or falling as it leaves or reaches zero."""
-    s = np.where(np.abs(f) <= tol, 0, np.sign(f)).astype(int)
+    s = _signs(f, tol)
     forward = 1 if t[-1] >= t[0] else -1
     head, tail = _first_sign(s), _first_sign(s[::-1])
     events = Events()
@@ -169,7 +195,12 @@ def _end_events(qty, t, y, f, tol, roots, method):
 
 def _repeats(v, tol):
     """The first and last values agree (a quantity that closes over one cycle)."""
-    return abs(float(v[-1]) - float(v[0])) <= max(tol, 1e-7 * float(np.max(np.abs(v))))
+    return abs(float(v[-1]) - float(v[0])) <= max(tol, 1e-7 * _finite_abs_max(v))
+
+
+class _Undefined(Exception):
+    """The exact quantity is not a number at a time Brent's method asked for (a pole: the
+    intersection of two axes as they turn parallel)."""
 
 
 def _brent(f, a, b, fa, fb, xtol):
@@ -178,7 +209,46 @@ def _brent(f, a, b, fa, fb, xtol):
         return a
     if fb == 0.0:
         return b
-    return brentq(f, a, b, xtol=xtol, rtol=4 * np.finfo(float).eps, maxiter=200)
+
+    def finite(x):
+        v = f(x)
+        if not math.isfinite(v):
+            raise _Undefined(x)
+        return v
+    return brentq(finite, a, b, xtol=xtol, rtol=4 * np.finfo(float).eps, maxiter=200)
+
+
+def _crosses_zero(value, t_star, a, b, fa, fb, tol, xtol) -> bool:
+    """Whether Brent's answer in [a, b] is a zero of the quantity, not a jump through
+    zero: an angle's wrap from +π to −π, or a pole (f ~ 1/(t − t*)), where Brent's
+    method also closes in on a change of sign. At a zero the value left is the slope
+    times the time's last step, far below |f| at the bracket's ends."""
+    slope = abs(fb - fa) / max(b - a, 1e-300)
+    step = xtol + 4 * np.finfo(float).eps * abs(t_star)
+    return abs(value) <= max(tol, 1e-3 * min(abs(fa), abs(fb)), 1e3 * step * slope)
+
+
+class _NoCoarse:
+    """The coarse route where the sweep's values are not all finite (no interpolant):
+    no roots, NaN values."""
+    method = "none (values not finite)"
+
+    def __call__(self, t, nu=0):
+        return math.nan
+
+    def roots(self, a=None, b=None):
+        return np.empty(0)
+
+    def derivative(self, n=1):
+        return self
+
+
+def _coarse(sw, what, method):
+    """The interpolant of the coarse route, or _NoCoarse where a value is not finite."""
+    try:
+        return interpolate(sw, what, method=method)
+    except NotFinite:
+        return _NoCoarse()
 
 
 @dataclass(frozen=True)
@@ -281,6 +351,20 @@ def _nearest(roots, t, a, b):
     return float(pool[np.argmin(np.abs(pool - t))])
 
 
+def _leveled(sw, qty):
+    """``sw``, with the derivatives ``qty`` is made of solved at the sweep's own positions
+    where it lacks them (linear solves, as the extremes of X4 take X4d): the extremes and
+    roots of X4d or of an output's rate from a sweep at level position."""
+    if LEVEL[sw.level] < qty.level <= LEVEL["acceleration"] and len(sw):
+        last = sw.mechanism.last
+        try:
+            sw = sw.at_level(qty.level)
+        finally:
+            sw.mechanism.last = last
+    qty.needs(LEVEL[sw.level])
+    return sw
+
+
 def extrema(sw, what, method="auto", xtol=1e-12) -> Events:
     """Extremes of a quantity over the sweep: the sweep brackets a sign change of the exact
     time derivative, Brent's method on exactly solved derivatives refines it. The sweep's
@@ -292,8 +376,8 @@ def extrema(sw, what, method="auto", xtol=1e-12) -> Events:
     """
     mech = sw.mechanism
     qty = Quantity(mech, what)
+    sw = _leveled(sw, qty)
     have = LEVEL[sw.level]
-    qty.needs(have)
     dq = qty.derivative()
     if dq is None:
         raise ValueError(f"the extremes of {qty.label!r} need its time derivative, a third "
@@ -312,13 +396,13 @@ def extrema(sw, what, method="auto", xtol=1e-12) -> Events:
         y = qty.on_sweep(sw)
         dy = dq.on_sweep(view)
         span = abs(t[-1] - t[0]) or 1.0
-        tol = _zero_tol(dy, float(np.max(np.abs(y))) / span if y.size else 0.0)
+        tol = _zero_tol(dy, _finite_abs_max(y) / span)
         # the coarse route: interpolate the derivative the sweep holds, or differentiate
-        if dq.level <= have:
-            coarse_d = interpolate(sw, dq.what, method=method)
+        coarse_v = _coarse(sw, qty.what, method)
+        if not isinstance(coarse_v, _NoCoarse) and dq.level <= have:
+            coarse_d = _coarse(sw, dq.what, method)
         else:
-            coarse_d = interpolate(sw, qty.what, method=method).derivative()
-        coarse_v = interpolate(sw, qty.what, method=method)
+            coarse_d = coarse_v.derivative()
         calls = lambda: exact_d.calls + exact_v.calls  # noqa: E731 - a counter to read
         periodic = one_cycle(sw) and _repeats(dy, tol)
         brackets = (_cyclic_sign_changes if periodic else _sign_changes)(t, dy, tol)
@@ -339,11 +423,13 @@ def _finish(events, periodic, qty, t, y, f, tol, roots, method) -> Events:
 
 
 def _refined(qty, t, y, f, tol, kinds, exact_f, exact_y, calls, coarse_roots, coarse_y,
-             xtol, brackets) -> Events:
+             xtol, brackets, zero=False) -> Events:
     """The Events of the sign changes of f (sampled at the sweep's times t): each bracket
     refined by Brent's method on exact_f, its value y from exact_y; beside it the root of
     the interpolant (coarse_roots) and coarse_y there. kinds names a change from positive
-    to negative and the other way, for time running forwards."""
+    to negative and the other way, for time running forwards. A bracket whose exact f is
+    not a number somewhere Brent's method looks is dropped, and so, with ``zero`` (roots:
+    f is the quantity itself), is one where f jumps through zero rather than crossing it."""
     events = Events()
     for k, node, sign in brackets:
         before = calls()
@@ -354,8 +440,14 @@ def _refined(qty, t, y, f, tol, kinds, exact_f, exact_y, calls, coarse_roots, co
             a, b = float(t[k]), float(t[k + 1])
             lo, hi = min(a, b), max(a, b)
             fa, fb = (f[k], f[k + 1]) if a < b else (f[k + 1], f[k])
-            t_star = _brent(exact_f, lo, hi, float(fa), float(fb), xtol)
+            try:
+                t_star = _brent(exact_f, lo, hi, float(fa), float(fb), xtol)
+            except _Undefined:          # a pole inside: no zero of a rate, no root
+                continue
             value = float(exact_y(t_star))
+            if zero and not _crosses_zero(value, t_star, lo, hi, float(fa), float(fb), tol,
+                                          xtol):
+                continue                # a jump through zero (a wrap, a pole): no root
         a, b = float(min(t[k], t[k + 1])), float(max(t[k], t[k + 1]))
         ti = _nearest(coarse_roots(a, b), t_star, a, b)
         vi = float(coarse_y(ti)) if math.isfinite(ti) else math.nan
@@ -369,10 +461,12 @@ def roots(sw, what, method="auto", xtol=1e-12) -> Events:
     """Times where a quantity crosses zero inside the sweep, refined by Brent's method on
     exact solves; each Event holds the interpolant's root beside the exact one. A zero at
     one of the sweep's ends is a root too (``at="start"``/``"end"``), except on a closed
-    cycle (one period), where a crossing through the ends is an interior root."""
+    cycle (one period), where a crossing through the ends is an interior root. A change of
+    sign through a jump is no root: an angle's wrap from +π to −π (``angle(axis)``), a pole
+    (``intersection`` of axes turning parallel)."""
     mech = sw.mechanism
     qty = Quantity(mech, what)
-    qty.needs(LEVEL[sw.level])
+    sw = _leveled(sw, qty)
     t = np.asarray(sw.t, dtype=np.float64)
     if len(t) < 2:
         return Events()
@@ -381,11 +475,11 @@ def roots(sw, what, method="auto", xtol=1e-12) -> Events:
         exact = _Exact(sw.at_level(max(LEVEL["velocity"], qty.level)), qty)
         y = qty.on_sweep(sw)
         tol = _zero_tol(y)
-        coarse = interpolate(sw, qty.what, method=method)
+        coarse = _coarse(sw, qty.what, method)
         periodic = one_cycle(sw) and _repeats(y, tol)
         brackets = (_cyclic_sign_changes if periodic else _sign_changes)(t, y, tol)
         events = _refined(qty, t, y, y, tol, ("falling", "rising"), exact, exact,
-                          lambda: exact.calls, coarse.roots, coarse, xtol, brackets)
+                          lambda: exact.calls, coarse.roots, coarse, xtol, brackets, zero=True)
         return _finish(events, periodic, qty, t, y, y, tol, True, coarse.method)
     finally:
         mech.last = last

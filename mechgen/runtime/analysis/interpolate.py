@@ -105,6 +105,18 @@ class Interpolant:
         return f"<Interpolant of {self.name} on [{a:g}, {b:g}] ({self.method})>"
 
 
+class NotFinite(ValueError):
+    """A quantity to interpolate is NaN or infinite at some time of the sweep."""
+
+
+def _finite(t, y, label):
+    bad = np.flatnonzero(~np.isfinite(y))
+    if bad.size:
+        raise NotFinite(f"{label!r} is not a number at t = {t[bad[0]]:.10g}"
+                        f"{f' (and {bad.size - 1} more times)' if bad.size > 1 else ''}: "
+                        "interpolation needs finite values at every point of the sweep")
+
+
 def _increasing(sw):
     t = np.asarray(sw.t, dtype=np.float64)
     if t.shape[0] < 2:
@@ -136,6 +148,7 @@ def interpolate(sw, what, method="auto", degree=3, extrapolate=False) -> Interpo
     slice_ = _increasing(sw)
     t = np.ascontiguousarray(sw.t[slice_], dtype=np.float64)
     y = np.ascontiguousarray(qty.on_sweep(sw)[slice_])
+    _finite(t, y, qty.label)
     derivs = []
     q = qty
     if method in ("auto", "hermite"):
@@ -144,6 +157,7 @@ def interpolate(sw, what, method="auto", degree=3, extrapolate=False) -> Interpo
             if q is None or q.level > have:
                 break
             derivs.append(np.ascontiguousarray(q.on_sweep(sw)[slice_]))
+            _finite(t, derivs[-1], q.label)
     if method == "hermite" and not derivs:
         raise ValueError(f"hermite interpolation of {qty.label!r} needs its derivative: sweep at "
                          f"level {LEVELS[min(qty.level + 1, LEVEL['acceleration'])]}")
