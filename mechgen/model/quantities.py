@@ -180,8 +180,8 @@ class unless_parallel(sp.Function):
         test = f"({c})*({c}) > {PARALLEL_SINE ** 2!r}*({size})"
         return f"{where}({test}, {c}, {nan})" if where else f"(({c}) if {test} else {nan})"
 
-    def _pythoncode(self, printer):         # the generated module (math.nan: numba, CUDA)
-        return self._code(printer, "math.nan")
+    def _pythoncode(self, printer):         # the generated module (np.nan, as its library)
+        return self._code(printer, "np.nan")
 
     def _numpycode(self, printer):          # lambdify(modules="numpy"): mech.evaluate
         return self._code(printer, "numpy.nan", where="numpy.where")
