@@ -153,3 +153,21 @@ def test_outputs_at_an_exactly_parallel_instant_are_nan_in_both_tiers(tmp_path):
     for fn in (module.outputs, module.outputs_d, module.outputs_dd):
         fn(s.q, s.qd, s.qdd, 0.0, mech.p, out)
         assert math.isnan(out[0])
+
+
+def test_a_sample_a_hair_from_a_pole_does_not_set_the_zero_tolerance(parts):
+    """A sample 3e-9 from the time the axes turn parallel (ix = -5.1e8, its rate 1.7e17)
+    made the zero tolerance 5e-3 (1e-11 of the largest value): roots() reported a node
+    where ix = -9.0e-4 as an exact root, 6e-6 from the true one, and extrema() found
+    none (every rate 'zero')."""
+    mech, _ = parts
+    pole = 0.875599355894975          # Line(A, B) parallel to y = 10 (u x v = 0 by Brent)
+    ts = np.sort(np.concatenate([np.linspace(0, 1, 41), [pole + 3e-9, 0.33291]]))
+    sw = mech.sweep(0, 1, len(ts), times=ts, level="velocity")
+    assert abs(sw["ix"][np.searchsorted(ts, pole + 3e-9)]) > 1e8
+    r = sw.roots("ix")
+    assert [e.kind for e in r] == ["falling", "rising"]
+    assert all(abs(ix_reference(e.t)) < 1e-9 for e in r)
+    ex = sw.extrema("ix")
+    assert [e.kind for e in ex] == ["max", "min"]
+    assert all(abs(ix_reference(e.t, 1)) < 1e-8 for e in ex)

@@ -83,10 +83,31 @@ def _finite_abs_max(values) -> float:
     return float(np.max(a)) if a.size else 0.0
 
 
+def _scale(values) -> float:
+    """The size of a quantity's values, for its round-off: the largest finite |value|,
+    leaving out a spike, a value over 1e3 times each of its neighbours' (a pole: an
+    intersection's x, 5e8 at a sample a hair from its axes turning parallel, 20 about it,
+    made every value 'zero' and lost every root and extreme; its rate 1.7e17). A value that
+    is not finite is left out, and counts as 0 beside its neighbours."""
+    a = np.abs(np.asarray(values, dtype=np.float64))
+    finite = np.isfinite(a)
+    if not finite.any():
+        return 0.0
+    a = np.where(finite, a, 0.0)
+    big = float(np.max(a))
+    if a.size < 3:
+        return big
+    near = np.empty_like(a)
+    near[1:-1] = np.maximum(a[:-2], a[2:])
+    near[0], near[-1] = a[1], a[-2]
+    rest = a[a <= 1e3 * near]
+    return float(np.max(rest)) if rest.size and np.max(rest) > 0 else big
+
+
 def _zero_tol(values, scale_extra=0.0):
     """Values this small count as zero: round-off of a quantity that is really constant.
     Only finite values count: a NaN (an intersection of parallel axes) is no scale."""
-    big = _finite_abs_max(values)
+    big = _scale(values)
     return 1e-11 * max(big, scale_extra if math.isfinite(scale_extra) else 0.0, 1e-300)
 
 
@@ -396,7 +417,7 @@ def extrema(sw, what, method="auto", xtol=1e-12) -> Events:
         y = qty.on_sweep(sw)
         dy = dq.on_sweep(view)
         span = abs(t[-1] - t[0]) or 1.0
-        tol = _zero_tol(dy, _finite_abs_max(y) / span)
+        tol = _zero_tol(dy, _scale(y) / span)
         # the coarse route: interpolate the derivative the sweep holds, or differentiate
         coarse_v = _coarse(sw, qty.what, method)
         if not isinstance(coarse_v, _NoCoarse) and dq.level <= have:
