@@ -55,7 +55,8 @@ def ix_reference(t, order=0):
         q = quick_return(u)
         th2, th3 = q[2], q[5]
         ax, ay = q[0] + mp.cos(th2) - 0.5 * mp.sin(th2), q[1] + mp.sin(th2) + 0.5 * mp.cos(th2)
-        bx, by = q[3] + 0.3 * mp.cos(th3) - 6 * mp.sin(th3), q[4] + 0.3 * mp.sin(th3) + 6 * mp.cos(th3)
+        bx = q[3] + 0.3 * mp.cos(th3) - 6 * mp.sin(th3)
+        by = q[4] + 0.3 * mp.sin(th3) + 6 * mp.cos(th3)
         return ax + (10 - ay) * (bx - ax) / (by - ay)
     with mp.workdps(30):
         return float(mp.diff(ix, mp.mpf(t), order))
