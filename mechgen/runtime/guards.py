@@ -55,8 +55,9 @@ def positive_count(value, what) -> int:
 def level_index(level, built_level, name) -> int:
     """The index in protocol.LEVELS of a level name that module ``name`` (built up to
     ``built_level``) can solve."""
-    if level not in LEVEL:
-        raise ValueError(f"level must be one of {', '.join(LEVEL)}, got {level!r}")
+    if level not in LEVEL:          # (solve and sweep take the force levels before this)
+        raise ValueError(f"level must be one of {', '.join(LEVEL)}, static, dynamic, got "
+                         f"{level!r}")
     if LEVEL[level] > built_level:
         raise ValueError(f"module '{name}' was built for level {LEVELS[built_level]} only; "
                          f"rebuild it with `mechgen build MODEL.py --level {level}` to solve "

@@ -47,6 +47,24 @@ def write_csv(path, header, data):
     return path
 
 
+# what a solution or a sweep at a force level has (mechgen.runtime.forces), asked of one at a
+# kinematic level: an AttributeError that says which level they need
+_FORCE_NAMES = frozenset(("driver", "reaction", "reactions", "multipliers", "contact",
+                          "contacts", "indeterminate", "power", "energy", "shaking",
+                          "flywheel", "contact_lost"))
+
+
+def _no_forces(obj, name, call):
+    if name not in _FORCE_NAMES:
+        return AttributeError(f"{type(obj).__name__!r} object has no attribute {name!r}")
+    try:
+        level = f"; this one is at level {obj.level!r}"
+    except Exception:
+        level = ""
+    return AttributeError(f"{name}: forces need a {call} at level \"dynamic\" or \"static\" "
+                          f"(mech.{call}(..., level=\"dynamic\")){level}")
+
+
 def pandas():
     """The pandas module, or an ImportError that says what needs it (pandas is optional)."""
     try:
@@ -75,6 +93,10 @@ class Solution:
     @property
     def level(self) -> str:
         return LEVELS[level_of(self.qd, self.qdd)]
+
+    def __getattr__(self, name):
+        # only for names the instance lacks: a kinematic solution asked for its forces
+        raise _no_forces(self, name, "solve")
 
     def __getitem__(self, name):
         kind, k, order = _lookup(self.mechanism, name)
@@ -189,6 +211,10 @@ class Sweep:
 
     def __len__(self):
         return self.t.shape[0]
+
+    def __getattr__(self, name):
+        # only for names the instance lacks: a kinematic sweep asked for its forces
+        raise _no_forces(self, name, "sweep")
 
     def _have(self) -> int:
         """The level held, as an index into LEVELS."""
