@@ -193,3 +193,12 @@ def test_a_mistyped_level_names_the_force_levels_too(fb):
             fb.solve(0.05, level=bad)
         with pytest.raises(ValueError, match="static, dynamic, got"):
             fb.sweep(0.0, 0.1, 3, level=bad)
+
+
+def test_a_force_solution_asked_for_a_sweep_s_quantity_says_so(fb):
+    s = fb.solve(0.05, level="dynamic")
+    sw = fb.sweep(0.0, 0.1, 3, level="static")
+    with pytest.raises(AttributeError, match="it is a sweep's"):
+        s.shaking()
+    with pytest.raises(AttributeError, match="it is a solve's.*'static'"):
+        sw.multipliers

@@ -55,8 +55,13 @@ _FORCE_NAMES = frozenset(("driver", "reaction", "reactions", "multipliers", "con
 
 
 def _no_forces(obj, name, call):
+    plain = f"{type(obj).__name__!r} object has no attribute {name!r}"
     if name not in _FORCE_NAMES:
-        return AttributeError(f"{type(obj).__name__!r} object has no attribute {name!r}")
+        return AttributeError(plain)
+    if hasattr(type(obj), "force_level"):       # at a force level: the other kind has it
+        other = "sweep" if call == "solve" else "solve"
+        return AttributeError(f"{plain} (it is a {other}'s: mech.{other}(..., "
+                              f"level={obj.force_level!r}))")
     try:
         level = f"; this one is at level {obj.level!r}"
     except Exception:
