@@ -32,8 +32,10 @@ class System:
 
     def __init__(self, eq, params, t):
         self.m, self.n = eq.phi_q.shape
-        self.t = float(t)
-        self.params = [float(v) for v in params]
+        # numpy floats: 1/T at T = 0 gives inf (the configuration fails), never a
+        # ZeroDivisionError out of the lambdified code
+        self.t = np.float64(t)
+        self.params = [np.float64(v) for v in params]
         nonzero = [(i, j) for i in range(self.m) for j in range(self.n) if eq.phi_q[i, j] != 0]
         self._rows = np.array([i for i, _ in nonzero], dtype=int)
         self._cols = np.array([j for _, j in nonzero], dtype=int)
@@ -195,7 +197,8 @@ class Meshing:
 
     def __init__(self, eq, params, t, system):
         counts = mesh_counts(eq)
-        self.t, self.params, self.system = float(t), list(params), system
+        self.t, self.system = np.float64(t), system
+        self.params = [np.float64(v) for v in params]
         self._f = sp.lambdify((list(eq.q), list(eq.params), T), [e for _, e in counts],
                               modules="numpy")
         self.drivers = [i for i in range(eq.phi.rows) if T in eq.phi[i].free_symbols]
@@ -411,6 +414,8 @@ class _Check:
                 lines.append(f"  redundant: {m - rank} dependent equation(s); the dependency "
                              "involves:")
                 lines += [f"    [{i + 1}] {eq.labels[i]}" for i in rows]
+            if m > rank and not free:
+                ok = self.rates_agree(q) and ok
             if free:
                 ok = False
                 lines.append(f"  free: {n - rank} coordinate direction(s) not fixed by the "
@@ -423,6 +428,41 @@ class _Check:
         lines.append(_structure(eq, self.model))
         lines.append("  check: " + ("True" if ok else "False"))
         return ok
+
+    def rates_agree(self, q) -> bool:
+        """More equations than the rank: the dependent rows hold at t, but do they keep
+        holding? Φ_q q̇ = ν and Φ_q q̈ = γ must be solvable too (ν and γ in the range of
+        Φ_q), else the constraints agree only at this instant (a driver fighting a
+        constraint or another driver, a lock on a driven body, an extra link that makes
+        the linkage rigid) and the motion stops at t. False (with the rows named) then."""
+        eq = self.eq
+        f = sp.lambdify((list(eq.q), list(eq.qd), list(eq.params), T),
+                        [list(eq.nu), list(eq.gamma)], modules="numpy", cse=True)
+        params = [np.float64(v) for v in self.model.param_defaults.values()]
+        J = self.system(q)[1]
+        zero = np.zeros(self.n)
+        with np.errstate(all="ignore"):
+            nu = np.array(f(list(q), list(zero), params, np.float64(self.t))[0], dtype=float)
+            qd = np.linalg.lstsq(J, nu, rcond=None)[0]
+            gamma = np.array(f(list(q), list(qd), params, np.float64(self.t))[1], dtype=float)
+            qdd = np.linalg.lstsq(J, gamma, rcond=None)[0]
+        for what, rhs, x in (("velocities", nu, qd), ("accelerations", gamma, qdd)):
+            if not np.all(np.isfinite(rhs)):
+                continue
+            r = rhs - J @ x
+            scale = 1 + np.max(np.abs(rhs)) + np.max(np.abs(J)) * np.max(np.abs(x))
+            if np.max(np.abs(r)) <= 1e-8 * scale:
+                continue
+            rows = np.flatnonzero(np.abs(r) > 1e-3 * np.max(np.abs(r)))
+            self.lines.append(
+                f"  CANNOT MOVE from t = {self.t:g}: the redundant equations hold here but "
+                f"their {what} disagree (Phi_q {'qd = nu' if what == 'velocities' else 'qdd = gamma'} "
+                f"has no solution, residual {np.max(np.abs(r)):.3g}): a driver fights a "
+                "constraint or another driver, or an extra constraint locks the motion; "
+                "remove or correct one of:")
+            self.lines += [f"    [{i + 1}] {eq.labels[i]}" for i in rows]
+            return False
+        return True
 
     def modes(self) -> bool:
         """The assembly modes at t, or why there is none; False when the guess reaches
