@@ -11,7 +11,7 @@ from ..errors import MechgenError
 from .loading import mechanism
 from .options import (number_type, output_file, parse_columns, parse_guess,
                       parse_param_option)
-from .tables import format_table, needed_level, select, times, write_csv
+from .tables import FORCE_LEVELS, format_table, needed_level, select, times, write_csv
 
 
 def _emit(args, header, data, keep, what):
@@ -32,7 +32,12 @@ def cmd_solve(args):
     columns = parse_columns(args.columns)
     level = needed_level(mech, columns, args.level)
     s = mech.solve(args.t, guess=parse_guess(args.guess), level=level, method=args.method)
-    rows = [("T", s.t)] + [(k, s[k]) for k in s.keys()]     # the outputs included
+    if level in FORCE_LEVELS:       # the columns of sweep --level: efforts, reactions
+        from ..runtime.forces.sweep import of_solution
+        header, data = of_solution(s).table()
+        rows = list(zip(header, data[0]))
+    else:
+        rows = [("T", s.t)] + [(k, s[k]) for k in s.keys()]     # the outputs included
     if columns:
         by_name = dict(rows)
         rows = [("T", s.t)] + [(c, by_name[c]) for c in columns if c != "T"]
@@ -40,7 +45,7 @@ def cmd_solve(args):
         write_csv(args.csv, [k for k, _ in rows], np.array([[v for _, v in rows]]))
         print(f"wrote {mech.name} at T = {s.t:g} ({len(rows) - 1} columns) to {args.csv}")
         return
-    print(f"{mech.name} at T = {s.t:g} ({s.level}; {s.iterations} Newton iterations, "
+    print(f"{mech.name} at T = {s.t:g} ({level if level in FORCE_LEVELS else s.level}; {s.iterations} Newton iterations, "
           f"residual {s.residual:.2g}, {s.method} solver{', SINGULAR' if s.singular else ''})")
     width = max(len(k) for k, _ in rows)
     for k, v in rows:

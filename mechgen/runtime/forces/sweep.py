@@ -7,7 +7,7 @@ import warnings
 
 import numpy as np
 
-from ...protocol import SING_RTOL
+from ...protocol import SING_RTOL, STATUS_COLUMNS
 from ..results import Sweep
 from .contact import CAM_KINDS, contact_labels, contact_values
 from .contact_loss import contact_loss, pulling
@@ -322,3 +322,20 @@ def force_sweep(mech, t0, t1, n, level, guess=None, method=None, tol=None, maxit
     fused = {}
     sw = mech._sweep_once(t0, t1, n, kin, guess, method, tol, maxit, times, None, fused)
     return attach(sw, level, fused)
+
+
+def of_solution(s) -> ForceSweep:
+    """A ForceSolution as a one-point ForceSweep, whose table has the columns that
+    ``mechgen sweep --level static|dynamic`` writes (``mechgen solve --level`` prints it)."""
+    mech = s.mechanism
+    one = (lambda a: None if a is None else np.asarray(a, dtype=float)[None].copy())
+    sw = Sweep(mech, np.array([s.t]), one(s.q), one(s.qd), one(s.qdd),
+               np.zeros((1, STATUS_COLUMNS), dtype=np.int16))
+    out = ForceSweep.__new__(ForceSweep)
+    out.__dict__.update(sw.__dict__)
+    out.force_level = s.force_level
+    out.LAM = one(s.lam)
+    out.FACTORS = s._factors()[None]
+    out.force_singular = np.zeros(1, dtype=bool)
+    out.indeterminate = s.indeterminate
+    return out
