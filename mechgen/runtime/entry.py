@@ -16,8 +16,8 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from ..protocol import (ACCELERATION, INFO_RANK, METHOD, OK, POINT_PIVOT, SING_RTOL,
-                        SINGULAR, VELOCITY)
+from ..protocol import (ACCELERATION, INFO_RANK, INFO_RESIDUAL, METHOD, NOT_FINITE, OK,
+                        POINT_PIVOT, SING_RTOL, SINGULAR, VELOCITY)
 
 FULL, SORTED = METHOD["full"], METHOD["sorted"]
 
@@ -35,7 +35,17 @@ def module_attr(mod, name, default=None):
 
 
 def solve_point(mod, q, t, p, tol, xtol, maxit, meth, info) -> int:
-    """The module's solve_point(): the position in place, info as there."""
+    """The module's solve_point(): the position in place, info as there. A division by
+    zero in the model's equations (a driver 1/T at T = 0: Python's float division and
+    numba's default error model raise where numpy gives inf) is NOT_FINITE, as a NaN is."""
+    try:
+        return _solve_point(mod, q, t, p, tol, xtol, maxit, meth, info)
+    except ZeroDivisionError:
+        info[INFO_RESIDUAL] = float("nan")
+        return NOT_FINITE
+
+
+def _solve_point(mod, q, t, p, tol, xtol, maxit, meth, info) -> int:
     first = getattr(mod, "solve_point_sorted", None)
     if first is None:                         # a module from before these entries
         return mod.solve_point(q, t, p, tol, xtol, maxit, meth, info)
@@ -47,7 +57,15 @@ def solve_point(mod, q, t, p, tol, xtol, maxit, meth, info) -> int:
 
 
 def solve_velocity(mod, q, t, p, meth, out) -> int:
-    """The module's solve_velocity(): the sorted pass, the full solve only when needed."""
+    """The module's solve_velocity(): the sorted pass, the full solve only when needed
+    (NOT_FINITE where the equations divide by zero)."""
+    try:
+        return _solve_velocity(mod, q, t, p, meth, out)
+    except ZeroDivisionError:
+        return NOT_FINITE
+
+
+def _solve_velocity(mod, q, t, p, meth, out) -> int:
     if mod.SORTED and mod.LEVEL >= 1 and meth != FULL:
         status = mod.velocity_sorted(q, t, p, out)
         if status == OK or meth == SORTED:
@@ -56,7 +74,15 @@ def solve_velocity(mod, q, t, p, meth, out) -> int:
 
 
 def solve_acceleration(mod, q, qd, t, p, meth, out) -> int:
-    """The module's solve_acceleration(): the sorted pass, the full solve only when needed."""
+    """The module's solve_acceleration(): the sorted pass, the full solve only when needed
+    (NOT_FINITE where the equations divide by zero)."""
+    try:
+        return _solve_acceleration(mod, q, qd, t, p, meth, out)
+    except ZeroDivisionError:
+        return NOT_FINITE
+
+
+def _solve_acceleration(mod, q, qd, t, p, meth, out) -> int:
     if mod.SORTED and mod.LEVEL >= 2 and meth != FULL:
         status = mod.acceleration_sorted(q, qd, t, p, out)
         if status == OK or meth == SORTED:
@@ -87,7 +113,10 @@ def solve_point_derivatives(mod, q, t, p, tol, xtol, maxit, meth, level, qd, qdd
                 except ZeroDivisionError:   # the plain tier, where numba's numpy error
                     pass                    # model gives inf
                 fused[0][2] = 0.0           # (its multipliers are not to be used)
-            return _derivatives(mod, both, q, t, p, meth, qd, qdd)
+            try:
+                return _derivatives(mod, both, q, t, p, meth, qd, qdd)
+            except ZeroDivisionError:
+                return VELOCITY + NOT_FINITE
         status = solve_velocity(mod, q, t, p, meth, qd)
         if status != OK:
             return VELOCITY + status

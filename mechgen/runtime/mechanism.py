@@ -279,8 +279,8 @@ class Mechanism:
             if OK < status < VELOCITY:
                 raise convergence_error(self, status, t, q, info)
             if status >= ACCELERATION:
-                raise singular_error(self, t, q, "acceleration")
-            raise singular_error(self, t, q, "velocity")
+                raise singular_error(self, t, q, "acceleration", status=status - ACCELERATION)
+            raise singular_error(self, t, q, "velocity", status=status - VELOCITY)
         return qd, qdd, info.tolist()
 
     def solve_derivatives(self, ts, Q, QD=None, QDD=None, level="velocity"):

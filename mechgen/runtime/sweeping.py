@@ -17,9 +17,9 @@ import warnings
 
 import numpy as np
 
-from ..errors import BranchJumpWarning, MechgenError
-from ..protocol import (ACCELERATION, JUMP, LEVEL, METHOD_FULL, REPORT_FAILED, REPORT_JUMP,
-                        REPORT_REACHED, REPORT_SIZE, REPORT_STATUS, STATUS_CODE,
+from ..errors import BranchJumpWarning, MechgenError, SingularError
+from ..protocol import (ACCELERATION, JUMP, LEVEL, LEVELS, METHOD_FULL, REPORT_FAILED,
+                        REPORT_JUMP, REPORT_REACHED, REPORT_SIZE, REPORT_STATUS, STATUS_CODE,
                         STATUS_COLUMNS, THROUGH_SINGULAR, VELOCITY)
 from .forces.lookup import FUSED_PATHS, fused_path
 from .results import Sweep
@@ -233,7 +233,10 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
                 forces.update(LAM=LAM, FACTORS=FACTORS, FPIV=FPIV,
                               count=start if start == N else max(start - 1, 0))
         if start < 0:
-            start = mod.sweep_fast(ts, q0, mech.p, tol, mech.xtol, maxit, Q, QD, QDD, S)
+            try:
+                start = mod.sweep_fast(ts, q0, mech.p, tol, mech.xtol, maxit, Q, QD, QDD, S)
+            except ZeroDivisionError:   # the equations divide by zero at some point (a
+                start = 0               # driver 1/T at T = 0): the careful sweep says where
         if start == N:
             return N, N
         start = max(start - 1, 0)         # resume from the last accepted point
@@ -261,8 +264,16 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False, forces=None
             ts = ts.copy()
         Q, QD, QDD, S = out_arrays(out, N, n, lev)
     report = np.zeros(REPORT_SIZE)
-    done, careful = compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report,
-                             forces)
+    try:
+        done, careful = compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report,
+                                 forces)
+    except ZeroDivisionError:       # Python's and numba's default error model raise
+        raise SingularError(
+            f"model '{mech.name}': its equations divide by zero at a time of the sweep from "
+            f"t={ts[0]:.10g} to t={ts[-1]:.10g} (a driver such as 1/T, or the rate of "
+            "sqrt(T), at T = 0; the sweep's steps use the velocities): sweep a range that "
+            "avoids that time",
+            level=LEVELS[lev]) from None
     if done == N:
         sw = Sweep(mech, ts, Q, QD if lev >= _VEL else None, QDD if lev >= _ACC else None,
                    S, report)

@@ -397,10 +397,17 @@ def explain_failure(mech, t, q, t_good=None, q_good=None):
 
 
 # -- the exceptions Mechanism raises -------------------------------------------------------
-def singular_error(mech, t, q, level, where="") -> SingularError:
+def singular_error(mech, t, q, level, where="", status=None) -> SingularError:
     """The SingularError of a configuration (q, t) whose velocities (level "velocity") or
     accelerations are not determined: the rank, the pivot ratio and the constraints that
-    lose their grip, from the null space of Φ_q."""
+    lose their grip, from the null space of Φ_q; or (``status`` NOT_FINITE) whose velocity
+    or acceleration equations are not finite there (a driver whose rate is infinite)."""
+    if status == NOT_FINITE:
+        return SingularError(
+            f"at t={t:.10g}{where} the {level} equations are not finite (nu or gamma holds "
+            "an infinite value or NaN, a division by zero: a driver whose rate is infinite "
+            "there, such as sqrt(T) at T = 0): the " f"{level} is not defined",
+            t=t, constraints=(), level=level, q=np.array(q, dtype=np.float64))
     null = null_space(mech, q, t, force=True)
     names = tuple(dict.fromkeys(null.lock + null.grouped))
     return SingularError(
