@@ -372,6 +372,12 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
                              f"or T of model '{self.name}'{self._namesake(unknown)}")
         if expr.has(sp.zoo, sp.oo, -sp.oo, sp.nan):
             raise ModelError(f"{what}: {expr} is not finite")
+        from sympy.core.function import AppliedUndef
+        undefined = sorted(map(str, expr.atoms(AppliedUndef)))
+        if undefined:       # sympy.Function("f")(T): nothing to evaluate it with
+            raise ModelError(f"{what}: {', '.join(undefined)} is an undefined function (a "
+                             "sympy.Function without a formula): write it as an expression "
+                             "of T, the parameters and the coordinates")
         return expr
 
     def _check_local(self, body):
