@@ -197,4 +197,10 @@ def _run(args) -> int:
     except (ValueError, KeyError, OSError) as exc:
         print(f"mechgen: error: {exc}", file=sys.stderr)
         return 1
+    except Exception as exc:        # a defect of mechgen's: still one line, no traceback
+        if os.environ.get("MECHGEN_TRACEBACK"):
+            raise
+        print(f"mechgen: internal error: {type(exc).__name__}: {exc}{_model_line(exc, args)} "
+              "(set MECHGEN_TRACEBACK=1 to see where)", file=sys.stderr)
+        return 1
     return int(code or 0)

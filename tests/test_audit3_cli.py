@@ -1,0 +1,212 @@
+"""Audit 3, the command line end to end: `check` must not pass a model whose redundant
+equations agree only at the instant checked (a driver fighting a constraint or another
+driver, a lock on a driven body, an extra link that makes the linkage rigid); `solve
+--level static|dynamic` prints the driver efforts and reactions it solved; a division by
+zero in the model's equations (a driver 1/T at T = 0, the rate of sqrt(T) there) and an
+undefined sympy function are one clear message, not a traceback."""
+from __future__ import annotations
+
+import math
+import textwrap
+
+import numpy as np
+import pytest
+
+from mechgen.cli import main
+
+FOURBAR = """
+from mechgen import Model, T, pi, distance
+m = Model("{name}")
+base = m.ground("base", points=[(0, 0), (4, 0)])
+crank = m.body("crank", points=[(0, 0), (1, 0)], guess=(0, 0, 1.0))
+coupler = m.body("coupler", points=[(0, 0), (4, 0)], guess=(0.5, 0.8, 0.3))
+rocker = m.body("rocker", points=[(0, 0), (3, 0)], guess=(4, 0, 1.6))
+m.revolute(base[1], crank[0])
+m.revolute(crank[2], coupler[0])
+m.revolute(coupler[2], rocker[2])
+m.revolute(base[2], rocker[0])
+m.rotation_lock(crank, 2 * pi * T + 1.0, name="drive")
+{extra}
+"""
+
+SLIDER_CRANK = """
+from mechgen import Model, T
+m = Model("sc3")
+w = m.param("w", 2.0)
+base = m.ground("base", points=[(0, 0), (1, 0)])
+crank = m.body("crank", points=[(0, 0), (1, 0)], guess=(0, 0, 0.5))
+rod = m.body("rod", points=[(0, 0), (3, 0)], guess=(0.9, 0.5, -0.2))
+slider = m.body("slider", points=[(0, 0), (1, 0)], guess=(3.8, 0, 0), mass=2.0,
+                inertia=0.3)
+m.revolute(base[1], crank[0], name="A")
+m.revolute(crank[2], rod[0], name="B")
+m.revolute(rod[2], slider[0], name="C")
+m.translate(base.line(1, 2), slider.line(1, 2), name="guide")
+m.rotation_lock(crank, w * T + 0.5, name="motor")
+m.force(slider[0], (-100, 0), name="load")
+"""
+
+
+@pytest.fixture(autouse=True)
+def _plain(monkeypatch):
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+
+
+def write(tmp_path, text, name="model.py"):
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text).lstrip())
+    return str(path)
+
+
+def run(capsys, *argv):
+    try:
+        code = main(list(argv))
+    except SystemExit as exc:
+        code = exc.code
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def one_line(err):
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and "Traceback" not in err, err
+    return lines[0]
+
+
+# -- check: redundant equations that agree only at t --------------------------------------
+@pytest.mark.parametrize("name, extra, culprits", [
+    # a second driver of the crank at twice the speed: both hold at t = 0 only
+    ("fight", 'm.constraint(crank.th - 4 * pi * T - 1.0, name="drive2")', ["drive2"]),
+    # the driven crank also locked at its angle at t = 0
+    ("lock", 'm.constraint(crank.th - 1.0, name="lock")', ["lock"]),
+    # an extra link from the coupler's pin to the frame: the four-bar made rigid
+    ("rigid", 'm.constraint(distance(coupler[0], base[2]) - 3.560559162976355, '
+              'name="extra")', ["extra"]),
+    # the rate agrees (0 at t = 0), the acceleration does not
+    ("accel", 'm.constraint(crank.th - 2 * pi * T - 1.0 - T**2, name="drive2")', ["drive2"]),
+])
+def test_check_fails_redundant_equations_that_agree_only_at_t(capsys, tmp_path, name, extra,
+                                                              culprits):
+    path = write(tmp_path, FOURBAR.format(name=name, extra=extra))
+    code, out, _ = run(capsys, "check", path)
+    # before: "check: True" (exit 0), yet solve(0.3) failed: "the redundant constraints
+    # are inconsistent here"
+    assert code == 1 and "check: False" in out, out
+    assert "CANNOT MOVE from t = 0" in out
+    block = out[out.index("CANNOT MOVE"):]
+    assert all(c in block for c in culprits) and "drive:" in block
+
+
+def test_check_passes_a_consistent_redundant_driver(capsys, tmp_path):
+    extra = 'm.rotation_lock(crank, 2 * pi * T + 1.0, name="drive2")'
+    path = write(tmp_path, FOURBAR.format(name="red", extra=extra))
+    code, out, _ = run(capsys, "check", path)
+    assert code == 0 and "check: True" in out and "redundant: 1" in out
+    assert "CANNOT" not in out
+
+
+def test_check_fails_a_slider_driver_fighting_its_guide(capsys, tmp_path):
+    """The quick-return's slider turned by a driver while its translate holds it level."""
+    from conftest import EXAMPLES
+    text = open(f"{EXAMPLES}/quick_return.py").read() + \
+        '\nm.rotation_lock(deslizadera, 0.5 * T, name="slider spin")\n'
+    code, out, _ = run(capsys, "check", write(tmp_path, text))
+    assert code == 1 and "CANNOT MOVE" in out and "slider spin" in out, out
+
+
+# -- solve at the force levels --------------------------------------------------------------
+def slider_crank_closed_form(t, static):
+    """Torque and pin C force on the slider of the slider-crank above: crank 1, rod 3 (both
+    massless), slider 2 kg, load -100 along x; power balance τ θ̇ = (m ẍ - F) ẋ."""
+    th, w = 2 * t + 0.5, 2.0
+    s, c = math.sin(th), math.cos(th)
+    root = math.sqrt(9 - s * s)
+    x = c + root
+    xd = w * (-s - s * c / root)
+    xdd = w * w * (-c - (c * c - s * s) / root - (s * c) ** 2 / root ** 3)
+    a = 0.0 if static else xdd
+    fx = 2.0 * a + 100.0
+    fy = fx * (-s) / (x - c)            # along the rod, from its crank end to the slider
+    return (fx * xd) / w, fx, fy
+
+
+@pytest.mark.parametrize("level", ["dynamic", "static"])
+def test_solve_at_a_force_level_prints_efforts_and_reactions(capsys, tmp_path, level):
+    path = write(tmp_path, SLIDER_CRANK)
+    code, out, err = run(capsys, "solve", path, "-t", "0.3", "--level", level,
+                         "--outdir", str(tmp_path / "gen"))
+    assert code == 0, err
+    # before: the header said "(acceleration; ...)" and no effort or reaction was printed
+    assert out.splitlines()[0].startswith(f"sc3 at T = 0.3 ({level};")
+    values = {k.strip(): float(v) for k, v in
+              (ln.split("->") for ln in out.splitlines()[1:] if "->" in ln)}
+    tau, fx, fy = slider_crank_closed_form(0.3, level == "static")
+    assert values["motor"] == pytest.approx(tau, rel=1e-9)
+    assert values["C on slider fx"] == pytest.approx(fx, rel=1e-9)
+    assert values["C on slider fy"] == pytest.approx(fy, rel=1e-9)
+    assert values["guide on slider fy"] == pytest.approx(-fy, rel=1e-9)
+
+
+def test_solve_force_columns_and_csv_match_the_sweep(capsys, tmp_path):
+    path = write(tmp_path, SLIDER_CRANK)
+    gen = str(tmp_path / "gen")
+    code, out, err = run(capsys, "solve", path, "-t", "0.3", "--level", "dynamic",
+                         "--columns", "motor,C on slider fx", "--outdir", gen)
+    # before: "mechgen: error: 'motor'"
+    assert code == 0, err
+    tau, fx, _ = slider_crank_closed_form(0.3, False)
+    assert f"-> {tau:.10g}" in out and f"-> {fx:.10g}" in out
+    one, many = tmp_path / "one.csv", tmp_path / "many.csv"
+    assert run(capsys, "solve", path, "-t", "0.3", "--level", "dynamic", "-o", str(one),
+               "--outdir", gen)[0] == 0
+    assert run(capsys, "sweep", path, "--t0", "0.3", "--t1", "0.5", "-n", "2", "--level",
+               "dynamic", "-o", str(many), "--outdir", gen)[0] == 0
+    a, b = one.read_text().splitlines(), many.read_text().splitlines()
+    assert a[0] == b[0]
+    np.testing.assert_allclose(np.array(a[1].split(","), dtype=float),
+                               np.array(b[1].split(","), dtype=float), rtol=1e-12, atol=1e-12)
+
+
+# -- division by zero and undefined functions: one message -----------------------------------
+ONE_BODY = """
+from mechgen import Model, T, sqrt
+import sympy
+m = Model("{name}")
+b = m.ground("b", points=[(0, 0)])
+c = m.body("c", points=[(0, 0), (1, 0)], guess=(0, 0, 0))
+m.revolute(b[1], c[0])
+m.rotation_lock(c, {angle})
+"""
+
+
+@pytest.mark.parametrize("angle, argv, words", [
+    # solve(0.5) follows the motion from the guess's time 0, where 1/T divides by zero
+    ("1/T", ["solve", "-t", "0.5"], "non-finite"),
+    ("1/T", ["check"], "CANNOT ASSEMBLE"),
+    # the rate of sqrt(T) at T = 0
+    ("sqrt(T)", ["solve", "-t", "0", "--level", "velocity"], "not finite"),
+    ("sqrt(T)", ["sweep", "-n", "3", "--level", "acceleration"], "divide by zero"),
+    ('sympy.Function("f")(T)', ["check"], "undefined function"),
+    ('sympy.Function("f")(T)', ["solve", "-t", "0"], "undefined function"),
+])
+def test_a_singular_driver_is_one_message(capsys, tmp_path, angle, argv, words):
+    path = write(tmp_path, ONE_BODY.format(name="div", angle=angle))
+    code, out, err = run(capsys, argv[0], path, *argv[1:],
+                         *(["--outdir", str(tmp_path / "gen")] if argv[0] != "check" else []))
+    # before: ZeroDivisionError / NameError / PrintMethodNotImplementedError tracebacks
+    assert code == 1
+    text = out + err if argv[0] == "check" else one_line(err)
+    assert "Traceback" not in err and words in text, (out, err)
+
+
+def test_runtime_solve_of_a_driver_dividing_by_zero_raises_mechgen_errors(tmp_path):
+    import mechgen
+    path = write(tmp_path, ONE_BODY.format(name="div2", angle="sqrt(T)"))
+    mech = mechgen.compile(mechgen.load_model(path), outdir=str(tmp_path / "gen"))
+    with pytest.raises(mechgen.SingularError, match="not finite"):
+        mech.solve(0.0, level="velocity")
+    s = mech.solve(0.5, level="acceleration")
+    assert s["Th2dd"] == pytest.approx(-0.25 * 0.5 ** -1.5, rel=1e-12)
+    with pytest.raises(mechgen.MechgenError, match="divide by zero"):
+        mech.sweep(0, 1, 3, level="acceleration")
+    assert np.isfinite(mech.sweep(0.25, 1, 3, level="acceleration")["Th2dd"]).all()
