@@ -210,3 +210,84 @@ def test_runtime_solve_of_a_driver_dividing_by_zero_raises_mechgen_errors(tmp_pa
     with pytest.raises(mechgen.MechgenError, match="divide by zero"):
         mech.sweep(0, 1, 3, level="acceleration")
     assert np.isfinite(mech.sweep(0.25, 1, 3, level="acceleration")["Th2dd"]).all()
+
+
+# -- nothing half-written ---------------------------------------------------------------
+def test_a_csv_that_fails_midway_leaves_no_file_and_keeps_the_old_one(tmp_path):
+    from mechgen.cli.tables import write_csv
+    path = tmp_path / "t.csv"
+    with pytest.raises(ValueError):
+        write_csv(str(path), ["T"], [[1.0], ["not a number"]])
+    # before: t.csv held the header and the first row
+    assert list(tmp_path.iterdir()) == []
+    path.write_text("T\n0.5\n")
+    with pytest.raises(ValueError):
+        write_csv(str(path), ["T"], [[1.0], ["not a number"]])
+    assert path.read_text() == "T\n0.5\n" and list(tmp_path.iterdir()) == [path]
+    write_csv(str(path), ["T"], np.array([[0.25]]))
+    assert path.read_text().splitlines() == ["T", "0.25"]
+
+
+@pytest.mark.parametrize("argv", [["draw", "-t", "0.1", "-o", "{d}/p.png"],
+                                  ["plot", "Th2", "-n", "3", "-o", "{d}/p.png"],
+                                  ["animate", "-n", "3", "-o", "{d}/p.gif"]])
+def test_a_picture_that_fails_midway_leaves_no_file(capsys, tmp_path, monkeypatch, argv):
+    import matplotlib.figure
+    from PIL import Image
+
+    def half(self, fname, *args, **kwargs):
+        with open(fname, "wb") as fh:
+            fh.write(b"\x89PNG half")
+        raise OSError("No space left on device")
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", half)
+    monkeypatch.setattr(Image.Image, "save", half)
+    path = write(tmp_path, ONE_BODY.format(name="pic", angle="2*T"))
+    out = tmp_path / "out"
+    out.mkdir()
+    argv = [a.format(d=out) for a in argv]
+    code, _, err = run(capsys, argv[0], path, *argv[1:], "--outdir", str(tmp_path / "gen"))
+    assert code == 1 and "No space left" in one_line(err)
+    # before: p.png / p.gif of 10 bytes stayed behind
+    assert list(out.iterdir()) == []
+
+
+def test_pictures_and_tables_are_written_whole(capsys, tmp_path):
+    path = write(tmp_path, ONE_BODY.format(name="whole", angle="2*T"))
+    gen = str(tmp_path / "gen")
+    out = tmp_path / "out"
+    out.mkdir()
+    assert run(capsys, "draw", path, "-t", "0.1", "-o", str(out / "d.png"), "--outdir",
+               gen)[0] == 0
+    assert run(capsys, "sweep", path, "-n", "3", "-o", str(out / "s.csv"), "--outdir",
+               gen)[0] == 0
+    assert sorted(p.name for p in out.iterdir()) == ["d.png", "s.csv"]
+    assert (out / "d.png").read_bytes()[:4] == b"\x89PNG"
+    assert (out / "s.csv").stat().st_mode & 0o777 == 0o666 & ~_umask()
+
+
+def _umask():
+    import os
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+def test_an_unexpected_exception_is_one_line(capsys, tmp_path, monkeypatch):
+    import mechgen.cli.solve_commands as sc
+
+    def broken(args):
+        raise AttributeError("'NoneType' object has no attribute 'q'")
+    monkeypatch.setattr(sc, "mechanism", broken)
+    path = write(tmp_path, ONE_BODY.format(name="oops", angle="2*T"))
+    code, _, err = run(capsys, "solve", path, "-t", "0")
+    assert code == 1
+    assert one_line(err).startswith("mechgen: internal error: AttributeError")
+
+
+def test_plot_of_one_point_is_refused_not_an_empty_picture(capsys, tmp_path):
+    path = write(tmp_path, ONE_BODY.format(name="one_point", angle="2*T"))
+    out = tmp_path / "p.png"
+    code, _, err = run(capsys, "plot", path, "Th2", "-n", "1", "-o", str(out), "--outdir",
+                       str(tmp_path / "gen"))
+    # before: "wrote p.png (Th2 over 1 points)", axes with no curve
+    assert code == 1 and "-n must be at least 2" in one_line(err) and not out.exists()

@@ -7,7 +7,7 @@ from __future__ import annotations
 from ..errors import MechgenError
 from ..runtime.forces.contact import CAM_KINDS
 from .loading import mechanism
-from .options import number_type, output_file, parse_guess
+from .options import number_type, output_file, parse_guess, written
 
 
 def cmd_forces(args):
@@ -32,7 +32,8 @@ def plot_effort(mech, args, level):
     sw = mech.sweep(args.t0, args.t1, args.n, level=level, guess=parse_guess(args.guess),
                     method=args.method)
     e = plot.effort(sw, args.driver)
-    e.figure.savefig(path, dpi=args.dpi)
+    with written(path) as tmp:
+        e.figure.savefig(tmp, dpi=args.dpi)
     plt.close(e.figure)
     print(f"wrote {path} ({e.line.get_label()} over T = {sw.t[0]:g} .. {sw.t[-1]:g}, "
           f"{len(sw)} points, {level}: mean {e.mean:.10g}, peak {e.peak:.10g})")

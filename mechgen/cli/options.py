@@ -5,9 +5,11 @@ from __future__ import annotations
 
 import argparse
 import ast
+import contextlib
 import math
 import operator
 import os
+import tempfile
 
 import numpy as np
 
@@ -183,3 +185,25 @@ def model_file(path) -> str:
         what = "is a folder" if os.path.isdir(path) else "does not exist"
         raise MechgenError(f"model file {path} {what}")
     return path
+
+
+@contextlib.contextmanager
+def written(path):
+    """The name to write ``path``'s content under: a file beside it with the same
+    extension (the writers pick the format from it), moved onto ``path`` once written
+    whole; removed when writing fails or is interrupted, so that a failed command leaves
+    no half-written file (and an older file of that name as it was)."""
+    folder, base = os.path.split(os.path.abspath(path))
+    root, ext = os.path.splitext(base)
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{root}.", suffix=ext)
+    os.close(fd)
+    try:
+        yield tmp
+        mask = os.umask(0)
+        os.umask(mask)
+        os.chmod(tmp, 0o666 & ~mask)        # as open() would have made it
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise

@@ -7,7 +7,7 @@ import re
 from ..errors import MechgenError
 from ..protocol import LEVELS
 from .loading import mechanism
-from .options import number_type, output_file, parse_guess
+from .options import number_type, output_file, parse_guess, written
 
 
 def _pictures():
@@ -69,7 +69,8 @@ def cmd_draw(args):
     sw = _sweep(mech, args, guess=s.q) if trace else None
     d = plot.draw(mech, s, sweep=sw, trace=trace, labels=_bodies(args.labels),
                   axes=_bodies(args.axes), legend=args.legend, width=args.width, forces=forces)
-    d.figure.savefig(path, dpi=args.dpi)
+    with written(path) as tmp:
+        d.figure.savefig(tmp, dpi=args.dpi)
     plt.close(d.figure)
     paths = f"; the path of {', '.join(trace)} over T = {sw.t[0]:g} .. {sw.t[-1]:g}" \
         if trace else ""
@@ -96,7 +97,8 @@ def cmd_animate(args):
     a = plot.animate(mech, sw, None, trace=tuple(args.trace or ()), fps=args.fps,
                      labels=_bodies(args.labels), axes=_bodies(args.axes), legend=args.legend,
                      width=args.width)
-    a.save(path, dpi=args.dpi)
+    with written(path) as tmp:
+        a.save(tmp, dpi=args.dpi)
     plt.close(a.figure)
     last = sw.t[len(a) - 1]
     same = "" if len(a) == len(sw) else f"; T = {sw.t[-1]:g} repeats T = {sw.t[0]:g}, left out"
@@ -111,12 +113,15 @@ def cmd_plot(args):
         level = plot.timeplot.needed_level(mech, names)
     except KeyError as exc:
         raise MechgenError(exc.args[0]) from None
+    if args.n < 2:          # one point draws no curve: an empty picture
+        raise MechgenError(f"-n must be at least 2 for a plot (a curve), got {args.n}")
     sw = _sweep(mech, args, level=level, guess=parse_guess(args.guess))
     lines = plot.plot(sw, *args.names, x=args.x, length=args.length, time=args.time)
     fig = lines[0].figure
     words = [re.sub(r"\W+", "_", n).strip("_") for n in args.names]   # foot[3].x: foot_3_x
     path = _output(args, mech, "{name}_" + "_".join(words) + ".png")
-    fig.savefig(path, dpi=args.dpi)
+    with written(path) as tmp:
+        fig.savefig(tmp, dpi=args.dpi)
     plt.close(fig)
     print(f"wrote {path} ({', '.join(args.names)} over {len(sw)} points)")
 

@@ -10,7 +10,7 @@ import time
 import numpy as np
 
 from .loading import mechanism
-from .options import number_type, output_file, parse_columns
+from .options import number_type, output_file, parse_columns, written
 from .tables import format_table, select, times, write_csv
 
 
@@ -66,14 +66,16 @@ def _pictures(args, mech, sw):
         path = output_file(args.animate)
         plot.check_movie_path(path)
         a = plot.animate(mech, sw, None, trace=tuple(args.trace or ()), periodic=False)
-        a.save(path, dpi=80)
+        with written(path) as tmp:
+            a.save(tmp, dpi=80)
         plt.close(a.figure)
         print(f"wrote {path} ({len(a)} frames, T from {sw.t[0]:g} to {sw.t[-1]:g})")
     if args.plot:
         names = parse_columns(args.plot)
         lines = plot.plot(sw, *names)
         path = output_file(args.plot_file or f"{mech.name}_simulated.png")
-        lines[0].figure.savefig(path, dpi=100)
+        with written(path) as tmp:
+            lines[0].figure.savefig(tmp, dpi=100)
         plt.close(lines[0].figure)
         print(f"wrote {path} ({', '.join(names)} over {len(sw)} times)")
 

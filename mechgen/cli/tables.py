@@ -10,6 +10,7 @@ from ..errors import MechgenError
 from ..protocol import LEVELS
 from ..runtime.guards import fits, point_bytes
 from ..runtime.quantity import column_names
+from .options import written
 
 FORCE_LEVELS = ("static", "dynamic")    # mechgen.runtime.forces (not imported by the parser)
 
@@ -108,7 +109,7 @@ def format_table(header, rows) -> str:
 def write_csv(path, header, data):
     """A table as CSV: full precision (the shortest text that reads back as the same
     float), NaN (not solved) as an empty cell, never -0."""
-    with open(path, "w", newline="") as fh:
+    with written(path) as tmp, open(tmp, "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(header)
         for row in data:

@@ -5,7 +5,7 @@ instead (cycles precomputed over the parameters' ranges, no server)."""
 from __future__ import annotations
 
 from ..errors import MechgenError
-from .options import model_file, module_folder, number_type, output_file
+from .options import model_file, module_folder, number_type, output_file, written
 
 LIVE_TIMES = 1000        # times in a cycle the server solves at every parameter change
 HTML_TIMES = 200         # in each precomputed cycle of a standalone page (its size)
@@ -74,7 +74,8 @@ def cmd_view(args):
     if args.html:
         from ..view.standalone import write_html
         path = output_file(args.html, "--html")
-        page = write_html(make(), path, vary=_names(args.vary), steps=args.steps)
+        with written(path) as tmp:
+            page = write_html(make(), tmp, vary=_names(args.vary), steps=args.steps)
         grid = page.table[0]
         print(f"wrote {path} (no server: {int(len(page.table[1].data['start']))} cycles "
               f"precomputed over " + ", ".join(f"{k} [{v[0]:.4g}, {v[-1]:.4g}]"
