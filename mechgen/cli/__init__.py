@@ -127,8 +127,10 @@ def parser() -> argparse.ArgumentParser:
     p = sub.add_parser("check", help="counts, degrees of freedom, rank, assembly modes, "
                                      "redundant, missing or contradictory constraints",
                        description="Check a model before building it; exits non-zero when "
-                                   "a constraint is missing, a coordinate is left free, or "
-                                   "the model cannot be assembled at the time given.")
+                                   "a constraint is missing, a coordinate is left free, the "
+                                   "model cannot be assembled at the time given, or its "
+                                   "redundant equations hold there but cannot keep holding "
+                                   "(a driver fighting a constraint or another driver).")
     _add_common(p, outdir=False)
     p.add_argument("-t", type=number_type, default=0.0,
                    help="time at which to check (default 0); a number or an expression")

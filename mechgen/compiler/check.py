@@ -519,9 +519,11 @@ def check_report(model, t=0.0, starts=STARTS) -> tuple[str, bool]:
     """Mech's CheckSystem and more. Returns (text, ok).
 
     ok is False when equations are missing, the Jacobian is rank-deficient at the
-    assembled configuration (a coordinate left free), or the model cannot be assembled
+    assembled configuration (a coordinate left free), the model cannot be assembled
     at t (constraints that contradict each other, or a guess from which no mode is
-    reached); redundant but consistent equations are reported, not failed.
+    reached), or redundant equations that hold at t disagree in their velocities or
+    accelerations (they cannot keep holding: the motion stops at t); redundant but
+    consistent equations are reported, not failed.
     """
     holding = held(model)
     check = _Check(holding, t, starts)
