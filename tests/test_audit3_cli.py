@@ -291,3 +291,17 @@ def test_plot_of_one_point_is_refused_not_an_empty_picture(capsys, tmp_path):
                        str(tmp_path / "gen"))
     # before: "wrote p.png (Th2 over 1 points)", axes with no curve
     assert code == 1 and "-n must be at least 2" in one_line(err) and not out.exists()
+
+
+def test_written_goes_through_links_and_devices(tmp_path):
+    import os
+    from mechgen.cli.tables import write_csv
+    target = tmp_path / "target.csv"
+    target.write_text("old\n")
+    link = tmp_path / "link.csv"
+    link.symlink_to(target)
+    write_csv(str(link), ["T"], np.array([[1.0]]))
+    assert link.is_symlink() and target.read_text().splitlines() == ["T", "1.0"]
+    write_csv(os.devnull, ["T"], np.array([[1.0]]))      # not replaced by a regular file
+    assert not os.path.isfile(os.devnull)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.csv", "target.csv"]

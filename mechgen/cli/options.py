@@ -192,8 +192,13 @@ def written(path):
     """The name to write ``path``'s content under: a file beside it with the same
     extension (the writers pick the format from it), moved onto ``path`` once written
     whole; removed when writing fails or is interrupted, so that a failed command leaves
-    no half-written file (and an older file of that name as it was)."""
-    folder, base = os.path.split(os.path.abspath(path))
+    no half-written file (and an older file of that name as it was). A path that is not
+    a regular file (/dev/stdout, a pipe) is written directly; a link, where it leads."""
+    if os.path.exists(path) and not os.path.isfile(path):
+        yield path
+        return
+    path = os.path.realpath(path)
+    folder, base = os.path.split(path)
     root, ext = os.path.splitext(base)
     fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{root}.", suffix=ext)
     os.close(fd)
