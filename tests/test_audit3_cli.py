@@ -305,3 +305,16 @@ def test_written_goes_through_links_and_devices(tmp_path):
     write_csv(os.devnull, ["T"], np.array([[1.0]]))      # not replaced by a regular file
     assert not os.path.isfile(os.devnull)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["link.csv", "target.csv"]
+
+
+def test_solve_at_a_force_level_says_which_reactions_are_indeterminate(capsys, tmp_path):
+    extra = 'm.rotation_lock(crank, 2 * pi * T + 1.0, name="drive2")\nm.moment(crank, 3.0)'
+    path = write(tmp_path, FOURBAR.format(name="redf", extra=extra))
+    code, out, err = run(capsys, "solve", path, "-t", "0.2", "--level", "static",
+                         "--columns", "drive,drive2", "--outdir", str(tmp_path / "gen"))
+    assert code == 0, err
+    values = {k.strip(): float(v) for k, v in
+              (ln.split("->") for ln in out.splitlines()[1:] if "->" in ln)}
+    # the two drivers share the -3.0 that holds the crank against its moment
+    assert values["drive"] + values["drive2"] == pytest.approx(-3.0, rel=1e-9)
+    assert "indeterminate" in out and "drive2" in out.splitlines()[-1]

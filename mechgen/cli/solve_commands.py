@@ -45,11 +45,15 @@ def cmd_solve(args):
         write_csv(args.csv, [k for k, _ in rows], np.array([[v for _, v in rows]]))
         print(f"wrote {mech.name} at T = {s.t:g} ({len(rows) - 1} columns) to {args.csv}")
         return
-    print(f"{mech.name} at T = {s.t:g} ({level if level in FORCE_LEVELS else s.level}; {s.iterations} Newton iterations, "
+    said = level if level in FORCE_LEVELS else s.level
+    print(f"{mech.name} at T = {s.t:g} ({said}; {s.iterations} Newton iterations, "
           f"residual {s.residual:.2g}, {s.method} solver{', SINGULAR' if s.singular else ''})")
     width = max(len(k) for k, _ in rows)
     for k, v in rows:
         print(f"  {k:<{width}} -> {float(v) + 0.0:.10g}")     # + 0.0: never -0
+    if getattr(s, "indeterminate", ()):
+        print("indeterminate (redundant constraints; minimum-norm multipliers shown): "
+              + "; ".join(s.indeterminate))
 
 
 def cmd_sweep(args):
