@@ -318,3 +318,10 @@ def test_solve_at_a_force_level_says_which_reactions_are_indeterminate(capsys, t
     # the two drivers share the -3.0 that holds the crank against its moment
     assert values["drive"] + values["drive2"] == pytest.approx(-3.0, rel=1e-9)
     assert "indeterminate" in out and "drive2" in out.splitlines()[-1]
+
+
+def test_check_starts_must_be_a_count(capsys):
+    from conftest import EXAMPLES
+    code, _, err = run(capsys, "check", f"{EXAMPLES}/quick_return.py", "--starts", "-5")
+    # before: "mechgen: error: negative dimensions are not allowed"
+    assert code == 2 and "--starts: '-5' is not a count" in err

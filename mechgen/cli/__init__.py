@@ -64,6 +64,13 @@ def cmd_check(args):
 
 
 # -- the parser -----------------------------------------------------------------------
+def _starts(text) -> int:
+    """--starts: a count, 0 or more."""
+    if not text.strip().isdigit():
+        raise argparse.ArgumentTypeError(f"{text!r} is not a count (0, 1, 2, ...)")
+    return int(text)
+
+
 def _add_common(p, outdir=True):
     p.add_argument("model_file", metavar="MODEL.py", help="the model file")
     p.add_argument("--model", help="which model, when the file defines several")
@@ -134,7 +141,7 @@ def parser() -> argparse.ArgumentParser:
     _add_common(p, outdir=False)
     p.add_argument("-t", type=number_type, default=0.0,
                    help="time at which to check (default 0); a number or an expression")
-    p.add_argument("--starts", type=int, default=128,
+    p.add_argument("--starts", type=_starts, default=128,
                    help="quasi-random starts of the search for assembly modes (default 128)")
     p.set_defaults(func=cmd_check)
 
