@@ -325,3 +325,14 @@ def test_check_starts_must_be_a_count(capsys):
     code, _, err = run(capsys, "check", f"{EXAMPLES}/quick_return.py", "--starts", "-5")
     # before: "mechgen: error: negative dimensions are not allowed"
     assert code == 2 and "--starts: '-5' is not a count" in err
+
+
+@pytest.mark.parametrize("argv", [["draw", "--width", "0"], ["animate", "--fps", "0"],
+                                  ["animate", "--fps", "-1"], ["draw", "--dpi", "1e9"]])
+def test_picture_sizes_and_rates_are_usage_errors(capsys, tmp_path, argv):
+    from conftest import EXAMPLES
+    code, _, err = run(capsys, argv[0], f"{EXAMPLES}/quick_return.py", *argv[1:], "-o",
+                       str(tmp_path / ("p.gif" if argv[0] == "animate" else "p.png")))
+    # before: ZeroDivisionError / OverflowError tracebacks, or a 1e9-dpi attempt
+    assert code == 2 and "must be a positive number" in err
+    assert list(tmp_path.iterdir()) == []

@@ -7,7 +7,7 @@ from __future__ import annotations
 from ..errors import MechgenError
 from ..runtime.forces.contact import CAM_KINDS
 from .loading import mechanism
-from .options import number_type, output_file, parse_guess, written
+from .options import number_type, output_file, parse_guess, positive_type, written
 
 
 def cmd_forces(args):
@@ -102,7 +102,7 @@ def add_command(sub, common):
                    help="with -o: the last time (default 1): one cycle")
     p.add_argument("-n", type=int, default=361,
                    help="with -o: number of times, both ends included (default 361)")
-    p.add_argument("--dpi", type=float, default=100, help="with -o: dots per inch")
+    p.add_argument("--dpi", type=positive_type(2000), default=100, help="with -o: dots per inch")
     p.add_argument("--static", action="store_true",
                    help="statics: the loads at rest (velocities and accelerations zero)")
     p.add_argument("--guess", action="append", metavar="NAME=VALUE",

@@ -76,6 +76,18 @@ def number_type(text) -> float:
         raise argparse.ArgumentTypeError(str(exc)) from None
 
 
+def positive_type(largest):
+    """An argparse type: a positive finite number up to ``largest`` (--dpi, --width,
+    --fps: a zero divides by zero, a negative one or a huge one breaks the writers)."""
+    def positive(text) -> float:
+        value = number_type(text)
+        if not (0 < value <= largest):
+            raise argparse.ArgumentTypeError(f"{text!r} must be a positive number up to "
+                                             f"{largest:g}")
+        return value
+    return positive
+
+
 def parse_guess(items):
     """``--guess NAME=VALUE`` values: a dict of start values (None when none given)."""
     guess = {}

@@ -7,7 +7,7 @@ import re
 from ..errors import MechgenError
 from ..protocol import LEVELS
 from .loading import mechanism
-from .options import number_type, output_file, parse_guess, written
+from .options import number_type, output_file, parse_guess, positive_type, written
 
 
 def _pictures():
@@ -136,7 +136,7 @@ def add_commands(sub, add_common):
                        help=f"the picture to write (default: MODEL_NAME{image} here)")
         p.add_argument("--guess", action="append", metavar="NAME=VALUE",
                        help="start value of a coordinate (repeatable; picks an assembly mode)")
-        p.add_argument("--dpi", type=float, default=100 if image == ".png" else 80,
+        p.add_argument("--dpi", type=positive_type(2000), default=100 if image == ".png" else 80,
                        help="resolution, dots per inch")
 
     def span(p, n):
@@ -153,7 +153,7 @@ def add_commands(sub, add_common):
         p.add_argument("--axes", nargs="?", const="all", metavar="BODIES",
                        help="draw local axes (every body, or comma-separated names)")
         p.add_argument("--legend", action="store_true", help="name the bodies in a legend")
-        p.add_argument("--width", type=float, default=8.0, help="figure width in inches")
+        p.add_argument("--width", type=positive_type(100), default=8.0, help="figure width in inches")
 
     def trace(p, when):
         p.add_argument("--trace", action="append", metavar="POINT",
@@ -186,7 +186,7 @@ def add_commands(sub, add_common):
                                    "(GIF with pillow; MP4 when ffmpeg is installed).")
     common(p, ".gif")
     span(p, 100)
-    p.add_argument("--fps", type=float, default=25.0, help="frames per second (default 25)")
+    p.add_argument("--fps", type=positive_type(1000), default=25.0, help="frames per second (default 25)")
     trace(p, "")
     looks(p)
     p.set_defaults(func=cmd_animate)
