@@ -336,3 +336,12 @@ def test_picture_sizes_and_rates_are_usage_errors(capsys, tmp_path, argv):
     # before: ZeroDivisionError / OverflowError tracebacks, or a 1e9-dpi attempt
     assert code == 2 and "must be a positive number" in err
     assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.parametrize("steps", ["0", "1", "-1"])
+def test_view_html_steps_must_vary_something(capsys, tmp_path, steps):
+    from conftest import EXAMPLES
+    code, _, err = run(capsys, "view", f"{EXAMPLES}/quick_return.py", "--html",
+                       str(tmp_path / "v.html"), "--steps", steps)
+    # before: --steps 0 wrote "1 cycles precomputed over )", -1 numpy's "Number of samples"
+    assert code == 2 and "give 2 or more values" in err and not list(tmp_path.iterdir())

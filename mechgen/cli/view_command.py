@@ -4,6 +4,8 @@ and the page redrawn when it changes. ``--html FILE`` writes a self-contained pa
 instead (cycles precomputed over the parameters' ranges, no server)."""
 from __future__ import annotations
 
+import argparse
+
 from ..errors import MechgenError
 from .options import model_file, module_folder, number_type, output_file, written
 
@@ -67,6 +69,13 @@ def explorer_factory(args):
     return make
 
 
+def _steps(text) -> int:
+    """--steps: two values or more (0 or 1 vary nothing; a negative count is no count)."""
+    if not text.strip().isdigit() or int(text) < 2:
+        raise argparse.ArgumentTypeError(f"{text!r}: give 2 or more values per parameter")
+    return int(text)
+
+
 def cmd_view(args):
     from ..view import need_bokeh
     need_bokeh()
@@ -120,7 +129,7 @@ def add_command(sub, common):
                         "over the parameters' ranges, then exit")
     p.add_argument("--vary", action="append", metavar="NAMES",
                    help="with --html: the parameters the table varies (default all)")
-    p.add_argument("--steps", type=int, default=None,
+    p.add_argument("--steps", type=_steps, default=None,
                    help="with --html: values per varied parameter (default: as many as "
                         "keep the table within 125 cycles)")
     p.set_defaults(func=cmd_view)
