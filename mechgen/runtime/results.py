@@ -225,6 +225,13 @@ class Sweep:
         """The level held, as an index into LEVELS."""
         return level_of(self.QD, self.QDD)
 
+    @property
+    def solved_t(self) -> np.ndarray:
+        """The times the equations were solved at: ``t``, but for a sweep across a stage
+        switch, whose left limit of a switch was solved just below the switch time (what
+        the equations read there: the earlier stage's rows)."""
+        return self.__dict__.get("_solved_t", self.t)
+
     def __getitem__(self, key):
         if isinstance(key, (int, np.integer)):
             k = int(key)
@@ -253,14 +260,15 @@ class Sweep:
         out = np.empty((len(self), len(mech.outputs)))
         z = np.zeros_like(self.Q)
         mech.module.eval_outputs(self.Q, z if self.QD is None else self.QD,
-                                 z if self.QDD is None else self.QDD, self.t, mech.p, order, out)
+                                 z if self.QDD is None else self.QDD, self.solved_t, mech.p,
+                                 order, out)
         return out
 
     def points(self) -> np.ndarray:
         """Point positions at every time: shape (len, n_points, 2)."""
         mech = self.mechanism
         out = np.empty((len(self), len(mech.point_names), 2))
-        mech.module.eval_points(self.Q, self.t, mech.p, out)
+        mech.module.eval_points(self.Q, self.solved_t, mech.p, out)
         return out
 
     def columns(self) -> list:

@@ -176,6 +176,7 @@ class StagedSweep(Sweep):
             np.concatenate([sw.QDD for _, sw, _ in parts])
         info = np.concatenate([sw.info for _, sw, _ in parts])
         super().__init__(mech, t, Q, QD, QDD, info)
+        self._solved_t = np.concatenate([sw.t for _, sw, _ in parts])   # left limits below
         self.parts = [sw for _, sw, _ in parts]
         self.stage_names = names
         self.stage = np.concatenate([np.full(len(sw), k) for k, sw, _ in parts])

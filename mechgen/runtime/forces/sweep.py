@@ -33,7 +33,7 @@ class ForceSweep(Sweep):
     def _made(self, k):
         if self._extras is None:
             mech = self.mechanism
-            pts = solve_points(mech.module, self.t, self.Q, self.QD, self.QDD, mech.p,
+            pts = solve_points(mech.module, self.solved_t, self.Q, self.QD, self.QDD, mech.p,
                                self.force_level, extras=True)
             self._extras = (pts.TERMS, pts.NU, pts.ENERGY)
         return self._extras[k]
@@ -67,7 +67,7 @@ class ForceSweep(Sweep):
         tab = tables(mech)
         out = np.empty((len(self), 3))
         for k in range(len(self)):
-            q, t = self.Q[k], float(self.t[k])
+            q, t = self.Q[k], float(self.solved_t[k])
             out[k] = _reaction(tab, mech, name, on, about, mech.jacobian(q, t), self.LAM[k],
                                q, _point_xy(mech, q, t))
         return out
@@ -86,7 +86,8 @@ class ForceSweep(Sweep):
         cache = self.__dict__.setdefault("_contact_cache", {})
         missing = [label for label in labels if label not in cache]
         if missing:
-            cache.update(contact_values(self.mechanism, missing, self.t, self.Q, self.LAM))
+            cache.update(contact_values(self.mechanism, missing, self.solved_t, self.Q,
+                                              self.LAM))
         return {label: cache[label] for label in labels}
 
     def contact_lost(self, name):
@@ -137,7 +138,7 @@ class ForceSweep(Sweep):
         if not len(self):
             return names, arrays
         tab = tables(mech)
-        first = ForceSolution(mech, self.t[0], self.Q[0])
+        first = ForceSolution(mech, self.solved_t[0], self.Q[0])
         first.lam = np.nan_to_num(self.LAM[0])
         acts = {}                       # label -> the bodies it acts on
         for label, body in first.reactions():
@@ -239,7 +240,7 @@ class ForceSweep(Sweep):
         if getattr(mod, "FRAME_LOADS", False):
             qd = self._velocities()
             for k in range(len(self)):
-                mod.frame_loads(self.Q[k], qd[k], float(self.t[k]), mech.p, out[k])
+                mod.frame_loads(self.Q[k], qd[k], float(self.solved_t[k]), mech.p, out[k])
         return out
 
 
@@ -256,7 +257,7 @@ def attach(sw, level, fused=None) -> "ForceSweep":
     if fused and fused["count"] > 0:
         pts = _completed(mech, sw, level, fused)
     else:
-        pts = solve_points(mech.module, sw.t, sw.Q, sw.QD, sw.QDD, mech.p, level,
+        pts = solve_points(mech.module, sw.solved_t, sw.Q, sw.QD, sw.QDD, mech.p, level,
                            extras=False)
     out.LAM, out.FACTORS = pts.LAM, pts.FACTORS
     if pts.extras:
@@ -305,7 +306,7 @@ def _completed(mech, sw, level, fused) -> PointForces:
     if redo.any():
         k = np.flatnonzero(redo)
         still = level == "static"           # (a static sweep has no QD, QDD)
-        rest = solve_points(mech.module, sw.t[k], sw.Q[k], None if still else sw.QD[k],
+        rest = solve_points(mech.module, sw.solved_t[k], sw.Q[k], None if still else sw.QD[k],
                             None if still else sw.QDD[k], mech.p, level, extras=False)
         pts.LAM[k], pts.FACTORS[k], pts.singular[k] = rest.LAM, rest.FACTORS, rest.singular
         pts.dependent = rest.dependent
