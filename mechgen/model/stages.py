@@ -221,6 +221,26 @@ def staged_rows(model):
     return out
 
 
+def stage_pieces(model) -> dict:
+    """{(constraint number, component): [(constraint, component, condition) per stage]}
+    for each stage row of ``model`` (the rows staged_rows joins as a Piecewise, in the
+    same order), so that what depends on a row's kind (a driver's factor) takes each
+    stage's own constraint."""
+    stages = model.stages
+    per_stage = [[(c, k) for c in s.constraints for k in range(len(c.exprs))]
+                 for s in stages]
+    conds = [T < sp.Float(s.until) for s in stages[:-1]] + [sp.true]
+    first = set(stages[0].numbers)
+    out, j = {}, 0
+    for con in model.constraints:
+        if con.number not in first:
+            continue
+        for k in range(len(con.exprs)):
+            out[(con.number, k)] = [rows[j] + (c,) for rows, c in zip(per_stage, conds)]
+            j += 1
+    return out
+
+
 def _check_continuity(model, stages, pieces):
     """Two neighbouring stages whose rows differ at the switch time by a non-zero amount
     free of coordinates (a driver law that jumps) cannot agree in position: refuse."""

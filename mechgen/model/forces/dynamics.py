@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from ..geometry import T
+from ..stages import stage_pieces
 from ..symbolic import total_derivative
 
 
@@ -130,15 +131,32 @@ def driver_factors(model, eq):
     defined by this slice."""
     drivers = {c.number: c for c in model.constraints if c.is_driver}
     coords = set(eq.q)
+    staged = stage_pieces(model) if getattr(model, "stages", None) else {}
     out = []
-    for i, (number, _) in enumerate(eq.rows):
+    for i, (number, k) in enumerate(eq.rows):
         con = drivers.get(number)
-        if con is not None:
+        if (number, k) in staged:
+            if T in sp.sympify(eq.phi[i]).free_symbols:
+                out.append((i, _stage_factor(staged[(number, k)], coords)))
+        elif con is not None:
             out.append((i, _factor(sp.sympify(eq.phi[i]), con.kind, coords,
                                    getattr(con, "squared", None))))
-        elif getattr(model, "stages", None) and T in sp.sympify(eq.phi[i]).free_symbols:
-            out.append((i, _factor(sp.sympify(eq.phi[i]), "stages", coords)))
     return tuple(out)
+
+
+def _stage_factor(pieces, coords):
+    """∂Φ/∂f of a stage row: each stage's factor from its own constraint (its kind, and a
+    relative_distance's |r1 − r2|²), joined as a Piecewise in T; a row that does not
+    drive in a stage gets NaN there."""
+    factors = []
+    for con, k, cond in pieces:
+        row = sp.sympify(con.exprs[k])
+        factor = _factor(row, con.kind, coords, getattr(con, "squared", None)) \
+            if T in row.free_symbols else sp.nan
+        factors.append((factor, cond))
+    if all(f == factors[0][0] for f, _ in factors):
+        return factors[0][0]
+    return sp.Piecewise(*factors)
 
 
 def _factor(row, kind, coords, squared=None):
