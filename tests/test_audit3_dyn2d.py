@@ -88,3 +88,54 @@ def test_the_left_limit_of_a_switch_keeps_the_earlier_stages_forces(tmp_path):
     st = mech.sweep(0.0, 0.5, 11, level="static")
     s = mech.solve(float(np.nextafter(0.25, 0.0)), level="static")
     assert abs(st.driver("crank driver")[left] - s.driver("crank driver")) < 1e-6
+
+
+def test_simulate_a_planetary_set_with_two_planets_redundant_meshes(tmp_path):
+    # two planets on the arm, each meshing with the sun and the fixed ring: one mesh is
+    # redundant (13 rows, 12 coordinates). The force solves give the driver's torque
+    # (minimum-norm multipliers); simulate refused the motion, which is determined:
+    # "SingularError: the equations of motion lose rank (23 of 24)"
+    import warnings
+    rs, rq = 1.0, 0.75
+    rr = rs + 2 * rq
+    j_sun, j_arm, m_planet, j_planet = 0.3, 0.25, 0.5, 0.05
+    p = Model("audit_two_planets")
+    frame = p.ground("frame", points=[(0, 0)])
+    sun = p.body("sun", points=[(0, 0), (rs, 0)], guess=(0, 0, 0), mass=1, inertia=j_sun)
+    arm = p.body("arm", points=[(0, 0), (rs + rq, 0), (-(rs + rq), 0)], guess=(0, 0, 0),
+                 mass=0.8, inertia=j_arm)
+    p1 = p.body("p1", points=[(0, 0), (rq, 0)], guess=(rs + rq, 0, 0), mass=m_planet,
+                inertia=j_planet)
+    p2 = p.body("p2", points=[(0, 0), (rq, 0)], guess=(-(rs + rq), 0, 0), mass=m_planet,
+                inertia=j_planet)
+    p.revolute(frame[1], sun[1], name="sun shaft")
+    p.revolute(frame[1], arm[1], name="arm shaft")
+    p.revolute(arm[2], p1[1], name="pin1")
+    p.revolute(arm[3], p2[1], name="pin2")
+    p.gear_ratio(sun[1], rs, p1[1], rq, name="sun-p1")
+    p.gear_ratio(p1[1], rq, frame[1], -rr, name="p1-ring")
+    p.gear_ratio(sun[1], rs, p2[1], rq, name="sun-p2")
+    p.gear_ratio(p2[1], rq, frame[1], -rr, name="p2-ring")
+    p.rotation_lock(sun, 3.5 * T, name="input")
+    p.moment(arm, -1.0, name="load")
+    mech = _compile(p, tmp_path)
+    ka = rs / (rs + rr)                          # arm / sun, Willis
+    kp = ka - (rs / rq) * (1 - ka)               # planet / sun
+    inertia = j_sun + (j_arm + 2 * m_planet * (rs + rq) ** 2) * ka ** 2 + 2 * j_planet * kp ** 2
+    alpha = -1.0 * ka / inertia                  # the sun's angular acceleration, released
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        s = mech.solve(0.3, level="dynamic")
+        assert s.indeterminate and abs(s.driver("input") - 1.0 * ka) < 1e-12
+        sw = mech.simulate(0.0, 1.0, 11, free=["input"])
+    np.testing.assert_allclose(sw["Th2"], 3.5 * sw.t + 0.5 * alpha * sw.t ** 2, atol=1e-7)
+    np.testing.assert_allclose(sw["Th2dd"], alpha, rtol=1e-9)
+    np.testing.assert_allclose(sw["Th3"], ka * sw["Th2"], atol=1e-9)
+    energy = sw.energy()["total"]
+    np.testing.assert_allclose(energy - energy[0], -1.0 * (sw["Th3"] - sw["Th3"][0]), atol=1e-7)
+    assert np.abs(sw.power()["residual"]).max() < 1e-9
+    r = np.empty(mech.m)
+    keep = [i for i, label in enumerate(mech.constraint_labels) if "input" not in label]
+    for k in range(len(sw)):
+        mech.module.phi(sw.Q[k], float(sw.t[k]), mech.p, r)
+        assert np.abs(r[keep]).max() < 1e-10

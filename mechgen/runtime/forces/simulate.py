@@ -17,7 +17,10 @@ Why this method: it needs nothing the module does not already have (Φ_q, γ, th
 terms) and no choice of independent coordinates, so it cannot be caught by a choice
 going singular (a crank's toggle, a dead centre only for a driver, is passed); a
 configuration where the constraints still acting lose rank (a lock) stops the
-integration with a SingularError naming the time and the constraints. The result is a
+integration with a SingularError naming the time and the constraints. Rows that are
+redundant (dependent at every configuration: a planetary set with two planets) leave the
+motion determined: q̈ then comes from the least-squares form (_System.redundant), λ the
+minimum-norm multipliers, integrated by scipy's RK45. The result is a
 ForceSweep at level "dynamic": positions, velocities, accelerations, the multipliers of
 the constraints still acting (0 on the freed rows), the efforts of the drivers still
 prescribed, power() and energy() to show what the integration conserved, and
@@ -32,12 +35,16 @@ import numpy as np
 from ...errors import ConvergenceError, SingularError
 from ..guards import positive_tol, sweep_times
 from ..guesses import start_vector
+from ...protocol import SING_RTOL
 from ..results import Sweep
 from .lookup import tables
+from .points import CONSISTENT_RTOL, svd_solve
 from .sweep import ForceSweep
 
 PROJECT_TOL = 1e-12     # |Φ_C| (relative to the mechanism's size) after the projection
 PROJECT_MAXIT = 25
+REDUNDANT_RTOL = 1e-10  # rows dependent to this share of the largest singular value (the
+                        # row-equilibrated Φ_C's) are redundant, not a lock approached
 INTERVAL_EVALUATIONS = 200_000   # evaluations between two output times before giving up
 SIMULATE_POINTS = 100_000        # what an integration counts as, for the tiers' choice
 COMPILED = "dopri5"              # the module's own integrator (integrate_span)
@@ -84,7 +91,56 @@ class _System:
         qdd, lam = np.empty(self.n), np.empty(self.m)
         rank = self.mod.free_accelerations(q, qd, float(t), self.p, self.keep, qdd, lam)
         if rank < self.n + self.c:
-            raise self.singular(q, t, f" ({rank} of {self.n + self.c})")
+            found = self.redundant(q, qd, t)
+            if found is None:
+                raise self.singular(q, t, f" ({rank} of {self.n + self.c})")
+            return found
+        return qdd, lam
+
+    def redundant(self, q, qd, t):
+        """(q̈, λ) where the rows kept are redundant (dependent at every configuration, as
+        the meshes of a planetary set with two planets) and the motion still determined:
+        q̈ = q̈_p + Z y, q̈_p the least-squares solution of Φ_C q̈ = γ_C, Z the motions
+        Φ_C allows and Zᵀ M Z y = Zᵀ (Q − h − M q̈_p); λ the minimum-norm solution of
+        Φ_Cᵀ λ = Q − h − M q̈ (as a force solve gives). None where Φ_C q̈ = γ_C has no
+        solution (a lock) or M is singular on Z (a motion without mass)."""
+        n, t = self.n, float(t)
+        q, qd = np.asarray(q, dtype=np.float64), np.asarray(qd, dtype=np.float64)
+        J = self.jacobian(q, t).copy()
+        g = np.empty(self.m)
+        self.mod.gamma(q, qd, t, self.p, g)
+        g = g[self.keep]
+        M = np.empty((n, n))
+        self.mod.mass_matrix(q, t, self.p, M)
+        terms = np.empty((3, n))
+        self.mod.force_terms(q, qd, np.zeros(n), t, self.p, terms)
+        f = terms[0] + terms[1] - terms[2]
+        scale = np.max(np.abs(J), axis=1, initial=0.0)
+        scale[scale == 0] = 1.0
+        sv = np.linalg.svd(J / scale[:, None], compute_uv=False)
+        top = sv[0] if sv.size and sv[0] > 0 else 1.0
+        rank = int(np.sum(sv > REDUNDANT_RTOL * top))
+        if rank == J.shape[0]:
+            return None         # rows near dependence, not dependent: a lock, approached
+        u, s, vt = np.linalg.svd(J)
+        k = min(rank, s.size)
+        qdd = vt[:k].T @ ((u[:, :k].T @ g) / s[:k])
+        if not np.linalg.norm(J @ qdd - g) <= CONSISTENT_RTOL * (
+                np.linalg.norm(g) + np.linalg.norm(np.abs(J) @ np.abs(qdd)) + 1e-300):
+            return None                         # the rows lock: no acceleration fits them
+        Z = vt[k:].T
+        if Z.shape[1]:
+            W = Z.T @ M @ Z
+            w = np.linalg.eigvalsh(W)
+            size = max(float(np.abs(np.diag(M)).max(initial=0.0)), 1e-300)
+            if not w.min() > SING_RTOL * size:
+                return None                     # a motion without mass or inertia
+            qdd = qdd + Z @ np.linalg.solve(W, Z.T @ (f - M @ qdd))
+        lam_c, _, _, consistent = svd_solve(J, f - M @ qdd)
+        if not consistent:
+            return None
+        lam = np.zeros(self.m)
+        lam[self.keep] = lam_c
         return qdd, lam
 
     def singular(self, q, t, rank=""):
@@ -316,8 +372,16 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
     for k in range(1, N):
         t_a, t_b = float(ts[k - 1]), float(ts[k])
         if span is not None:
-            y, taken, calls = span(np.concatenate([q, qd]), t_a, t_b)
-        else:
+            try:
+                y, taken, calls = span(np.concatenate([q, qd]), t_a, t_b)
+            except SingularError:
+                # the compiled path refuses rows that are redundant; where the motion is
+                # still determined (_System.redundant), scipy's RK45 (the same pair)
+                # integrates on the least-squares accelerations
+                if system.redundant(q, qd, t_a) is None:
+                    raise
+                span, method = None, "RK45"
+        if span is None:
             y, taken, calls = _scipy_span(system, np.concatenate([q, qd]), t_a, t_b,
                                           method, rtol, atol, max_step)
         steps += taken
