@@ -128,6 +128,7 @@ def test_simulate_a_planetary_set_with_two_planets_redundant_meshes(tmp_path):
         s = mech.solve(0.3, level="dynamic")
         assert s.indeterminate and abs(s.driver("input") - 1.0 * ka) < 1e-12
         sw = mech.simulate(0.0, 1.0, 11, free=["input"])
+    assert "sun-p2: gear_ratio(sun[1], 1.0, p2[1], 0.75)" in sw.indeterminate
     np.testing.assert_allclose(sw["Th2"], 3.5 * sw.t + 0.5 * alpha * sw.t ** 2, atol=1e-7)
     np.testing.assert_allclose(sw["Th2dd"], alpha, rtol=1e-9)
     np.testing.assert_allclose(sw["Th3"], ka * sw["Th2"], atol=1e-9)

@@ -37,7 +37,7 @@ from ..guards import positive_tol, sweep_times
 from ..guesses import start_vector
 from ...protocol import SING_RTOL
 from ..results import Sweep
-from .lookup import tables
+from .lookup import _constraints_of, tables
 from .points import CONSISTENT_RTOL, svd_solve
 from .sweep import ForceSweep
 
@@ -84,6 +84,7 @@ class _System:
             self.keep[list(rows)] = False
         self.c = int(self.keep.sum())
         self.calls = 0
+        self.dependent = set()      # rows whose λ is not unique (redundant), once met
         self.J = np.empty((self.m, self.n))
         self.r = np.empty(self.m)
 
@@ -136,9 +137,11 @@ class _System:
             if not w.min() > SING_RTOL * size:
                 return None                     # a motion without mass or inertia
             qdd = qdd + Z @ np.linalg.solve(W, Z.T @ (f - M @ qdd))
-        lam_c, _, _, consistent = svd_solve(J, f - M @ qdd)
+        lam_c, _, dependent, consistent = svd_solve(J, f - M @ qdd)
         if not consistent:
             return None
+        rows = np.flatnonzero(self.keep)
+        self.dependent.update(int(rows[i]) for i in dependent)
         lam = np.zeros(self.m)
         lam[self.keep] = lam_c
         return qdd, lam
@@ -400,7 +403,8 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
         if out.FACTORS.shape[1]:
             mech.module.driver_factors(Q[k], float(ts[k]), mech.p, out.FACTORS[k])
     out.force_singular = np.zeros(N, dtype=bool)
-    out.indeterminate = ()
+    labels = mech.constraint_labels
+    out.indeterminate = _constraints_of(mech, {labels[i] for i in system.dependent})
     out.free = tuple(mech.constraint_labels[i] for i in np.flatnonzero(~system.keep))
     out.steps, out.evaluations = steps, evaluations
     out.simulation = dict(free=tuple(free) if not isinstance(free, str) else (free,),
