@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import mechgen
-from mechgen import Model, T, cos, sqrt
+from mechgen import Model, T, cos, sin, sqrt
 
 G = 9.81
 MASS, INERTIA, CENTROID = 2.0, 0.1, (0.5, 0.1)       # an arm pivoted at its origin
@@ -140,3 +140,50 @@ def test_simulate_a_planetary_set_with_two_planets_redundant_meshes(tmp_path):
     for k in range(len(sw)):
         mech.module.phi(sw.Q[k], float(sw.t[k]), mech.p, r)
         assert np.abs(r[keep]).max() < 1e-10
+
+
+def test_a_driver_of_two_rows_in_t_has_no_summed_effort(tmp_path):
+    # origin_lock moving a block along a path (x = cos T, y = 0.5 sin T): driver() gave
+    # λx·(−1) + λy·(−1) = fx + fy = 17.39 (the x force added to the y force), a number
+    # whose product with no rate is the driver's power (9.57); now a clear ValueError,
+    # the force itself being the reaction
+    m = Model("audit_path")
+    m.ground("base", points=[(0, 0)])
+    blk = m.body("blk", points=[(0, 0), (1, 0)], guess=(1, 0, 0), mass=2.0, inertia=0.1)
+    m.origin_lock(blk, offset=(cos(T), 0.5 * sin(T)), name="path")
+    m.rotation_lock(blk, 0.3, name="keep")
+    m.gravity(G)
+    mech = _compile(m, tmp_path)
+    s = mech.solve(0.4, level="dynamic")
+    with pytest.raises(ValueError, match="several"):
+        s.driver("path")
+    np.testing.assert_allclose(s.reaction("path", on="blk")[:2],
+                               [-2.0 * np.cos(0.4), -np.sin(0.4) + 2.0 * G], atol=1e-12)
+    sw = mech.sweep(0.0, 1.0, 3, level="dynamic")
+    with pytest.raises(ValueError, match="several"):
+        sw.driver("path")
+    assert "path" not in sw.force_columns()[0]
+
+
+def test_a_rack_and_pinion_driven_by_its_phase_gives_the_force_along_the_rack(tmp_path):
+    # rack_and_pinion(..., c = 1 + 0.5 sin 2T) on a rack inclined by 0.3 rad, the wheel
+    # held from turning: the phase pushes it along the rack. Its effort was refused ("not
+    # defined for this form of equation": the offset row, free of T, got NaN); the force
+    # along the rack is m (s'' + g sin α), s = c(T) - r θ
+    al, rad, mass = 0.3, 0.4, 2.0
+    p = Model("audit_rack_phase")
+    ground = p.ground("ground", points=[(0, 0), (cos(al), sin(al))])
+    wheel = p.body("wheel", points=[(0, 0), (rad, 0)], guess=(0.5, 0.5, 0), mass=mass,
+                   inertia=0.1)
+    p.rack_and_pinion(wheel[1], rad, ground.line(1, 2), 1.0 + 0.5 * sin(2 * T), name="mesh")
+    p.rotation_lock(wheel, 0.0, name="stop")
+    p.gravity(G)
+    mech = _compile(p, tmp_path)
+    sw = mech.sweep(0.0, 2.0, 5, level="dynamic")
+    np.testing.assert_allclose(sw.driver("mesh"),
+                               mass * (-2.0 * np.sin(2 * sw.t) + G * np.sin(al)), rtol=1e-12)
+    power = sw.power()
+    np.testing.assert_allclose(power["drivers"], sw.driver("mesh") * np.cos(2 * sw.t),
+                               rtol=1e-12, atol=1e-12)
+    st = mech.solve(0.7, level="static")
+    assert abs(st.driver("mesh") - mass * G * np.sin(al)) < 1e-12

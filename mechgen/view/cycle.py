@@ -119,7 +119,10 @@ def columns(mech, sw, frames, traces) -> dict:
             for k, o in enumerate(mech.outputs):
                 data[o + suffix] = values[:, k]
     for column, name in drivers(mech):
-        data[column] = np.asarray(sw.driver(name), dtype=float)
+        try:
+            data[column] = np.asarray(sw.driver(name), dtype=float)
+        except ValueError:          # an effort not defined (a driver along a path): none
+            data[column] = np.full(len(sw.t), np.nan)
     return data
 
 

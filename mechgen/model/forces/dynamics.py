@@ -139,20 +139,34 @@ def driver_factors(model, eq):
             if T in sp.sympify(eq.phi[i]).free_symbols:
                 out.append((i, _stage_factor(staged[(number, k)], coords)))
         elif con is not None:
-            out.append((i, _factor(sp.sympify(eq.phi[i]), con.kind, coords,
-                                   getattr(con, "squared", None))))
+            out.append((i, _row_factor(con, k, sp.sympify(eq.phi[i]), coords)))
     return tuple(out)
+
+
+def _row_factor(con, k, row, coords):
+    """The factor of row k of driver ``con`` (its expression ``row``): a row without T
+    does no driving (0: a rack_and_pinion whose c holds T drives by its rolling row, its
+    offset row only holds), and a constraint with several rows in T (origin_lock along
+    a path, a loop in T) has no single driven quantity: NaN (its effort is not defined;
+    summing its rows' efforts would add an x force to a y force)."""
+    if con.kind == "hold":                  # a build's hold row, q − value: no T
+        return _factor(row, con.kind, coords)
+    timed = [T in sp.sympify(e).free_symbols for e in con.exprs]
+    if sum(timed) > 1:
+        return sp.nan
+    if not timed[k]:
+        return sp.Integer(0)
+    return _factor(row, con.kind, coords, getattr(con, "squared", None))
 
 
 def _stage_factor(pieces, coords):
     """∂Φ/∂f of a stage row: each stage's factor from its own constraint (its kind, and a
-    relative_distance's |r1 − r2|²), joined as a Piecewise in T; a row that does not
-    drive in a stage gets NaN there."""
+    relative_distance's |r1 − r2|²), joined as a Piecewise in T; a row of a stage whose
+    constraint does not drive (holds no T) gets NaN there."""
     factors = []
     for con, k, cond in pieces:
         row = sp.sympify(con.exprs[k])
-        factor = _factor(row, con.kind, coords, getattr(con, "squared", None)) \
-            if T in row.free_symbols else sp.nan
+        factor = _row_factor(con, k, row, coords) if con.is_driver else sp.nan
         factors.append((factor, cond))
     if all(f == factors[0][0] for f, _ in factors):
         return factors[0][0]

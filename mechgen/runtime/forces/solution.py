@@ -68,7 +68,10 @@ def _effort(tab, mech, name, lam_rows, factors):
     f = factors[..., cols]
     if np.any(np.isnan(f)):
         raise ValueError(f"driver {label!r}: its effort is not defined for this form of "
-                         "equation (only g(q) − f(T) and relative_distance drivers)")
+                         "equation (only g(q) − f(T) and relative_distance drivers, of one "
+                         "row in T: a driver of several, such as a point moved along a "
+                         "path, has no single driven quantity; its force on a body is "
+                         f"reaction({label!r}, on=body))")
     return np.sum(lam_rows[..., list(rows)] * f, axis=-1)
 
 
