@@ -200,6 +200,35 @@ class _System:
             q[cols] -= np.linalg.lstsq(self.jacobian(q, t)[:, cols], r, rcond=None)[0]
         return False
 
+    def switches(self) -> np.ndarray:
+        """The switch times of the stages whose rows still act (none where every stage
+        row is freed)."""
+        times = np.asarray(getattr(self.mod, "SWITCH_TIMES", ()), dtype=np.float64)
+        row = 0
+        for _, kind, _, count, _ in self.mod.CONSTRAINTS:
+            if kind == "stages" and self.keep[row:row + count].any():
+                return times
+            row += count
+        return times[:0]
+
+    def switch(self, q, qd, t, size):
+        """(q, q̇) just after a stage switch at t: q on the later stage's rows (they agree
+        in position) and q̇ changed by an impulse through the rows still acting, the least
+        change in kinetic energy, ½ Δq̇ᵀ M Δq̇, that meets Φ_C q̇ = ν_C of the later stage:
+        [M Φ_Cᵀ; Φ_C 0] (q̇⁺, −μ) = (M q̇⁻, ν_C) (a free pendulum keeps its momentum about
+        the cart whose prescribed speed jumps)."""
+        q, _, _ = self.project(q, qd, t, size)
+        n = self.n
+        M = np.empty((n, n))
+        self.mod.mass_matrix(q, t, self.p, M)
+        J = self.jacobian(q, t)
+        nu = np.empty(self.m)
+        self.mod.nu(q, t, self.p, nu)
+        c = J.shape[0]
+        A = np.block([[M, J.T], [J, np.zeros((c, c))]])
+        x = np.linalg.lstsq(A, np.concatenate([M @ qd, nu[self.keep]]), rcond=None)[0]
+        return q, x[:n]
+
     def residual(self, q, t):
         self.mod.phi(q, float(t), self.p, self.r)
         return self.r[self.keep]
@@ -372,23 +401,39 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
     QDD[0], LAM[0] = system.accelerations(q, qd, t_start)
     steps = evaluations = 0
     span = _compiled_span(system, rtol, atol, max_step) if method == COMPILED else None
-    for k in range(1, N):
-        t_a, t_b = float(ts[k - 1]), float(ts[k])
+    switches = system.switches()
+
+    def advance(y, t_a, t_b):
+        nonlocal span, method, steps, evaluations
         if span is not None:
             try:
-                y, taken, calls = span(np.concatenate([q, qd]), t_a, t_b)
+                y, taken, calls = span(y, t_a, t_b)
             except SingularError:
                 # the compiled path refuses rows that are redundant; where the motion is
                 # still determined (_System.redundant), scipy's RK45 (the same pair)
                 # integrates on the least-squares accelerations
-                if system.redundant(q, qd, t_a) is None:
+                if system.redundant(y[:mech.n], y[mech.n:], t_a) is None:
                     raise
                 span, method = None, "RK45"
         if span is None:
-            y, taken, calls = _scipy_span(system, np.concatenate([q, qd]), t_a, t_b,
-                                          method, rtol, atol, max_step)
+            y, taken, calls = _scipy_span(system, y, t_a, t_b, method, rtol, atol, max_step)
         steps += taken
         evaluations += calls
+        return y
+
+    for k in range(1, N):
+        t_a, t_b = float(ts[k - 1]), float(ts[k])
+        y = np.concatenate([q, qd])
+        for t_s in switches[(switches > min(t_a, t_b)) & (switches <= max(t_a, t_b))]:
+            if t_b < t_a:
+                break               # (backwards: no switch is crossed the other way)
+            # a stage of the rows still acting takes over: up to its switch on the earlier
+            # stage, then the impulse that its velocities ask for
+            y = advance(y, t_a, float(np.nextafter(t_s, -np.inf)))
+            y = np.concatenate(system.switch(y[:mech.n], y[mech.n:], float(t_s), size))
+            t_a = float(t_s)
+        if t_a != t_b:
+            y = advance(y, t_a, t_b)
         q, qd, _ = system.project(y[:mech.n], y[mech.n:], ts[k], size)
         Q[k], QD[k] = q, qd
         QDD[k], LAM[k] = system.accelerations(q, qd, ts[k])
