@@ -228,3 +228,33 @@ def test_simulate_across_a_switch_of_a_driver_still_prescribed(tmp_path, method)
     np.testing.assert_allclose(sw["Th3"], np.r_[a.y[0], b.y[0][1:]], atol=1e-7)
     np.testing.assert_allclose(sw["Th3d"], np.r_[a.y[1][:-1], b.y[1]], atol=1e-7)
     np.testing.assert_allclose(sw["X2d"][5:], 0.1, atol=1e-12)
+
+
+def test_two_drivers_that_prescribe_one_motion_say_their_efforts_are_shared(tmp_path):
+    # two gears on fixed shafts, each driven by its own rotation_lock at the meshing
+    # ratio: the two drivers and the mesh are redundant, and how the torque splits between
+    # the drivers is not determined. driver() gave the minimum-norm shares (-0.2867 and
+    # 0.1564) as if they were the efforts, silently; now a RedundancyWarning says so (their
+    # power together stays exact)
+    m = Model("audit_two_drivers")
+    base = m.ground("base", points=[(0, 0), (4, 0)])
+    a = m.body("A", points=[(0, 0), (1, 0)], guess=(0, 0, 0), mass=1, inertia=0.2)
+    b = m.body("B", points=[(0, 0), (3, 0)], guess=(4, 0, 0), mass=1, inertia=0.9)
+    m.revolute(base[1], a[1], name="a shaft")
+    m.revolute(base[2], b[1], name="b shaft")
+    m.gear_ratio(a[1], 1.0, b[1], 3.0, name="mesh")
+    m.rotation_lock(a, T + 0.5 * sin(2 * T), name="drive A")
+    m.rotation_lock(b, -(T + 0.5 * sin(2 * T)) / 3, name="drive B")
+    mech = _compile(m, tmp_path)
+    with pytest.warns(mechgen.RedundancyWarning):
+        s = mech.solve(0.3, level="dynamic")
+    with pytest.warns(mechgen.RedundancyWarning, match="not unique"):
+        ta = s.driver("drive A")
+    with pytest.warns(mechgen.RedundancyWarning, match="not unique"):
+        tb = s.driver("drive B")
+    w = 1 + np.cos(0.6)                              # the input's rate, and its acceleration
+    alpha = -2 * np.sin(0.6)
+    need = (0.2 + 0.9 / 9) * alpha * w               # d/dt of the kinetic energy
+    assert abs(ta * w + tb * (-w / 3) - need) < 1e-12
+    with pytest.warns(mechgen.RedundancyWarning, match="not unique"):
+        mech.sweep(0.0, 1.0, 3, level="dynamic").driver("drive B")

@@ -2,11 +2,12 @@
 multipliers, driver efforts and reactions (mechgen.runtime.forces)."""
 from __future__ import annotations
 
+import warnings
 from operator import mul as _mul
 
 import numpy as np
 
-from ...errors import SingularError
+from ...errors import RedundancyWarning, SingularError
 from ...protocol import SING_RTOL
 from ..entry import module_attr
 from ..guards import all_finite
@@ -73,6 +74,19 @@ def _effort(tab, mech, name, lam_rows, factors):
                          "path, has no single driven quantity; its force on a body is "
                          f"reaction({label!r}, on=body))")
     return np.sum(lam_rows[..., list(rows)] * f, axis=-1)
+
+
+def warn_shared(mech, name, indeterminate, stacklevel):
+    """A RedundancyWarning where driver ``name`` is among the constraints whose
+    multipliers are not unique (two drivers that prescribe one motion, say): its effort
+    is then the minimum-norm share of what the drivers together apply, not the effort."""
+    label = tables(mech).constraint(name, mech)[0]
+    if label in indeterminate:
+        others = "; ".join(c for c in indeterminate if c != label)
+        warnings.warn(f"model '{mech.name}': driver {label!r} is redundant with other "
+                      f"constraints ({others}): its effort is not unique, and the value "
+                      "given is the minimum-norm share (what the drivers apply together, "
+                      "their power, is exact)", RedundancyWarning, stacklevel=stacklevel)
 
 
 def _reaction(tab, mech, name, on, about, J, lam, q, point_xy):
@@ -199,7 +213,9 @@ class ForceSolution(Solution):
         """The driver's torque (angle driver) or force (distance driver), signed so that
         its power input is this value times the rate of the driven quantity."""
         mech = self.mechanism
-        return float(_effort(tables(mech), mech, name, self.lam, self._factors()))
+        value = float(_effort(tables(mech), mech, name, self.lam, self._factors()))
+        warn_shared(mech, name, self.indeterminate, 3)
+        return value
 
     def reaction(self, name, on, about=None) -> np.ndarray:
         """(fx, fy, moment): what constraint ``name`` applies to body ``on`` (the ground

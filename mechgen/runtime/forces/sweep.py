@@ -13,7 +13,7 @@ from .contact import CAM_KINDS, contact_labels, contact_values
 from .contact_loss import contact_loss, pulling
 from .lookup import _constraints_of, _name_of, tables
 from .points import PointForces, solve_points
-from .solution import ForceSolution, _effort, _point_xy, _reaction
+from .solution import ForceSolution, _effort, _point_xy, _reaction, warn_shared
 
 def _largest(r) -> float:
     """The largest size in a reaction array, NaN (unsolved points) left out; 0 if none."""
@@ -59,7 +59,9 @@ class ForceSweep(Sweep):
     def driver(self, name) -> np.ndarray:
         """The driver's effort at every point, (n,)."""
         mech = self.mechanism
-        return _effort(tables(mech), mech, name, self.LAM, self.FACTORS)
+        value = _effort(tables(mech), mech, name, self.LAM, self.FACTORS)
+        warn_shared(mech, name, getattr(self, "indeterminate", ()), 3)
+        return value
 
     def reaction(self, name, on, about=None) -> np.ndarray:
         """(n, 3): (fx, fy, moment) that constraint ``name`` applies to body ``on``."""
