@@ -9,6 +9,8 @@ every name the module uses (mechgen.compiler.codegen.names) and prints the bodie
 from __future__ import annotations
 
 import hashlib
+import re
+import unicodedata
 
 import sympy as sp
 
@@ -149,7 +151,7 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
 
     ctx = dict(
         name=model.name,
-        doc=(model.doc or "").strip(),
+        doc=docstring_text(model.doc),
         mechgen_version=__version__,
         format_version=FORMAT_VERSION,
         n=len(eq.q), m=eq.phi.rows, row_wraps=row_wraps(eq),
@@ -196,6 +198,18 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     ctx.update(drawing_context(model, points))
     ctx["hash"] = model_hash(ctx)
     return ctx
+
+
+def docstring_text(doc) -> str:
+    """The model's documentation as the module's docstring writes it: its lines as
+    given, with what would end or break the triple-quoted string escaped (backslashes,
+    runs of double quotes) and control characters (a NUL, a carriage return) left out,
+    so that Python reads back the model's text."""
+    text = str(doc or "").replace("\r\n", "\n").replace("\r", "\n")
+    text = "".join(c for c in text if c in "\n\t" or not unicodedata.category(c).startswith("C")
+                   or unicodedata.category(c) == "Cf").strip()
+    text = text.replace("\\", "\\\\")
+    return re.sub(r'"{2,}', lambda m: '\\"' * len(m.group()), text)
 
 
 def row_wraps(eq) -> list:

@@ -9,6 +9,7 @@ import os
 import jinja2
 import sympy
 
+from ..errors import MechgenError
 from ..protocol import STAMP, content_digest, header_constants
 from .codegen.names import template_dir
 from .context import module_context as solver_context
@@ -65,6 +66,27 @@ def render(model, *, sort=True, level="acceleration", outputs=None, cse=True,
     if command is None:
         command = build_command(source, sort=sort, level=level, outputs=outputs,
                                 closed_forms=closed_forms)
-    text = PREAMBLE.format(version=ctx["mechgen_version"], source=source, command=command,
-                           sympy=sympy.__version__) + body
+    text = PREAMBLE.format(version=ctx["mechgen_version"], source=_one_line(source),
+                           command=_one_line(command), sympy=sympy.__version__) + body
+    _check_parses(text, model.name)
     return STAMP.format(digest=content_digest(text)) + text
+
+
+def _one_line(text: str) -> str:
+    """Text for a comment line: a control character (a line break in a file's name)
+    shown as its escape."""
+    return "".join(c if c.isprintable() or c == " " else repr(c)[1:-1] for c in text)
+
+
+def _check_parses(text: str, name: str) -> None:
+    """Refuse to hand out a module Python cannot read (a model's text that reached the
+    code unescaped): an error now, not a file that fails when it is loaded."""
+    try:
+        compile(text, f"{name}.py", "exec", dont_inherit=True)
+    except (SyntaxError, ValueError) as exc:
+        line = getattr(exc, "lineno", None)
+        raise MechgenError(f"model '{name}': the generated module would not parse "
+                           f"({exc.__class__.__name__}: {getattr(exc, 'msg', exc)}"
+                           f"{f' at its line {line}' if line else ''}); a name or text of "
+                           "the model holds characters the code cannot carry; nothing was "
+                           "written") from None

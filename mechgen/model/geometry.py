@@ -1,6 +1,8 @@
 """Bodies, points and axes: the nouns of a model. Pure sympy, no numbers solved here."""
 from __future__ import annotations
 
+import unicodedata
+
 import sympy as sp
 
 from ..errors import ModelError
@@ -22,6 +24,20 @@ def as_pair(value, what: str):
         return sp.sympify(x), sp.sympify(y)
     except (sp.SympifyError, TypeError):
         raise ModelError(f"{what} must hold numbers or expressions, got {value!r}") from None
+
+
+def label_name(name, what: str) -> str:
+    """A ``name=`` label (a constraint's, a load's, a stage's), checked: a non-empty string
+    of one line. The label is written into the generated module's comments and tables,
+    into error messages and CSV headers, where a line break, a NUL or another control
+    character would break them."""
+    if not isinstance(name, str) or not name.strip():
+        raise ModelError(f"{what}: name= must be a non-empty string, got {name!r}")
+    bad = [c for c in name if unicodedata.category(c) in ("Cc", "Zl", "Zp")]
+    if bad:
+        raise ModelError(f"{what}: name= {name!r} holds the control character {bad[0]!r}; "
+                         "a name is one line of printable text")
+    return name
 
 
 def _describe(value) -> str:

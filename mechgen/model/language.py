@@ -14,7 +14,7 @@ from .constraints import (Constraint, Expression, Orthogonal, Parallel, PointOnL
                           RelativeAngle, RelativeDistance, RelativeX, RelativeY, Revolute,
                           RotationLock, Translate)
 from .forces.loads import LoadsMixin
-from .geometry import Body, T
+from .geometry import Body, T, label_name
 from .library2d.cams import CamsMixin
 from .library2d.methods import Mech2D
 from .quantities import register_coordinates, register_model
@@ -41,6 +41,9 @@ REFUSED = API_NAMES | {"T"} | set(keyword.kwlist)
 # modules the generated code, numba or mechgen import: a model may not take their names
 _IMPORTED = frozenset({"numpy", "numba", "llvmlite", "scipy", "sympy", "jinja2", "mechgen",
                        "matplotlib", "mpmath", "dask", "distributed", "pandas"})
+# the longest model name, in UTF-8 bytes: <name>.py and numba's cache files
+# <name>.<function>-<line>.py311.nbi must fit a file name (255 bytes on most systems)
+MAX_MODEL_NAME = 150
 _CREATED = None     # while model.loader runs a file: the list of every Model it creates
 
 
@@ -72,6 +75,11 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
             raise ModelError(f"Model name {name!r} is the name of a Python module (the "
                              "standard library's, or one mechgen and numba import): the "
                              "generated module would shadow it; choose another name")
+        if len(name.encode("utf-8")) > MAX_MODEL_NAME:
+            raise ModelError(f"Model name {name[:40]}... is {len(name.encode('utf-8'))} bytes "
+                             f"long: it names the module file <name>.py and numba's cache "
+                             f"files beside it, which the file system limits; keep it within "
+                             f"{MAX_MODEL_NAME} bytes")
         self.name = name
         self.doc = ""
         self.params: dict[str, tuple[sp.Symbol, float]] = {}
@@ -160,6 +168,10 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
         body = Body(self, name, number, _points(points, name), ground=False)
         for sym in body.coordinates:
             self._check_name(sym.name, f"coordinate of body '{name}'", derived=True)
+            if name in (sym.name, sym.name + "d", sym.name + "dd"):
+                raise ModelError(f"body name {name!r} clashes with the coordinate {sym.name} "
+                                 f"of this body (body {number}: X{number}, Y{number}, "
+                                 f"Th{number}), or its derivative; choose another")
         self._check_local(body)
         if isinstance(guess, (str, bytes)) or isinstance(guess, sp.MatrixBase):
             guess = list(guess) if isinstance(guess, sp.MatrixBase) else guess
@@ -221,8 +233,8 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
         from .geometry import Line, Point
         if isinstance(name, (Body, Point, Line)):
             raise ModelError(f"{cls.kind}: too many arguments ({name!r} is one too many)")
-        if name is not None and (not isinstance(name, str) or not name):
-            raise ModelError(f"{cls.kind}: name= must be a non-empty string, got {name!r}")
+        if name is not None:
+            label_name(name, cls.kind)
         con = cls(self, len(self.constraints) + 1, name, "", _where())
         try:
             con.args_text = con.build(*args)
@@ -238,6 +250,7 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
                 raise ModelError(f"constraint {con.number} {con.label}: {row} reads "
                                  f"{expr} = 0 and involves no coordinate: it constrains "
                                  "nothing or cannot hold")
+        _joins_two_bodies(con, args)
         con.points = _points_of(args)
         con.placed = [a for a in con.points if any(a is b for b in args)]
         self.constraints.append(con)
@@ -408,6 +421,7 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
 
     def _guess_value(self, value, what):
         expr = self._expr(value, what)
+        _real(expr, what)
         if T in expr.free_symbols:
             raise ModelError(f"{what} may not depend on T")
         return expr
@@ -419,6 +433,27 @@ def _real(expr, what, hint=""):
     if isinstance(expr, sp.Basic) and expr.has(sp.I):
         raise ModelError(f"{what}: {expr} is complex (it holds I); the module computes in "
                          f"real numbers{hint}")
+
+
+# the joints that relate two bodies: with every point and axis fixed in one body their
+# equations are constants of the coordinates (0 = 0, or an equation that cannot hold);
+# relative_x/relative_y between two points of one body are not among them (they set the
+# body's angle), nor are rotation_lock and constraint (checked by their equations)
+_TWO_BODY_KINDS = frozenset({"revolute", "translate", "point_on_line", "relative_distance",
+                             "parallel", "orthogonal", "relative_angle"})
+
+
+def _joins_two_bodies(con, args):
+    """A ModelError where a joint names points and axes of one body only."""
+    if con.kind not in _TWO_BODY_KINDS:
+        return
+    bodies = {p.body for p in _points_of(args)}
+    if len(bodies) == 1:
+        body = bodies.pop()
+        raise ModelError(f"constraint {con.number} {con.label}: every point and axis it names "
+                         f"is fixed in body '{body.name}', so its equations do not depend on "
+                         "the coordinates (they hold always or never): a joint "
+                         f"({con.kind}) relates two bodies; name a point or axis of the other")
 
 
 def _points_of(args):

@@ -27,7 +27,7 @@ import math
 import sympy as sp
 
 from ..errors import ModelError, _user_frame
-from .geometry import T
+from .geometry import T, label_name
 
 
 class Stage:
@@ -114,6 +114,7 @@ class StageMixin:
         positions must agree at each switch time (velocities may jump)."""
         if not isinstance(name, str) or not name.strip():
             raise ModelError(f"stage: the name must be a non-empty string, got {name!r}")
+        label_name(name, "stage")
         stages = self.stages
         active = self.__dict__.get("_stage_active")
         if active is not None:

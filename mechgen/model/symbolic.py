@@ -201,6 +201,9 @@ def check_square(model, eq=None):
         pass
     missing = n - m
     hint = "" if model.drivers else " The model has no driver (a constraint in T)."
+    if getattr(model, "ground_body", 1) is None and getattr(model, "moving_bodies", None):
+        hint += (" The model has no ground (m.ground(name, points=[...]), the fixed body): "
+                 "nothing holds its bodies in place.")
     text = (f"model '{model.name}' is not square: {m} equations for {n} coordinates "
             f"({', '.join(map(str, eq.q))}); {missing} equation{'s' if missing > 1 else ''} "
             f"missing: add {'a driver or a constraint' if missing == 1 else 'drivers or constraints'}."

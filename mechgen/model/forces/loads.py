@@ -14,12 +14,20 @@ from __future__ import annotations
 import sympy as sp
 
 from ...errors import ModelError
-from ..geometry import Body, Line, Point, T, as_pair
+from ..geometry import Body, Line, Point, T, as_pair, label_name
 
 
 def _s(expr) -> str:
     """An expression as a label shows it (1.5, not 1.50000000000000)."""
     return sp.sstr(expr, full_prec=False)
+
+
+def _real(expr, what):
+    """``expr``, or a ModelError where it holds the imaginary unit."""
+    if expr.has(sp.I):
+        raise ModelError(f"{what}: {expr} is complex (it holds I); the module computes in "
+                         "real numbers")
+    return expr
 
 
 class Load:
@@ -69,7 +77,7 @@ class LoadsMixin:
         return m, j, c
 
     def _property(self, value, what):
-        expr = self._expr(value, what)
+        expr = _real(self._expr(value, what), what)
         if T in expr.free_symbols:
             raise ModelError(f"{what} may not depend on T")
         return expr
@@ -89,6 +97,11 @@ class LoadsMixin:
         if self.gravity_vector is not None:
             raise ModelError(f"model '{self.name}' already has gravity; declare it once")
         g = self._property(g, "gravity: g")
+        number = g.subs({s: v for s, v in self.params.values()})
+        if number.is_number and float(number) < 0:
+            raise ModelError(f"gravity: g = {_s(g)} is negative: g is the magnitude, and "
+                             "direction= gives the way it acts (downwards, (0, -1), unless "
+                             "given); write m.gravity(9.81) for gravity pointing down")
         d = [self._property(v, "gravity: direction") for v in as_pair(direction,
                                                                        "gravity: direction")]
         size = sp.sqrt(d[0] ** 2 + d[1] ** 2)
@@ -104,6 +117,11 @@ class LoadsMixin:
         ``force(p, f, along=axis)``: magnitude f along the axis' direction (turning with
         the axis' body)."""
         p = self._load_point(point, "force", 1)
+        if p.body.is_ground:
+            raise ModelError(f"force: point {p.label} is fixed in the ground '{p.body.name}', "
+                             "which does not move: a force on it does no work and enters no "
+                             "equation (what the joints apply to the ground is "
+                             f"s.reaction(name, on='{p.body.name}')); put it on a moving body")
         if along is not None:
             if not isinstance(along, Line):
                 raise ModelError(f"force: along= must be an axis such as body.line(1, 2), "
@@ -127,6 +145,12 @@ class LoadsMixin:
             bodies, value = (self._load_body(b1, "moment", 1),), b2_or_value
         else:
             bodies = (self._load_body(b1, "moment", 1), self._load_body(b2_or_value, "moment", 2))
+        if all(b.is_ground for b in bodies) or len(bodies) == 2 and bodies[0] is bodies[1]:
+            what = ("the ground, which does not move" if bodies[0].is_ground else
+                    f"body '{bodies[0].name}' twice (+M and -M cancel)")
+            raise ModelError(f"moment({', '.join(b.name for b in bodies)}, ...): it acts on "
+                             f"{what}: it enters no equation; a moment acts on a moving body "
+                             "(or between two bodies)")
         m = self._load_value(value, "moment: M")
         text = f"moment({', '.join(b.name for b in bodies)}, {_s(m)})"
         return self._add_load(Load("moment", self._load_name(name, "moment"), bodies=bodies,
@@ -137,8 +161,11 @@ class LoadsMixin:
         (conservative: its energy ½k(distance − length)² is the model's potential)."""
         a = self._load_point(p1, "spring", 1)
         b = self._load_point(p2, "spring", 2)
+        self._two_bodies("spring", a, b)
         k = self._load_value(k, "spring: k", velocities=False)
         length = self._load_value(length, "spring: length", velocities=False)
+        self._not_negative(k, f"spring({a.label}, {b.label}): the stiffness k", zero=False)
+        self._not_negative(length, f"spring({a.label}, {b.label}): the free length")
         return self._add_load(Load("spring", self._load_name(name, "spring"), points=(a, b),
                                    k=k, length=length,
                                    text=f"spring({a.label}, {b.label}, k={_s(k)}, length={_s(length)})"))
@@ -147,7 +174,9 @@ class LoadsMixin:
         """A damper between two points: tension c·(rate of change of their distance)."""
         a = self._load_point(p1, "damper", 1)
         b = self._load_point(p2, "damper", 2)
+        self._two_bodies("damper", a, b)
         c = self._load_value(c, "damper: c")
+        self._not_negative(c, f"damper({a.label}, {b.label}): the coefficient c", zero=False)
         return self._add_load(Load("damper", self._load_name(name, "damper"), points=(a, b),
                                    c=c, text=f"damper({a.label}, {b.label}, c={_s(c)})"))
 
@@ -160,8 +189,7 @@ class LoadsMixin:
     def _load_name(self, name, kind):
         if name is None:
             return None
-        if not isinstance(name, str) or not name:
-            raise ModelError(f"{kind}: name= must be a non-empty string, got {name!r}")
+        label_name(name, kind)
         if any(x.name == name for x in self.loads):
             raise ModelError(f"{kind}: a load named {name!r} exists already")
         return name
@@ -174,6 +202,26 @@ class LoadsMixin:
             raise ModelError(f"{kind}: argument {pos} ({value}) belongs to another model")
         return value
 
+    def _two_bodies(self, kind, a, b):
+        """A spring or damper joins two bodies: with both ends in one its length never
+        changes and it acts on nothing."""
+        if a.body is b.body:
+            raise ModelError(f"{kind}({a.label}, {b.label}): both ends are fixed in body "
+                             f"'{a.body.name}', so their distance never changes and the "
+                             f"{kind} acts on nothing; join points of two bodies")
+
+    def _not_negative(self, value, what, zero=True):
+        """A ModelError where ``value`` is negative at the parameters' defaults, or (``zero``
+        False) a plain number that is 0; values that read the coordinates are not checked."""
+        number = value.subs({s: v for s, v in self.params.values()})
+        if not number.is_number:
+            return
+        x = complex(number)
+        if x.imag == 0 and (x.real < 0 or (not zero and x.real == 0 and value.is_number)):
+            at = "" if value.is_number else f" ({x.real:g} at the parameters' defaults)"
+            raise ModelError(f"{what} {_s(value)} is {'negative' if x.real < 0 else 'zero'}"
+                             f"{at}: it must be {'not negative' if zero else 'positive'}")
+
     def _load_body(self, value, kind, pos):
         if isinstance(value, str):
             value = self[value]
@@ -184,7 +232,8 @@ class LoadsMixin:
 
     def _load_value(self, value, what, velocities=True):
         """A load's value: coordinates, velocities (not accelerations), T and parameters."""
-        expr = self._expr(value, what, allow_coordinates=True, allow_derivatives=velocities)
+        expr = _real(self._expr(value, what, allow_coordinates=True,
+                                allow_derivatives=velocities), what)
         from ..symbolic import derivative_symbols
         _, qdd = derivative_symbols(self.coords)
         if expr.free_symbols & set(qdd):
