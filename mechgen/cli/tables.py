@@ -69,6 +69,10 @@ def force_column(mech, name) -> bool:
     entry = tab.find(name, mech)
     if entry is not None:
         return entry[2]
+    if name.endswith(" effort"):       # a driver named like a column: its effort's column
+        entry = tab.find(name[:-len(" effort")], mech)
+        if entry is not None:
+            return entry[2]
     head, _, part = name.rpartition(" ")
     constraint, on, body = head.rpartition(" on ")
     return bool(on) and part in ("fx", "fy", "m") and constraint in tab.constraints and \

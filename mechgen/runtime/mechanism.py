@@ -144,7 +144,7 @@ class Mechanism:
                 raise ValueError(f"model '{self.name}' with {given}: {wrong}")
         return p
 
-    def with_params(self, **values) -> "Mechanism":
+    def with_params(self, /, **values) -> "Mechanism":
         """A copy with some parameters changed (``mech.with_params(longitud=1.5)``). It
         keeps the guess and the assembly mode the guess has at the parameters it was given
         for (the model's own, or those of set_guess): its solves and sweeps start where

@@ -94,6 +94,27 @@ def _name_of(label, kind):
     return label.split(marker, 1)[0] if marker in label else None
 
 
+def column_name(tab, label, kind, number) -> str:
+    """How a table's columns name a constraint: its name=, or its number where it has
+    none or shares its name with another constraint (two columns "pin on crank fx"
+    would be told apart by position only)."""
+    name = _name_of(label, kind)
+    return name if name is not None and name not in tab.ambiguous else str(number)
+
+
+def effort_column(name, taken) -> str:
+    """The table column of a driver's effort: its name, or ``<name> effort`` where that
+    name is a column already (a coordinate, an output or a parameter of the same name:
+    a driver named like the coordinate it drives), so that no two columns share a name.
+    ``taken`` (a set) gains the column."""
+    column, k = name, 1
+    while column in taken:
+        k += 1
+        column = f"{name} effort" if k == 2 else f"{name} effort {k - 1}"
+    taken.add(column)
+    return column
+
+
 def _stage_names(label, kind):
     """The names of a stage group's constraints, ``[stage] name: kind(args) | ...``."""
     if kind != "stages":

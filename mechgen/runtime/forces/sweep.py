@@ -11,7 +11,7 @@ from ...protocol import SING_RTOL, STATUS_COLUMNS
 from ..results import Sweep
 from .contact import CAM_KINDS, contact_labels, contact_values
 from .contact_loss import contact_loss, pulling
-from .lookup import _constraints_of, _name_of, tables
+from .lookup import _constraints_of, column_name, effort_column, tables
 from .points import PointForces, solve_points
 from .solution import ForceSolution, _effort, _point_xy, _reaction, warn_shared
 
@@ -127,16 +127,17 @@ class ForceSweep(Sweep):
         mech = self.mechanism
         names, arrays = [], []
         short = {}
+        taken = {"T", *self.columns()}
         free = set(getattr(self, "free", ()))     # a simulation's released drivers: no effort
         for number, kind, label, _, driver in mech.module.CONSTRAINTS:
-            short[label] = _name_of(label, kind) or str(number)
+            short[label] = column_name(tables(mech), label, kind, number)
             rows = tables(mech).constraint(label, mech)[1]
             if driver and not all(mech.constraint_labels[r] in free for r in rows):
                 try:
                     arrays.append(self.driver(label))
                 except ValueError:      # an effort this slice does not define: no column
                     continue
-                names.append(short[label])
+                names.append(effort_column(short[label], taken))
         if not len(self):
             return names, arrays
         tab = tables(mech)

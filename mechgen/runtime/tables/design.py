@@ -20,7 +20,7 @@ import numpy as np
 from ...errors import BranchJumpWarning, MechgenError
 from ...protocol import JUMP, LEVEL, LEVELS, THROUGH_SINGULAR
 from ..forces import attach, is_force_level
-from ..forces.lookup import _name_of, tables
+from ..forces.lookup import column_name, effort_column, tables
 from ..guards import finite, fits, point_bytes, sweep_times
 from ..quantity import _lookup, column_names
 from ..results import Sweep, pandas, write_csv
@@ -178,7 +178,7 @@ class DesignTable:
     def __len__(self):
         return int(np.prod(self.shape))
 
-    def _flat(self, index=None, **values):
+    def _flat(self, index=None, /, **values):
         if values and not self.grid:
             if index is not None:
                 raise TypeError("give a design index or parameter values, not both")
@@ -213,7 +213,7 @@ class DesignTable:
             index = (index,)
         return int(np.ravel_multi_index(index, self.shape))
 
-    def sweep(self, *index, **values):
+    def sweep(self, /, *index, **values):
         """One design as a Sweep (only the points it solved). Its ``mechanism`` has the
         design's parameters and, as its guess, the design's first point: its later solves
         keep the mode the table gave the design (the guess= of the table's, if any)."""
@@ -304,7 +304,10 @@ class DesignTable:
         tmin and tmax of each reduced quantity (``X4_min``, ...)."""
         grid = self.design_params()
         if not self.kept_points:
-            header = list(self.names) + ["status"]
+            status = "status"
+            while status in self.names:     # a parameter named status keeps its name
+                status += "_"
+            header = list(self.names) + [status]
             cols = [grid[:, j] for j in range(len(self.names))] + [self._status.astype(float)]
             for name, red in self._reduced.items():
                 for what in ("min", "max", "tmin", "tmax"):
@@ -319,8 +322,9 @@ class DesignTable:
         for name in column_names(mech, self._have, coordinates=mech.coordinates):
             header.append(name)
             cols.append(self[name].reshape(-1))
+        taken = set(header)
         for name, label in self._driver_columns():
-            header.append(name)
+            header.append(effort_column(name, taken))
             cols.append(self.driver(label).reshape(-1))
         return header, np.column_stack(cols)
 
@@ -339,7 +343,7 @@ class DesignTable:
                 driver_slot(mech, label, self.force_level)
             except ValueError:          # an effort this slice does not define: no column
                 continue
-            out.append((_name_of(label, kind) or str(number), label))
+            out.append((column_name(tables(mech), label, kind, number), label))
         return out
 
     def to_csv(self, path):
