@@ -260,6 +260,11 @@ def test_a_driver_named_like_a_coordinate_gets_a_column_of_its_own(tmp_path):
     np.testing.assert_allclose(data[5:, header.index("phi effort")], effort, rtol=1e-12)
     from mechgen.cli.tables import force_column
     assert force_column(mech, "phi effort") and force_column(mech, "phi")
+    # reduce= reads names as the tables do: "phi" the angle (it reduced the torque)
+    red = mech.sweep(0, 1, 5, params={"w": np.array([2.0])}, level="dynamic",
+                     reduce=["phi", "phi effort"])
+    assert abs(red.reduced("phi").max[0] - 2.1) < 1e-12 and abs(red.reduced("phi").min[0] - 0.1) < 1e-12
+    assert abs(red.reduced("phi effort").max[0] - effort.max()) < 1e-9
 
 
 def test_two_constraints_of_one_name_get_distinct_reaction_columns(tmp_path):

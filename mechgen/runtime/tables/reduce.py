@@ -52,13 +52,17 @@ def reduce_slots(mech, names, have, force_level=None):
         raise ValueError("reduce: give at least one quantity name (reduce=['X4'])")
     slots = np.zeros((len(names), 3), dtype=np.int64)
     for j, name in enumerate(names):
-        slot = driver_slot(mech, name, force_level)
-        if slot is not None:
-            slots[j] = slot
-            continue
+        # a coordinate or output first, as the tables name their columns: a driver named
+        # like one (a coordinate phi driven by the constraint "phi") is "phi effort" there
         try:
             kind, k, order = _lookup(mech, name)
         except (KeyError, TypeError) as exc:
+            slot = driver_slot(mech, name, force_level)
+            if slot is None and isinstance(name, str) and name.endswith(" effort"):
+                slot = driver_slot(mech, name[:-len(" effort")], force_level)
+            if slot is not None:
+                slots[j] = slot
+                continue
             raise ValueError(f"reduce: {exc.args[0]}") from None
         need = order if kind == "q" else mech.output_orders[k] + order
         if need > have:
