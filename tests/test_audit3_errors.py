@@ -277,3 +277,14 @@ def test_two_constraints_of_one_name_get_distinct_reaction_columns(tmp_path):
     assert len(set(header)) == len(header), [h for h in header if header.count(h) > 1]
     np.testing.assert_allclose(data[:, header.index("1 on crank fx")],
                                sw.reaction(1, on="crank")[:, 0], atol=0)
+
+
+def test_a_force_along_an_axis_of_another_model_is_refused():
+    """force(p, f, along=<an axis of another model>) was accepted: its direction, written
+    in that model's Th2, was read as this model's Th2 (another body)."""
+    other, *_, other_rod, _ = slider_crank("other")
+    m, base, crank, rod, slider = slider_crank()
+    with pytest.raises(ModelError, match=r"along= rod.line\(1, 2\) belongs to model 'other'"):
+        m.force(slider[1], 10.0, along=other_rod.line(1, 2))
+    assert not m.loads
+    m.force(slider[1], 10.0, along=rod.line(1, 2))

@@ -126,6 +126,11 @@ class LoadsMixin:
             if not isinstance(along, Line):
                 raise ModelError(f"force: along= must be an axis such as body.line(1, 2), "
                                  f"got {along!r}")
+            if along.model is not self:
+                raise ModelError(f"force: along= {along!r} belongs to model "
+                                 f"'{along.model.name}', not to model '{self.name}' (its "
+                                 "direction would read this model's coordinates of the same "
+                                 "names); use an axis of this model")
             mag = self._load_value(f, "force: magnitude")
             u = along.u
             vec = sp.Matrix([mag * u[0], mag * u[1]]) / sp.sqrt(u[0] ** 2 + u[1] ** 2)
