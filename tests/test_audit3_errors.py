@@ -288,3 +288,13 @@ def test_a_force_along_an_axis_of_another_model_is_refused():
         m.force(slider[1], 10.0, along=other_rod.line(1, 2))
     assert not m.loads
     m.force(slider[1], 10.0, along=rod.line(1, 2))
+
+
+def test_a_numpy_integer_indexes_a_point():
+    """body[np.int64(2)] (a loop over np.arange) was refused: 'a point index must be an
+    integer, got np.int64(2)'."""
+    m, base, crank, rod, slider = slider_crank()
+    assert crank[np.int64(2)].label == "crank[2]"
+    assert repr(rod.line(np.int32(1), np.int64(2))) == "rod.line(1, 2)"
+    with pytest.raises(ModelError, match="must be an integer"):
+        crank[np.float64(2.0)]

@@ -1,6 +1,7 @@
 """Bodies, points and axes: the nouns of a model. Pure sympy, no numbers solved here."""
 from __future__ import annotations
 
+import numbers
 import unicodedata
 
 import sympy as sp
@@ -82,7 +83,7 @@ class Body:
         """``body[k]``: the k-th point of the body's list, counted from 1 (Mech's P1, P2,
         ...); ``body[0]`` is the origin of the body's local frame (local (0, 0), the point
         whose global position is (X<n>, Y<n>); for the ground, the global origin)."""
-        if isinstance(k, bool) or not isinstance(k, (int, sp.Integer)):
+        if isinstance(k, bool) or not isinstance(k, (numbers.Integral, sp.Integer)):
             raise ModelError(f"body '{self.name}': a point index must be an integer, got {k!r}")
         k = int(k)
         if k == 0:
