@@ -315,3 +315,28 @@ def test_an_expression_in_another_models_coordinates_is_refused():
     b.body("b1", points=[(0, 0), (2, 0)])
     with pytest.raises(ModelError, match="model_a"):
         b.output("o", location(a1[2])[0])
+
+
+def test_a_spring_whose_ends_meet_is_a_singular_error_not_a_zero_division(tmp_path):
+    """A spring of free length 0.5 from a crank's tip to the ground point the tip passes
+    at t=0: solve(0, level="static"/"dynamic"), the force sweep and simulate raised a bare
+    ZeroDivisionError from the generated code (both tiers). Away from it the torque is
+    the spring's moment: k (L - L0) / L * sin(2t), L = 2 sin(t) (100 (0.19967 - 0.5)
+    / 0.19967 * 0.19867 = -29.883 at t = 0.1)."""
+    m = Model("spring_meets")
+    g = m.ground("g", points=[(0, 0), (1, 0)])
+    crank = m.body("crank", points=[(0, 0), (1, 0)], guess=(0, 0, 0.0), mass=1.0,
+                   inertia=0.1, centroid=(0.5, 0))
+    m.revolute(g[1], crank[1])
+    m.rotation_lock(crank, 2 * T, name="drive")
+    m.spring(crank[2], g[2], 100.0, 0.5, name="spr")
+    mech = mechgen.load(build(m, str(tmp_path)), tier="python")
+    for call in (lambda: mech.solve(0.0, level="static"),
+                 lambda: mech.solve(0.0, level="dynamic"),
+                 lambda: mech.sweep(0, 1, 3, level="dynamic"),
+                 lambda: mech.simulate(0, 0.2, 3, free=["drive"])):
+        with pytest.raises(mechgen.SingularError, match=r"divide by zero .*t=0.*spr \(spring\)"):
+            call()
+    L = 2 * np.sin(0.1)
+    expected = 100.0 * (L - 0.5) / L * np.sin(0.2)
+    assert abs(abs(mech.solve(0.1, level="dynamic").driver("drive")) - abs(expected)) < 1e-9

@@ -2,6 +2,8 @@
 rows and whether they drive, the bodies with their coordinates, and the force levels."""
 from __future__ import annotations
 
+import functools
+
 FORCE_LEVELS = ("static", "dynamic")
 
 
@@ -10,6 +12,34 @@ FORCE_LEVELS = ("static", "dynamic")
 # the kinematic level (protocol.LEVEL) its sweep runs at, its name
 FUSED_PATHS = {"static": ("STATIC_FUSED", 0, "sweep_fast_statics"),
                "dynamic": ("FORCE_FUSED", 2, "sweep_fast_forces")}
+
+
+def loads_guarded(span: bool):
+    """Decorate a force solve (``span`` False: its first argument after the mechanism is t)
+    or a force sweep or simulation (True: t0, t1) so that a division by zero in the module's
+    force functions (a spring or damper whose two ends meet has no direction; a load that
+    divides by zero there) is a SingularError that says when and names the springs and
+    dampers, not a bare ZeroDivisionError from the generated code."""
+    def wrap(func):
+        @functools.wraps(func)
+        def guarded(mech, *args, **kwargs):
+            try:
+                return func(mech, *args, **kwargs)
+            except ZeroDivisionError:
+                pass
+            from ...errors import SingularError
+            t = float(args[0])
+            when = f"between t={t:.10g} and t={float(args[1]):.10g}" if span else \
+                f"at t={t:.10g}"
+            ends = [f"{name or kind} ({kind})" for name, kind, _ in
+                    getattr(mech.module, "LOADS", ()) if kind in ("spring", "damper")]
+            said = (f"a spring or damper whose two ends meet has no direction (this model's: "
+                    f"{', '.join(ends)}), or " if ends else "")
+            raise SingularError(f"model '{mech.name}': the force terms divide by zero {when}: "
+                                f"{said}a load, mass or spring expression divides by zero "
+                                "there", t=t if not span else float("nan")) from None
+        return guarded
+    return wrap
 
 
 def is_force_level(level) -> bool:

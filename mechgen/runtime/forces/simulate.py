@@ -37,7 +37,7 @@ from ..guards import positive_tol, sweep_times
 from ..guesses import start_vector
 from ...protocol import SING_RTOL
 from ..results import Sweep
-from .lookup import _constraints_of, tables
+from .lookup import _constraints_of, loads_guarded, tables
 from .points import CONSISTENT_RTOL, svd_solve
 from .sweep import ForceSweep
 
@@ -356,6 +356,7 @@ def _compiled_span(system, rtol, atol, max_step):
     return span
 
 
+@loads_guarded(span=True)
 def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
              method=COMPILED, max_step=np.inf, progress=None) -> ForceSweep:
     """See Mechanism.simulate."""

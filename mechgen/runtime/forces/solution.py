@@ -13,7 +13,7 @@ from ..entry import module_attr
 from ..guards import all_finite
 from ..results import Solution
 from .contact import contact_labels, contact_values
-from .lookup import _constraints_of, tables
+from .lookup import _constraints_of, loads_guarded, tables
 from .points import MISSING, by_blocks, svd_solve, written_out
 
 # -- one point ----------------------------------------------------------------------------
@@ -329,6 +329,7 @@ def _rhs(terms):
     return terms[0] + terms[1] - terms[2]
 
 
+@loads_guarded(span=False)
 def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -> ForceSolution:
     """``mech.solve(t, level="static"|"dynamic")``: the kinematic solve, then λ: in the
     derivatives' pass where the module has dynamics_sorted, else one compiled call where

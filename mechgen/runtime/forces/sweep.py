@@ -11,7 +11,7 @@ from ...protocol import SING_RTOL, STATUS_COLUMNS
 from ..results import Sweep
 from .contact import CAM_KINDS, contact_labels, contact_values
 from .contact_loss import contact_loss, pulling
-from .lookup import _constraints_of, column_name, effort_column, tables
+from .lookup import _constraints_of, column_name, effort_column, loads_guarded, tables
 from .points import PointForces, solve_points
 from .solution import ForceSolution, _effort, _point_xy, _reaction, warn_shared
 
@@ -316,6 +316,7 @@ def _completed(mech, sw, level, fused) -> PointForces:
     return pts
 
 
+@loads_guarded(span=True)
 def force_sweep(mech, t0, t1, n, level, guess=None, method=None, tol=None, maxit=None,
                 times=None) -> ForceSweep:
     """``mech.sweep(t0, t1, n, level="static"|"dynamic")``: the kinematic sweep (at
