@@ -27,19 +27,24 @@ def loads_guarded(span: bool):
                 return func(mech, *args, **kwargs)
             except ZeroDivisionError:
                 pass
-            from ...errors import SingularError
             t = float(args[0])
             when = f"between t={t:.10g} and t={float(args[1]):.10g}" if span else \
                 f"at t={t:.10g}"
-            ends = [f"{name or kind} ({kind})" for name, kind, _ in
-                    getattr(mech.module, "LOADS", ()) if kind in ("spring", "damper")]
-            said = (f"a spring or damper whose two ends meet has no direction (this model's: "
-                    f"{', '.join(ends)}), or " if ends else "")
-            raise SingularError(f"model '{mech.name}': the force terms divide by zero {when}: "
-                                f"{said}a load, mass or spring expression divides by zero "
-                                "there", t=t if not span else float("nan")) from None
+            raise division_error(mech, when, float("nan") if span else t) from None
         return guarded
     return wrap
+
+
+def division_error(mech, when, t=float("nan")):
+    """The SingularError of loads_guarded: the force terms divide by zero ``when``."""
+    from ...errors import SingularError
+    ends = [f"{name or kind} ({kind})" for name, kind, _ in
+            getattr(mech.module, "LOADS", ()) if kind in ("spring", "damper")]
+    said = (f"a spring or damper whose two ends meet has no direction (this model's: "
+            f"{', '.join(ends)}), or " if ends else "")
+    return SingularError(f"model '{mech.name}': the force terms divide by zero (or are "
+                         f"not finite) {when}: "
+                         f"{said}a load, mass or spring expression divides by zero there", t=t)
 
 
 def is_force_level(level) -> bool:

@@ -37,7 +37,7 @@ from ..guards import positive_tol, sweep_times
 from ..guesses import start_vector
 from ...protocol import SING_RTOL
 from ..results import Sweep
-from .lookup import _constraints_of, loads_guarded, tables
+from .lookup import _constraints_of, division_error, loads_guarded, tables
 from .points import CONSISTENT_RTOL, svd_solve
 from .sweep import ForceSweep
 
@@ -345,6 +345,9 @@ def _compiled_span(system, rtol, atol, max_step):
         code = mod.integrate_span(y, t_a, t_b, system.p, system.keep, float(rtol),
                                   float(atol), float(max_step), INTERVAL_EVALUATIONS, stats)
         t = float(stats[3])
+        if code == 1 and not (np.isfinite(t) and np.all(np.isfinite(y))):
+            # not a rank loss: the state went NaN, the forces were not finite on the way
+            raise division_error(system.mech, f"between t={t_a:.10g} and t={t_b:.10g}")
         if code == 1:
             raise system.singular(y[:system.n], t)
         if code == 2:

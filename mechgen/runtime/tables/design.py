@@ -20,7 +20,8 @@ import numpy as np
 from ...errors import BranchJumpWarning, MechgenError
 from ...protocol import JUMP, LEVEL, LEVELS, THROUGH_SINGULAR
 from ..forces import attach, is_force_level
-from ..forces.lookup import column_name, effort_column, tables
+from ..forces.lookup import (column_name, division_error, effort_column, loads_guarded,
+                             tables)
 from ..guards import finite, fits, point_bytes, sweep_times
 from ..quantity import _lookup, column_names
 from ..results import Sweep, pandas, write_csv
@@ -244,8 +245,11 @@ class DesignTable:
             raise ValueError(f"constraint {label!r} of model '{mech.name}' is not a driver "
                              "(its equations do not hold T)")
         _, index, _ = driver_slot(mech, label, self.force_level)
-        out = driver_efforts(mech.module, self.t, self.P, self.Q, self.QD, self.QDD,
-                             self.done, index, self.force_level)
+        try:
+            out = driver_efforts(mech.module, self.t, self.P, self.Q, self.QD, self.QDD,
+                                 self.done, index, self.force_level)
+        except ZeroDivisionError:
+            raise division_error(mech, f"in tab.driver({name!r})") from None
         return out.reshape(self.shape + (len(self.t),))
 
     @property
@@ -409,7 +413,17 @@ def design_list(base, index, names, axes) -> np.ndarray:
     return np.ascontiguousarray(P)
 
 
-def design_table(mech, t0, t1, n, params, level="position", guess=None, method=None,
+def design_table(mech, t0, t1, n, params, level="position", **options):
+    """A design table (_design_table); at a force level a division by zero in the force
+    functions is a SingularError naming the springs and dampers (lookup.loads_guarded)."""
+    force = is_force_level(level)
+    run = loads_guarded(span=True)(_design_table) if force else _design_table
+    # the warnings point at the caller's line: this frame and the guard's are more
+    options["stacklevel"] = options.get("stacklevel", 4) + (2 if force else 1)
+    return run(mech, t0, t1, n, params, level, **options)
+
+
+def _design_table(mech, t0, t1, n, params, level="position", guess=None, method=None,
                  tol=None, maxit=None, times=None, progress=None, on_fail="warn",
                  backend="cpu", workers=None, client=None, reduce=None, grid=True,
                  stacklevel=4):
