@@ -148,6 +148,27 @@ def _mesh_counts(mod, q, t, p):
     return out
 
 
+def _in_range(w, unwrapped, turns, same, solved):
+    """w with its bodies' rotations that Φ reads unwrapped (a rack's in rack_ratio's rolling
+    row r (θ_pinion − θ_rack)) brought into (−π, π] where a solution is there with every
+    body turned as in w: a rack turned a whole turn solves Φ with its travel a pinion's
+    circumference further on, the same meshing teeth further on (as mechgen.turns says of
+    gears), reported as the one whose angles lie in (−π, π]."""
+    out = w
+    for j in unwrapped:
+        r = math.remainder(out[j], 2 * math.pi)
+        r = math.pi if r == -math.pi else r
+        if r == out[j]:
+            continue
+        v = out.copy()
+        v[j] = r
+        if solved(v) and abs(math.remainder(v[j], 2 * math.pi) - r) <= same and \
+                all(abs(math.remainder(v[k] - out[k], 2 * math.pi)) <= same for k in turns):
+            v[j] = r
+            out = v
+    return out
+
+
 def _flip_of(a, b, angles, same):
     """True when b is a turned half a turn in some angle coordinates and equal elsewhere:
     the mirror root of a parallel or point-on-line condition (a slider reversed on its
@@ -188,6 +209,7 @@ def assemblies(mech, t, q_guess, starts, level, tol, method, flips=False):
     angles = angle_coordinates(mech)
     turns = tuple(sorted(set(angles) | set(body_angles(mech))))   # compared modulo 2π
     others = [j for j in range(mech.n) if j not in angles]
+    unwrapped = [j for j in turns if j not in angles]   # a rack's rotation in its rolling row
     pts = mech.points_at(q_guess, t)
     finite = pts[np.isfinite(pts)]
     size = max([1.0] + [abs(float(q_guess[j])) for j in others] +
@@ -196,11 +218,14 @@ def assemblies(mech, t, q_guess, starts, level, tol, method, flips=False):
     info = np.zeros(POINT_INFO_SIZE)
     found = []
 
-    def attempt(q):
+    def solved(q):
         status = mod.solve_position(q, t, mech.p, tol, mech.xtol, mech.maxit, method, info)
-        if status != OK or not np.all(np.isfinite(q)) or mech.residual(q, t) > tol:
+        return status == OK and bool(np.all(np.isfinite(q))) and mech.residual(q, t) <= tol
+
+    def attempt(q):
+        if not solved(q):
             return
-        w = _wrap(q, angles)
+        w = _in_range(_wrap(q, angles), unwrapped, turns, same, solved)
         if not any(same_pose(other, w, turns, same) for other in found):
             found.append(w)
 
