@@ -51,3 +51,64 @@ def test_a_rack_has_two_poses_with_its_angle_in_range(long_rack, t):
     assert modes[0]["X3"] == pytest.approx(r * theta, abs=1e-9)     # the guess's mode first
     assert abs(modes[1]["Th3"]) == pytest.approx(math.pi, abs=1e-12)
     assert np.all(np.abs(long_rack.residual(modes[1].q, t)) < 1e-9)
+
+
+# -- an offset slider-crank (crank a = 1, rod b = 3.2, slider on y = e = 0.4) driven by
+# its crank, θ = 0.3 + 2πT; the model's guess has the slider right of the crank ----------
+SLIDER_CRANK = '''
+from mechgen import Model, T, pi
+m = Model("offset_slider_crank")
+a = m.param("a", 1.0)
+b = m.param("b", 3.2)
+e = m.param("e", 0.4)
+g = m.ground("g", points=[(0, 0)])
+crank = m.body("crank", points=[(0, 0), (a, 0)], guess=(0, 0, 0.3))
+rod = m.body("rod", points=[(0, 0), (b, 0)], guess=(0.95, 0.3, 0.0))
+slider = m.body("slider", points=[(0, 0)], guess=(4.1, 0.4, 0))
+m.revolute(g[1], crank[1])
+m.revolute(crank[2], rod[1])
+m.revolute(rod[2], slider[1])
+m.relative_y(slider[1], e)
+m.rotation_lock(slider, 0)
+m.rotation_lock(crank, 0.3 + 2 * pi * T, name="crank angle")
+'''
+
+
+def slider_crank(t, side):
+    """(Th3, X4) of the offset slider-crank at t with the slider right (side +1) or left
+    (-1) of the crank pin: X4 = a cos θ + side √(b² − (e − a sin θ)²)."""
+    th = 0.3 + 2 * math.pi * t
+    ax, ay = math.cos(th), math.sin(th)
+    x4 = ax + side * math.sqrt(3.2 ** 2 - (0.4 - ay) ** 2)
+    return math.atan2(0.4 - ay, x4 - ax), x4
+
+
+@pytest.fixture(scope="module")
+def offset_slider_crank(tmp_path_factory):
+    path = tmp_path_factory.mktemp("modes") / "offset_slider_crank.py"
+    path.write_text(textwrap.dedent(SLIDER_CRANK))
+    return mechgen.compile(str(path), outdir=str(path.parent), tier="python")
+
+
+@pytest.mark.parametrize("t", [-0.8, 0.1, 0.5, 1.29])
+@pytest.mark.parametrize("near", [0.0, 0.2, 0.35])
+def test_a_guess_of_the_slider_alone_picks_its_mode(offset_slider_crank, t, near):
+    """solve(t, guess={"X4": x}) with x at the left assembly's slider position (or moved
+    20 %, 35 % of the way to the right one) came back on the right assembly (X4 = 3.7 at
+    t = -0.886 for x = -2.6): the model's guess filled the rod's angle in, pointing right,
+    and that decided the mode. The coordinates given now hold while the others are fitted
+    to them, so the slider's side is the one asked for; likewise a sweep's start."""
+    left, right = slider_crank(t, -1), slider_crank(t, +1)
+    x = left[1] + near * (right[1] - left[1])
+    s = offset_slider_crank.solve(t, guess={"X4": x})
+    assert s["X4"] == pytest.approx(left[1], abs=1e-9)
+    assert math.remainder(s["Th3"] - left[0], 2 * math.pi) == pytest.approx(0, abs=1e-9)
+    if near == 0.2:
+        sw = offset_slider_crank.sweep(t, t + 0.5, 5, guess={"X4": x})
+        want = [slider_crank(u, -1)[1] for u in sw.t]
+        assert np.abs(sw["X4"] - want).max() < 1e-9
+    # the right one still comes from a guess there, and from the rod's angle alone
+    s = offset_slider_crank.solve(t, guess={"X4": right[1] - near * (right[1] - left[1])})
+    assert s["X4"] == pytest.approx(right[1], abs=1e-9)
+    s = offset_slider_crank.solve(t, guess={"Th3": math.pi - 0.1})
+    assert s["X4"] == pytest.approx(left[1], abs=1e-9)

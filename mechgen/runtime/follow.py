@@ -26,7 +26,7 @@ from ..errors import BranchJumpWarning, SolveError
 from ..protocol import (JUMP, LEVEL, METHOD, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE,
                         STATUS_CODE, STATUS_COLUMNS, THROUGH_SINGULAR)
 from .entry import module_attr, solve_point
-from .guesses import start_vector
+from .guesses import guess_at
 from .results import Solution
 from .sweeping import compiled, failure, no_rows, outside
 
@@ -121,9 +121,9 @@ def start_at(mech, guess, t, tol, maxit, meth, what) -> np.ndarray:
     at another time is a configuration at its own time (as set_guess takes it), its mode
     followed to t as solve(t) follows it, not a Newton from it at t, which may fall into
     another mode (a mode picked by assemblies(t'), swept from t); any other guess, the
-    Newton start at t (runtime.guesses.start_vector)."""
+    Newton start at t (runtime.guesses.guess_at)."""
     if not isinstance(guess, Solution) or float(guess.t) == float(t):
-        return start_vector(mech, guess)
+        return guess_at(mech, guess, t)
     ref = mech.with_params()
     ref.set_guess(guess)
     return follow(ref, float(t), tol, maxit, meth, what=what)

@@ -43,6 +43,55 @@ def start_vector(mech, guess) -> np.ndarray:
     return arr.copy()
 
 
+def guess_at(mech, guess, t) -> np.ndarray:
+    """The Newton start at t of ``guess`` (start_vector): a dict that gives some
+    coordinates has the others fitted to them first (fit_given), so that the mode the
+    given ones point at is the one Newton starts in, not the mode the mechanism's own
+    guess (a configuration at another time, perhaps of another mode) fills in around
+    them: an offset slider-crank with ``guess={"X4": x}``, x next to the slider's left
+    position, came back with the slider on the right, the rod's angle of the model's guess
+    deciding the mode."""
+    q = start_vector(mech, guess)
+    if isinstance(guess, dict) and 0 < len(guess) < mech.n:
+        fit_given(mech, q, float(t), {mech._index[name] for name in guess})
+    return q
+
+
+def fit_given(mech, q, t, given, iterations=30):
+    """Gauss-Newton on the coordinates not in ``given`` (indices) towards Φ(q, t) = 0, the
+    given ones held, in place; each step halved until ‖Φ‖ decreases (never a worse start
+    than q), the minimum-norm step where Φ_q's columns are dependent."""
+    free = [j for j in range(mech.n) if j not in given]
+    mod, p = mech.module, mech.p
+    r = np.empty(mech.m)
+    J = np.empty((mech.m, mech.n))
+    mod.phi(q, t, p, r)
+    size = float(np.linalg.norm(r))
+    for _ in range(iterations):
+        if not math.isfinite(size) or size <= mech.tol:
+            return
+        mod.phi_q(q, t, p, J)
+        step = np.linalg.lstsq(J[:, free], -r, rcond=None)[0]
+        if not np.all(np.isfinite(step)):
+            return
+        scale = 1.0
+        while scale >= 1.0 / 1024:
+            trial = q.copy()
+            trial[free] += scale * step
+            mod.phi(trial, t, p, r)
+            new = float(np.linalg.norm(r))
+            if new < size:
+                break
+            scale /= 2
+        else:
+            return          # no decrease: q is the nearest the given values let it be
+        done = new > size * (1.0 - 1e-6)
+        q[:] = trial
+        size = new
+        if done:
+            return
+
+
 def turned_home(mech, q, start) -> bool:
     """Turn each angle of q (a coordinate Φ is 2π-periodic in) that ended more than a
     turn from its start by whole turns back to the start's, in place: whether any was."""

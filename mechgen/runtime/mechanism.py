@@ -26,7 +26,7 @@ from .follow import at_guess_params, follow, start_at
 from .forces.lookup import is_force_level
 from .guards import (finite, level_index, method_index, positive_count, positive_tol,
                      point_bytes, sweep_count, sweep_times)
-from .guesses import start_vector, turned_home
+from .guesses import guess_at, start_vector, turned_home
 from .loading.tiers import Tiers
 from .quantity import symbolic_side
 from .results import Solution, Sweep
@@ -239,7 +239,7 @@ class Mechanism:
             q = follow(self, t, tol, maxit, meth)
             qd, qdd, info = self._solve_point(t, q, lev, meth, tol, maxit, fused)
         else:
-            q = start_vector(self, guess)
+            q = guess_at(self, guess, t)
             start = q.copy()
             qd, qdd, info = self._solve_point(t, q, lev, meth, tol, maxit, fused)
             if turned_home(self, q, start):
