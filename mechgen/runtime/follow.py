@@ -26,7 +26,7 @@ from ..errors import BranchJumpWarning, SolveError
 from ..protocol import (JUMP, LEVEL, METHOD, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE,
                         STATUS_CODE, STATUS_COLUMNS, THROUGH_SINGULAR)
 from .entry import module_attr, solve_point
-from .guesses import guess_at
+from .guesses import guess_at, turned_home
 from .results import Solution
 from .sweeping import compiled, failure, no_rows, outside
 
@@ -102,7 +102,13 @@ def _start(mech, tol, maxit, meth) -> Path:
     t0 = float(mech.guess_t)
     info = np.zeros(POINT_INFO_SIZE)
     q, note = carried(mech, tol, maxit, meth, info)
+    start = q.copy()
     status = solve_point(mech.module, q, t0, mech.p, tol, mech.xtol, maxit, meth, info)
+    if status == 0 and turned_home(mech, q, start):
+        # Newton from a poor guess threw angles whole turns away (a rocker at -101 rad
+        # for a guess of 1.2): the same configuration near the guess, as solve(t, guess=)
+        # gives it, solved again to full precision
+        status = solve_point(mech.module, q, t0, mech.p, tol, mech.xtol, maxit, meth, info)
     if status != 0:
         from .analysis.locks import convergence_error     # an error path: imported when needed
         exc = convergence_error(mech, status, t0, q, info)
@@ -153,6 +159,8 @@ def carried(mech, tol, maxit, meth, info):
     q = guess.copy()
     if carry is None or solve_point(mod, q, t0, p0, tol, mech.xtol, maxit, meth, info) != 0:
         return guess.copy(), None
+    if turned_home(mech, q, guess):     # (its angles near the guess's, as _start keeps them)
+        solve_point(mod, q, t0, p0, tol, mech.xtol, maxit, meth, info)
     status = int(carry(q, t0, p0, p, tol, mech.xtol, maxit, meth, info))
     if status == 0:
         return q, None

@@ -437,7 +437,11 @@ class Mechanism:
         maxit = self.maxit if maxit is None else positive_count(maxit, "maxit")
         self._tiers.expect(self, ts.shape[0])
         if guess is None and ts[0] == self.guess_t and at_guess_params(self):
-            q0 = self.guess.copy()      # the guess where it was given: Newton from it
+            try:                # the guess solved where it was given, its angles kept
+                with self._lock:    # near it as solve(t) keeps them (runtime.follow)
+                    q0 = follow(self, float(ts[0]), tol, maxit, meth)
+            except MechgenError:    # the sweep says why, from the guess itself
+                q0 = self.guess.copy()
         elif guess is None:     # where solve(ts[0]) is: the guess's mode followed there
             with self._lock:    # (the way is kept on the mechanism, as solve's)
                 try:
