@@ -9,6 +9,7 @@ further on, as mechgen.turns says of gears. At one time there are two poses: the
 built (Th = 0, X = r θ) and the rack turned half a turn on its guide (Th = π)."""
 import math
 import textwrap
+import warnings
 
 import numpy as np
 import pytest
@@ -154,3 +155,18 @@ def test_solve_and_sweep_from_the_model_guess_keep_angles_near_it(tmp_path):
     assert np.abs(mech.sweep(0.0, 0.01, 2).Q[0] - explicit).max() < 1e-12
     later = mech.solve(0.01).q
     assert np.all(np.abs(later[angles] - explicit[angles]) < 0.2)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        tab = mech.sweep(0.0, 0.01, 2, params={"L5": [2.6, 2.62]})
+    assert np.abs(tab.Q[0, 0] - explicit).max() < 1e-12       # a design table's starts too
+    assert np.abs(tab.Q[1, 0] - mech.with_params(L5=2.62).solve(0.0).q).max() < 1e-9
+
+
+def test_assemblies_put_the_mode_of_a_partial_guess_first(offset_slider_crank):
+    """assemblies(t, guess={"X4": x}) with x the left slider position listed the right
+    assembly first (the mode the guess reaches comes first), as solve(t, guess=) went
+    there; now the left one, the one solve(t, guess=) returns."""
+    t = -0.886
+    left, right = slider_crank(t, -1), slider_crank(t, +1)
+    modes = offset_slider_crank.assemblies(t, guess={"X4": left[1]})
+    assert [s["X4"] for s in modes] == pytest.approx([left[1], right[1]], abs=1e-9)

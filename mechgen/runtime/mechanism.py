@@ -537,7 +537,7 @@ class Mechanism:
         if isinstance(starts, bool) or int(starts) != starts or starts < 0:
             raise ValueError(f"starts must be a non-negative integer, got {starts!r}")
         from .analysis.assembly import assemblies
-        return assemblies(self, t, start_vector(self, guess), int(starts), level,
+        return assemblies(self, t, guess_at(self, guess, t), int(starts), level,
                                self._tol(None), self._method(None), flips=flips)
 
     def explore(self, **options):

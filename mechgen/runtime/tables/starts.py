@@ -24,6 +24,7 @@ from ...errors import MechgenError
 from ...protocol import JUMP, OK, POINT_INFO_SIZE, STATUS_CODE, THROUGH_SINGULAR
 from ..entry import module_attr, solve_point
 from ..follow import CELL, follow
+from ..guesses import turned_home
 from ..results import Solution
 from .backends import cpu_count
 
@@ -70,6 +71,9 @@ def design_starts(mech, ts, P, tol, maxit, meth, workers=None):
         # no mode to carry (the guess does not assemble where it was given): every design
         # from the guess, as Mech's Table[SetGuess[]; SolveMech[...]] does
         return np.tile(g, (D, 1)), np.zeros(D, dtype=np.int64)
+    if turned_home(mech, q, g):     # the angles near the guess's, as solve(t) keeps them
+        solve_point(mod, q, t_ref, p_ref, tol, mech.xtol, maxit, meth,
+                    np.zeros(POINT_INFO_SIZE))
     tw = _way(t_ref, float(ts[0]))
     Q0 = np.empty((D, n))
     S0 = np.zeros(D, dtype=np.int64)
