@@ -101,7 +101,8 @@ def test_loads_that_act_on_nothing_are_refused():
     from every equation: the forces solved as if they were not there."""
     m, base, crank, rod, slider = slider_crank()
     for call, words in [
-        (lambda: m.force(base[2], (100, 0), name="press"), r"point base\[2\] is fixed in the ground"),
+        (lambda: m.force(base[2], (100, 0), name="press"),
+         r"point base\[2\] is fixed in the ground"),
         (lambda: m.moment(base, 5.0), r"moment\(base, \.\.\.\): it acts on the ground"),
         (lambda: m.moment(crank, crank, 5.0), r"body 'crank' twice"),
         (lambda: m.spring(rod[1], rod[2], 100, 0.5), r"both ends are fixed in body 'rod'"),
@@ -263,7 +264,8 @@ def test_a_driver_named_like_a_coordinate_gets_a_column_of_its_own(tmp_path):
     # reduce= reads names as the tables do: "phi" the angle (it reduced the torque)
     red = mech.sweep(0, 1, 5, params={"w": np.array([2.0])}, level="dynamic",
                      reduce=["phi", "phi effort"])
-    assert abs(red.reduced("phi").max[0] - 2.1) < 1e-12 and abs(red.reduced("phi").min[0] - 0.1) < 1e-12
+    assert abs(red.reduced("phi").max[0] - 2.1) < 1e-12
+    assert abs(red.reduced("phi").min[0] - 0.1) < 1e-12
     assert abs(red.reduced("phi effort").max[0] - effort.max()) < 1e-9
 
 
@@ -334,7 +336,8 @@ def test_a_spring_whose_ends_meet_is_a_singular_error_not_a_zero_division(tmp_pa
     mech = mechgen.load(build(m, str(tmp_path)), tier="python")
     kks = {"kk": np.array([50.0, 100.0])}
     for call in (lambda: mech.sweep(0, 1, 3, params=kks, level="dynamic").driver("drive"),
-                 lambda: mech.sweep(0, 1, 3, params=kks, level="dynamic", reduce=["drive"]),lambda: mech.solve(0.0, level="static"),
+                 lambda: mech.sweep(0, 1, 3, params=kks, level="dynamic", reduce=["drive"]),
+                 lambda: mech.solve(0.0, level="static"),
                  lambda: mech.solve(0.0, level="dynamic"),
                  lambda: mech.sweep(0, 1, 3, level="dynamic"),
                  lambda: mech.simulate(0, 0.2, 3, free=["drive"])):

@@ -91,7 +91,8 @@ def newton_euler(t):
     for name, (th, w, al, pin, off) in bodies.items():
         m, J, c = MASS[name]
         r = _rot(th) @ (np.array(c) - off)          # pin to centroid, global
-        ap = {"crank": np.zeros(2), "coupler": -A * w2 ** 2 * np.array([math.cos(th2), math.sin(th2)])
+        ap = {"crank": np.zeros(2),
+              "coupler": -A * w2 ** 2 * np.array([math.cos(th2), math.sin(th2)])
               + A * a2 * np.array([-math.sin(th2), math.cos(th2)]), "rocker": np.zeros(2)}[name]
         ag = ap + al * _perp(r) - w * w * r
         rg[name] = pin + r

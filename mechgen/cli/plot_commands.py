@@ -153,7 +153,8 @@ def add_commands(sub, add_common):
         p.add_argument("--axes", nargs="?", const="all", metavar="BODIES",
                        help="draw local axes (every body, or comma-separated names)")
         p.add_argument("--legend", action="store_true", help="name the bodies in a legend")
-        p.add_argument("--width", type=positive_type(100), default=8.0, help="figure width in inches")
+        p.add_argument("--width", type=positive_type(100), default=8.0,
+                       help="figure width in inches")
 
     def trace(p, when):
         p.add_argument("--trace", action="append", metavar="POINT",
@@ -186,7 +187,8 @@ def add_commands(sub, add_common):
                                    "(GIF with pillow; MP4 when ffmpeg is installed).")
     common(p, ".gif")
     span(p, 100)
-    p.add_argument("--fps", type=positive_type(1000), default=25.0, help="frames per second (default 25)")
+    p.add_argument("--fps", type=positive_type(1000), default=25.0,
+                   help="frames per second (default 25)")
     trace(p, "")
     looks(p)
     p.set_defaults(func=cmd_animate)

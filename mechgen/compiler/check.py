@@ -456,7 +456,8 @@ class _Check:
             rows = np.flatnonzero(np.abs(r) > 1e-3 * np.max(np.abs(r)))
             self.lines.append(
                 f"  CANNOT MOVE from t = {self.t:g}: the redundant equations hold here but "
-                f"their {what} disagree (Phi_q {'qd = nu' if what == 'velocities' else 'qdd = gamma'} "
+                f"their {what} disagree "
+                f"(Phi_q {'qd = nu' if what == 'velocities' else 'qdd = gamma'} "
                 f"has no solution, residual {np.max(np.abs(r)):.3g}): a driver fights a "
                 "constraint or another driver, or an extra constraint locks the motion; "
                 "remove or correct one of:")
