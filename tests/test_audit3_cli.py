@@ -212,6 +212,21 @@ def test_runtime_solve_of_a_driver_dividing_by_zero_raises_mechgen_errors(tmp_pa
     assert np.isfinite(mech.sweep(0.25, 1, 3, level="acceleration")["Th2dd"]).all()
 
 
+def test_a_design_table_through_a_division_by_zero_is_a_singular_error(tmp_path):
+    """The same SingularError as a single sweep's, not a bare ZeroDivisionError out of
+    the module's sweep_designs (in both tiers)."""
+    import mechgen
+    text = ONE_BODY.format(name="div3", angle="sqrt(T)").replace(
+        '(1, 0)], guess', '(L, 0)], guess').replace('m = Model("div3")',
+                                                     'm = Model("div3")\nL = m.param("L", 1.0)')
+    mech = mechgen.compile(mechgen.load_model(write(tmp_path, text)),
+                           outdir=str(tmp_path / "gen"))
+    with pytest.raises(mechgen.SingularError, match="divide by zero at a time of the design"):
+        mech.sweep(0, 1, 3, level="velocity", params={"L": [1.0, 2.0]})
+    tab = mech.sweep(0.25, 1, 3, level="velocity", params={"L": [1.0, 2.0]})
+    assert np.allclose(tab["Th2d"][:, 0], 0.5 / 0.25 ** 0.5, rtol=1e-12)
+
+
 # -- nothing half-written ---------------------------------------------------------------
 def test_a_csv_that_fails_midway_leaves_no_file_and_keeps_the_old_one(tmp_path):
     from mechgen.cli.tables import write_csv

@@ -462,10 +462,13 @@ def _design_table(mech, t0, t1, n, params, level="position", guess=None, method=
     # a driver's effort the GPU cannot reduce: the kernel keeps the points (backends)
     on_host = backend == "cuda" and cuda_keeps_points(mech, slots, lev, meth)
     origin = guess_reference(mech, ts[0], guess)     # whose guess the designs leave
-    Q0, S0 = design_starts(origin, ts, P, tol, maxit, meth, workers)
-    data = run_backend(backend, mech, ts, Q0, P, lev, tol, mech.xtol, maxit, meth,
-                       workers=workers, client=client, slots=None if on_host else slots,
-                       progress=progress_reporter(progress, P.shape[0]))
+    try:
+        Q0, S0 = design_starts(origin, ts, P, tol, maxit, meth, workers)
+        data = run_backend(backend, mech, ts, Q0, P, lev, tol, mech.xtol, maxit, meth,
+                           workers=workers, client=client, slots=None if on_host else slots,
+                           progress=progress_reporter(progress, P.shape[0]))
+    except ZeroDivisionError:   # (Python's and numba's default error model raise)
+        raise _divides(mech, ts, slots) from None
     mark_starts(data, S0, ts.shape[0])
     if on_host:         # the kernel keeps the points; the multipliers are solved here
         data.red = reduce_threads(mech.module, slots, ts, P, data.Q, data.QD, data.QDD,
@@ -475,6 +478,21 @@ def _design_table(mech, t0, t1, n, params, level="position", guess=None, method=
                         reduced=reduced, force_level=force_level, start=origin)
     report_failures(table, on_fail, stacklevel=stacklevel)
     return table
+
+
+def _divides(mech, ts, slots):
+    """The SingularError of a table whose equations divide by zero at one of its times (a
+    driver 1/T, or the rate of sqrt(T), at T = 0), as a single sweep's says (runtime.
+    sweeping); with a driver's effort to reduce, the force terms may be the ones."""
+    if slots is not None and len(slots):
+        return division_error(mech, f"in the design table from t={ts[0]:.10g} to "
+                                    f"t={ts[-1]:.10g} (or its equations of motion do)")
+    from ...errors import SingularError
+    return SingularError(
+        f"model '{mech.name}': its equations divide by zero at a time of the design table "
+        f"from t={ts[0]:.10g} to t={ts[-1]:.10g} (a driver such as 1/T, or the rate of "
+        "sqrt(T), at T = 0; the sweeps' steps use the velocities): sweep a range that "
+        "avoids that time")
 
 
 def report_failures(table, on_fail, stacklevel=2):

@@ -47,17 +47,29 @@ def guess_reference(mech, t0, guess):
     return ref
 
 
-def design_starts(mech, ts, P, tol, maxit, meth, workers=None):
+def design_starts(mech, ts, P, tol, maxit, meth, workers=None, followed=False):
     """(Q0, S0): each design's start vector (designs × coordinates), from ``mech``'s guess
     (guess_reference), and its start status (int64: OK, JUMP, THROUGH_SINGULAR or the
-    status of a failed way; see the module's docstring)."""
+    status of a failed way; see the module's docstring). ``followed``: the guess's mode
+    followed to the table's first time at the guess's parameters first (runtime.follow),
+    as for stages, and where the module's way there divides by zero (the rate of sqrt(T)
+    at T = 0, the guess's time): then each design is carried at that time alone."""
+    try:
+        return _starts(mech, ts, P, tol, maxit, meth, workers, followed)
+    except ZeroDivisionError:
+        if followed or float(mech.guess_t) == float(ts[0]):
+            raise
+        return _starts(mech, ts, P, tol, maxit, meth, workers, True)
+
+
+def _starts(mech, ts, P, tol, maxit, meth, workers, followed):
     D, n = P.shape[0], mech.n
     mod = mech.module
     t_ref, p_ref, g = float(mech.guess_t), mech.guess_p, mech.guess.copy()
     start = module_attr(mod, "start_designs")
     q = g.copy()
     if start is not None and D and t_ref != float(ts[0]) and \
-            module_attr(mod, "SWITCH_TIMES", ()):
+            (followed or module_attr(mod, "SWITCH_TIMES", ())):
         # stages: the guess's mode followed to the table's first time at the guess's
         # parameters (stage by stage: runtime.follow), then carried to each design there
         ref = mech.with_params(**dict(zip(mech.parameter_names, map(float, p_ref))))
