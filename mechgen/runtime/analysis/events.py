@@ -364,6 +364,25 @@ class Events(list):
                 f"<th>value (interpolant)</th></tr></thead><tbody>{rows}</tbody></table>")
 
 
+def _turning(f, roots, before, width):
+    """The roots of the interpolant f where it changes sign from ``before`` to its
+    opposite (in time order), as the exact quantity does: a piecewise polynomial whose
+    derivative jumps at the nodes (Mathematica's InterpolatingFunction, "lagrange") has
+    roots there through which it turns the other way, a kink minimum as a maximum's."""
+    if not len(roots):
+        return roots
+    lo, hi = f.domain if hasattr(f, "domain") else (-math.inf, math.inf)
+    h = 1e-7 * width
+    keep = []
+    for r in roots:
+        left, right = max(r - h, lo), min(r + h, hi)
+        sl = np.sign(f(left)) if left < r else before          # an end: that side is free
+        sr = np.sign(f(right)) if right > r else -before
+        if sl == before and sr == -before:
+            keep.append(r)
+    return np.asarray(keep, dtype=np.float64)
+
+
 def _nearest(roots, t, a, b):
     inside = roots[(roots >= a - 1e-12) & (roots <= b + 1e-12)]
     pool = inside if inside.size else roots
@@ -428,7 +447,7 @@ def extrema(sw, what, method="auto", xtol=1e-12) -> Events:
         periodic = one_cycle(sw) and _repeats(dy, tol)
         brackets = (_cyclic_sign_changes if periodic else _sign_changes)(t, dy, tol)
         events = _refined(qty, t, y, dy, tol, ("max", "min"), exact_d, exact_v, calls,
-                          coarse_d.roots, coarse_v, xtol, brackets)
+                          coarse_d, coarse_v, xtol, brackets)
         return _finish(events, periodic, qty, t, y, dy, tol, False, coarse_v.method)
     finally:
         mech.last = last
@@ -443,12 +462,13 @@ def _finish(events, periodic, qty, t, y, f, tol, roots, method) -> Events:
     return events
 
 
-def _refined(qty, t, y, f, tol, kinds, exact_f, exact_y, calls, coarse_roots, coarse_y,
+def _refined(qty, t, y, f, tol, kinds, exact_f, exact_y, calls, coarse_f, coarse_y,
              xtol, brackets, zero=False) -> Events:
     """The Events of the sign changes of f (sampled at the sweep's times t): each bracket
     refined by Brent's method on exact_f, its value y from exact_y; beside it the root of
-    the interpolant (coarse_roots) and coarse_y there. kinds names a change from positive
-    to negative and the other way, for time running forwards. A bracket whose exact f is
+    the interpolant coarse_f that changes sign the same way (_turning), and coarse_y
+    there. kinds names a change from positive to negative and the other way, for time
+    running forwards. A bracket whose exact f is
     not a number somewhere Brent's method looks is dropped, and so, with ``zero`` (roots:
     f is the quantity itself), is one where f jumps through zero rather than crossing it."""
     events = Events()
@@ -470,7 +490,8 @@ def _refined(qty, t, y, f, tol, kinds, exact_f, exact_y, calls, coarse_roots, co
                                           xtol):
                 continue                # a jump through zero (a wrap, a pole): no root
         a, b = float(min(t[k], t[k + 1])), float(max(t[k], t[k + 1]))
-        ti = _nearest(coarse_roots(a, b), t_star, a, b)
+        was = sign if t[-1] >= t[0] else -sign      # f's sign before, in time order
+        ti = _nearest(_turning(coarse_f, coarse_f.roots(a, b), was, b - a), t_star, a, b)
         vi = float(coarse_y(ti)) if math.isfinite(ti) else math.nan
         events.append(Event(qty.label, kind, t_star, value, ti, vi, coarse_y.method,
                             calls() - before))
@@ -500,7 +521,7 @@ def roots(sw, what, method="auto", xtol=1e-12) -> Events:
         periodic = one_cycle(sw) and _repeats(y, tol)
         brackets = (_cyclic_sign_changes if periodic else _sign_changes)(t, y, tol)
         events = _refined(qty, t, y, y, tol, ("falling", "rising"), exact, exact,
-                          lambda: exact.calls, coarse.roots, coarse, xtol, brackets, zero=True)
+                          lambda: exact.calls, coarse, coarse, xtol, brackets, zero=True)
         return _finish(events, periodic, qty, t, y, y, tol, True, coarse.method)
     finally:
         mech.last = last
