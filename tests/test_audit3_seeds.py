@@ -64,3 +64,14 @@ def test_interpolant_side_of_a_root_crosses_the_same_way(qr):
     for e in sw.roots("X4d", method="lagrange"):
         before, after = f(e.t_interp - 1e-4), f(e.t_interp + 1e-4)
         assert (before < 0 < after) if e.kind == "rising" else (before > 0 > after), e
+
+
+def test_mathematica_notation_of_sign():
+    """`mechgen equations --mathematica` printed the rate of Abs(T - 1) as "sign[T - 1]",
+    which is no Mathematica (its function is Sign)."""
+    import sympy as sp
+    from mechgen.model.printing import mathematica
+    t = sp.Symbol("T")
+    assert mathematica(sp.sign(t - 1)) == "Sign[T - 1]"
+    assert mathematica(sp.Abs(t - 1)) == "Abs[T - 1]"
+    assert mathematica(sp.atan2(t, 1 + t ** 2)) == "ArcTan[T^2 + 1, T]"

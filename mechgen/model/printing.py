@@ -26,6 +26,10 @@ class _MechPrinter(MCodePrinter):
             return f"1/Sqrt[{self._print(expr.base)}]"
         return super()._print_Pow(expr)
 
+    def _print_sign(self, expr):
+        # sympy's Mathematica printer knows no sign(): it printed "sign[T - 1]"
+        return f"Sign[{self._print(expr.args[0])}]"
+
 
 def mathematica(expr) -> str:
     """``expr`` in Mech's notation: ``9 (-X2 + X3 - 3 Cos[Th2]) Cos[Th3]``."""
