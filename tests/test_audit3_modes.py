@@ -8,6 +8,7 @@ turn solves Φ with its travel one circumference 2πr further on, the same meshi
 further on, as mechgen.turns says of gears. At one time there are two poses: the rack as
 built (Th = 0, X = r θ) and the rack turned half a turn on its guide (Th = π)."""
 import math
+import os
 import textwrap
 import warnings
 
@@ -170,3 +171,25 @@ def test_assemblies_put_the_mode_of_a_partial_guess_first(offset_slider_crank):
     left, right = slider_crank(t, -1), slider_crank(t, +1)
     modes = offset_slider_crank.assemblies(t, guess={"X4": left[1]})
     assert [s["X4"] for s in modes] == pytest.approx([left[1], right[1]], abs=1e-9)
+
+
+def test_singularities_without_a_guess_search_the_branch_solve_is_on(tmp_path):
+    """singularities(t0, t1) with no guess started from a Newton at t0 from the model's
+    guess (a configuration at t = 0), while solve(t0) and sweep() follow the motion from
+    there: on seed 001's slider-driven quick-return, whose motion from its guess locks at
+    t = 0.2465, singularities(0.5, 1) reported the locks 0.7415 and 0.7585 of whatever
+    mode the Newton at 0.5 fell into, where solve(0.5) says the motion cannot get there.
+    It now starts where solve(t0) is, and says so where that cannot be reached."""
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    mech = mechgen.compile(mechgen.load_model(f"{root}/examples/quick_return_slider.py"),
+                           outdir=str(tmp_path), tier="python")
+    locks = [float(x) for x in mech.singularities(0.0, 0.3)]
+    assert abs(locks[0] - 0.24648638) < 1e-6
+    with pytest.raises(mechgen.ConvergenceError, match="singularities.*follows the motion"):
+        mech.singularities(0.5, 1.0)
+    with pytest.raises(mechgen.ConvergenceError):
+        mech.solve(0.5)
+    # a guess near t0 still searches from there
+    s = mech.solve(0.5, guess={"Th2": 1.9, "Th3": 0.1, "X4": 4.0})
+    got = [float(x) for x in mech.singularities(0.5, 1.0, guess=s)]
+    assert len(got) >= 1 and 0.5 < got[0] < 1.0

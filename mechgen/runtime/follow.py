@@ -126,8 +126,12 @@ def start_at(mech, guess, t, tol, maxit, meth, what) -> np.ndarray:
     """The start vector at t of a guess given to a sweep or a search from t: a Solution
     at another time is a configuration at its own time (as set_guess takes it), its mode
     followed to t as solve(t) follows it, not a Newton from it at t, which may fall into
-    another mode (a mode picked by assemblies(t'), swept from t); any other guess, the
-    Newton start at t (runtime.guesses.guess_at)."""
+    another mode (a mode picked by assemblies(t'), swept from t); none, where solve(t) is
+    (the mechanism's guess followed to t: a Newton from it at t could start on another
+    mode than solve's); any other guess, the Newton start at t (runtime.guesses.guess_at)."""
+    if guess is None:
+        with mech._lock:    # (the way is kept on the mechanism, as solve's)
+            return follow(mech, float(t), tol, maxit, meth, what=what)
     if not isinstance(guess, Solution) or float(guess.t) == float(t):
         return guess_at(mech, guess, t)
     ref = mech.with_params()
