@@ -17,6 +17,7 @@ that reverses there) has an extreme at the switch time.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -70,6 +71,10 @@ def pieces(ts, switches):
     if not crossed.size:
         return None
     d = np.diff(ts)
+    twice = (d == 0) & np.isin(ts[1:], crossed)     # a switch time given twice (the times
+    if twice.any():                                 # of a staged sweep): held twice anyway
+        ts = np.delete(ts, np.flatnonzero(twice) + 1)
+        d = np.diff(ts)
     if not (np.all(d > 0) or np.all(d < 0)):
         raise ValueError("a sweep across a stage switch needs strictly monotonic times")
     forward = d[0] > 0
@@ -209,23 +214,24 @@ class StagedSweep(Sweep):
         """A callable of t, interpolating each stage's piece on its own (see
         Sweep.interpolate): nothing is smoothed across a switch; at a switch time it gives
         the later stage's value (the right limit), as a solve there does."""
-        parts = [sw for sw in self.parts if len(sw) >= 2]   # a lone switch point: its
-        return StagedInterpolant([sw.interpolate(name, method=method, degree=degree,  # neighbour
-                                                 extrapolate=True) for sw in parts],
-                                 parts, self.switches, extrapolate)
+        pieces_ = [sw.interpolate(name, method=method, degree=degree, extrapolate=True)
+                   if len(sw) >= 2 else _PointPiece(sw, name) for sw in self.parts]
+        return StagedInterpolant(pieces_, self.parts, self.switches, extrapolate)
 
     def extrema(self, name, method="auto", xtol=1e-12):
         """Extremes within each stage (Sweep.extrema) and, at a switch where the quantity's
         time derivative changes sign, an extreme at the switch time itself (method
         "switch"; the interpolant's columns give the same time and value)."""
-        events = Events()
-        for sw in self.parts:
+        events, own = Events(), {}
+        for j, sw in enumerate(self.parts):
             if len(sw) >= 2:
-                events += self._own_ends(sw, sw.extrema(name, method=method, xtol=xtol))
-        dq = Quantity(self.mechanism, name).derivative()
+                own[j] = sw.extrema(name, method=method, xtol=xtol)
+                events += self._own_ends(sw, own[j])
+        qty = Quantity(self.mechanism, name)
+        dq = qty.derivative()
         view = self if dq is None or dq.level <= _level(self) else self.at_level(dq.level)
+        y = qty.on_sweep(self)
         if dq is not None:
-            y = Quantity(self.mechanism, name).on_sweep(self)
             dy = dq.on_sweep(view)
             forward = self.t[-1] >= self.t[0]
             for s in self.switches:
@@ -233,11 +239,39 @@ class StagedSweep(Sweep):
                     (s.row_after, s.row_before)
                 if dy[lo] * dy[hi] < 0:
                     kind = "max" if dy[lo] > 0 else "min"
-                    events.append(Event(Quantity(self.mechanism, name).label, kind, s.t,
-                                        float(y[s.row_after]), s.t,
+                    events.append(Event(qty.label, kind, s.t, float(y[s.row_after]), s.t,
                                         float(y[s.row_after]), "switch"))
+        events += self._lone_ends(qty, y, own, events)
         events.sort(key=lambda e: e.t)
         return events
+
+    def _lone_ends(self, qty, y, own, found):
+        """The sweep's end where it is a switch time held by its stage alone (a sweep that
+        ends, or starts, exactly at a switch: the lone row of the later stage): an extreme
+        at that end as an ordinary sweep's end is, its value the lone row's. Where the
+        quantity jumps there, the jump says its kind (a value above the other limit's is a
+        maximum); where it is continuous, the neighbouring stage's end says it."""
+        out, last = [], len(self.parts) - 1
+        for j, at, row, other in ((0, "start", 0, 1), (last, "end", len(self) - 1,
+                                                        len(self) - 2)):
+            if last == 0 or len(self.parts[j]) != 1 or (j - 1 if j else 1) not in own:
+                continue
+            near = own[j - 1 if j else 1]
+            a, b = float(y[row]), float(y[other])
+            if not (math.isfinite(a) and math.isfinite(b)):
+                continue
+            if abs(a - b) > 1e-9 * max(1.0, float(np.nanmax(np.abs(y)))):
+                kind = "max" if a > b else "min"
+            else:
+                ends = [e for e in near if e.at == ("end" if j else "start")]
+                if not ends:
+                    continue
+                kind = ends[0].kind
+            t = float(self.t[row])
+            if any(e.t == t and e.kind == kind for e in found):
+                continue        # the switch's own extreme
+            out.append(Event(qty.label, kind, t, a, t, a, "switch", 0, at))
+        return out
 
     def _own_ends(self, part, events):
         """A stage's events less its ends at a switch (a stage's end there is no end of
@@ -268,13 +302,54 @@ def _level(sw) -> int:
     return 0 if sw.QD is None else 1 if sw.QDD is None else 2
 
 
+class _PointPiece:
+    """The interpolant of a stage's lone point (a sweep that ends or starts exactly at a
+    switch holds the later stage there alone): its value at that time and the time
+    derivatives the solution there gives (its velocities and accelerations, solved on that
+    stage's equations where the sweep lacks them)."""
+
+    def __init__(self, sw, name, values=None):
+        self.t = np.asarray(sw.t, dtype=np.float64)
+        self.name, self.method = str(name), "switch point"
+        if values is None:
+            qty, values = Quantity(sw.mechanism, name), []
+            while qty is not None:
+                if qty.level > _level(sw):
+                    last = sw.mechanism.last
+                    try:
+                        sw = sw.at_level(qty.level)
+                    finally:
+                        sw.mechanism.last = last
+                values.append(float(qty.on_sweep(sw)[0]))
+                qty = qty.derivative()
+        self.values = values
+
+    def __call__(self, t, nu=0):
+        if nu >= len(self.values):
+            raise ValueError(f"the derivative of order {nu} of {self.name!r} at the switch "
+                             f"t={float(self.t[0]):g} needs a third derivative of the "
+                             "coordinates, which mechgen does not solve for")
+        return np.full(np.shape(t), self.values[nu])
+
+    def derivative(self, n=1) -> "_PointPiece":
+        out = object.__new__(_PointPiece)
+        out.__dict__.update(self.__dict__)
+        out.values = self.values[n:]
+        out.name = self.name + "'" * n
+        return out
+
+    def roots(self, a=None, b=None) -> np.ndarray:
+        return self.t[:1].copy() if self.values and self.values[0] == 0.0 else np.empty(0)
+
+
 class StagedInterpolant:
     """One interpolant per stage piece, chosen by t (the later stage at a switch time)."""
 
     def __init__(self, pieces_, parts, switches, extrapolate):
         self.pieces = pieces_
         self.name = pieces_[0].name
-        self.method = pieces_[0].method
+        self.method = next((p.method for p in pieces_ if not isinstance(p, _PointPiece)),
+                           pieces_[0].method)
         self.extrapolate = extrapolate
         spans = [(float(min(p.t[0], p.t[-1])), float(max(p.t[0], p.t[-1]))) for p in parts]
         order = np.argsort([a for a, _ in spans])

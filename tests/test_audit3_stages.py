@@ -1,0 +1,93 @@
+"""Audit 3, stages at the kinematic level: sweeps that end or start exactly at a switch,
+times that hold a switch twice, design tables across a switch.
+
+Reference: the seed's quick-return in closed form. Crank pin P = (L cos θ, 5 + L sin θ),
+lever angle Th3 = atan2(-Px, Py), lever tip C = 9 (-sin Th3, cos Th3), slider
+X4 = Cx + sqrt(25 - (10 - Cy)^2); the stage laws θ = w T (forward) and θ = w (1 - T)
+(back), so that dX4/dT = ±w dX4/dθ (central differences in θ).
+"""
+from __future__ import annotations
+
+import math
+import os
+import warnings
+
+import numpy as np
+import pytest
+
+import mechgen
+from conftest import GENERATED
+
+W = 2 * math.pi
+
+
+def _x4(theta, L=3.0):
+    px, py = L * math.cos(theta), 5 + L * math.sin(theta)
+    th3 = math.atan2(-px, py)
+    cx, cy = -9 * math.sin(th3), 9 * math.cos(th3)
+    return cx + math.sqrt(25 - (10 - cy) ** 2)
+
+
+def _x4_theta(theta, h=1e-6):
+    return (_x4(theta + h) - _x4(theta - h)) / (2 * h)
+
+
+@pytest.fixture(scope="module")
+def staged():
+    return mechgen.load(os.path.join(GENERATED, "quick_return_stages.py"), tier="python")
+
+
+@pytest.fixture(scope="module")
+def handover():
+    return mechgen.load(os.path.join(GENERATED, "quick_return_crank_slider.py"), tier="python")
+
+
+@pytest.mark.parametrize("ends", [(0.0, 0.5), (0.5, 0.0)])
+@pytest.mark.parametrize("level", ["position", "velocity", "acceleration"])
+def test_a_sweep_ending_at_the_switch_interpolates_the_later_stage_there(staged, ends, level):
+    # sweep(0, 0.5, 11) holds t = 0.5 twice, its last row the 'back' stage's (X4d = +16.787,
+    # as solve(0.5) gives); its interpolant gave the left limit there (-16.787), where the
+    # reference says it gives the later stage's value, as a solve there does
+    sw = staged.sweep(*ends, 11, level=level)
+    right = -W * _x4_theta(math.pi)         # θ = w (1 - T): dX4/dT = -w dX4/dθ
+    assert right == pytest.approx(16.787172386769743, rel=1e-8)
+    assert staged.solve(0.5, level="velocity")["X4d"] == pytest.approx(right, rel=1e-8)
+    f = sw.interpolate("X4")
+    assert f(0.5) == pytest.approx(_x4(math.pi), abs=1e-12)
+    assert f(0.5, 1) == pytest.approx(right, rel=1e-8)
+    assert f.derivative()(0.5) == pytest.approx(right, rel=1e-8)
+    assert f(0.5 - 1e-9, 1) == pytest.approx(-right, rel=2e-2)      # the left limit below it
+    assert f(0.25) == pytest.approx(_x4(W * 0.25), abs=1e-4)
+    if level != "position":
+        assert sw.interpolate("X4d")(0.5) == pytest.approx(right, rel=1e-8)
+
+
+def test_a_sweep_ending_at_the_switch_keeps_its_end_extreme(staged):
+    # X4d jumps from -16.787 to +16.787 at the switch that ends the sweep: the sweep's end
+    # (its last row, +16.787, the largest of its values) was lost from extrema()
+    for ends, at in (((0.0, 0.5), "end"), ((0.5, 0.0), "start")):
+        sw = staged.sweep(*ends, 11, level="acceleration")
+        ex = sw.extrema("X4d")
+        top = [e for e in ex if e.t == 0.5]
+        assert len(top) == 1 and top[0].kind == "max" and top[0].at == at, ex
+        assert top[0].value == pytest.approx(-W * _x4_theta(math.pi), rel=1e-8)
+        assert top[0].value == pytest.approx(float(np.max(sw["X4d"])), abs=1e-12)
+        # X4 continuous and turning round there: one extreme, the switch's minimum
+        ex = sw.extrema("X4")
+        at_switch = [e for e in ex if e.t == 0.5]
+        assert len(at_switch) == 1 and at_switch[0].kind == "min"
+        assert at_switch[0].value == pytest.approx(_x4(math.pi), abs=1e-12)
+
+
+def test_times_that_hold_the_switch_twice_are_swept(staged):
+    # a staged sweep's own times (the switch held twice) given back as times=: refused
+    # ("needs strictly monotonic times"); now the same sweep
+    a = staged.sweep(0, 1, 6, level="velocity")
+    for ts in (a.t, a.t[::-1]):
+        b = staged.sweep(None, None, None, times=ts, level="velocity")
+        assert np.array_equal(b.t, ts) and len(b.switches) == 1
+        order = slice(None) if ts[0] < ts[-1] else slice(None, None, -1)
+        np.testing.assert_allclose(b.Q[order], a.Q, atol=1e-12)
+        np.testing.assert_allclose(b.QD[order], a.QD, atol=1e-10)
+    with pytest.raises(ValueError, match="strictly monotonic"):
+        staged.sweep(None, None, None, times=[0.0, 0.2, 0.2, 0.8])     # not a switch time
