@@ -91,3 +91,55 @@ def test_times_that_hold_the_switch_twice_are_swept(staged):
         np.testing.assert_allclose(b.QD[order], a.QD, atol=1e-10)
     with pytest.raises(ValueError, match="strictly monotonic"):
         staged.sweep(None, None, None, times=[0.0, 0.2, 0.2, 0.8])     # not a switch time
+
+
+_TABLE_SCRIPT = r"""
+import json, sys, warnings
+import numpy as np
+import mechgen
+from mechgen.model.loader import load_models, pick_model
+model = pick_model(load_models(sys.argv[1]), None)
+mech = mechgen.compile(model, outdir=sys.argv[2], tier="python")
+warnings.simplefilter("ignore")
+for level in ("velocity", "acceleration"):
+    tab = mech.sweep(None, None, None, times=[0.0, 0.1, 0.25 - 1e-12, 0.25, 0.3],
+                     level=level, params={"amplitud": [1.0, 1.5]})
+    print(json.dumps([tab["X4"].tolist(), tab.done.tolist()]), flush=True)
+"""
+
+
+def test_a_design_table_with_times_just_below_and_at_a_switch_finishes(tmp_path):
+    # the crank hands the slider over at t = 0.25; a table whose times hold 0.25 - 1e-12 and
+    # 0.25 never returned at level acceleration (at velocity: unsolved from 0.25 on): the step between them fails the branch tests whatever its size
+    # (det Φ_q changes sign at the switch), and the continuation halved it below the time's
+    # resolution (0.25 - 1e-12 + h == 0.25 - 1e-12) and tried again for ever
+    import json
+    import subprocess
+    import sys
+    from conftest import EXAMPLES
+    script = tmp_path / "table.py"
+    script.write_text(_TABLE_SCRIPT)
+    env = dict(os.environ, MECHGEN_TIER="python", MECHGEN_CACHE=str(tmp_path / "cache"))
+    try:
+        out = subprocess.run([sys.executable, str(script),
+                              os.path.join(EXAMPLES, "quick_return_crank_slider.py"),
+                              str(tmp_path / "gen")], capture_output=True, text=True,
+                             timeout=90, env=env)
+    except subprocess.TimeoutExpired:
+        pytest.fail("the design table across the switch did not return in 90 s")
+    assert out.returncode == 0, out.stderr[-2000:]
+    # at level velocity the old code gave up at 0.25 (done [3, 3]); at acceleration it hung
+    lines = out.stdout.strip().splitlines()
+    assert len(lines) == 2, out.stdout
+    for x4, done in map(json.loads, lines):
+        assert done == [5, 5]
+        _check_handover(x4)
+
+
+def _check_handover(x4):
+    # crank stage: X4 of the closed form at θ = 2π t; slider stage: sqrt(24) + A sin(2π(t - 1/4))
+    for row, amp in zip(x4, (1.0, 1.5)):
+        assert row[:3] == pytest.approx([_x4(W * t) for t in (0.0, 0.1, 0.25 - 1e-12)],
+                                        abs=1e-9)
+        assert row[3:] == pytest.approx([math.sqrt(24) + amp * math.sin(W * (t - 0.25))
+                                         for t in (0.25, 0.3)], abs=1e-9)
