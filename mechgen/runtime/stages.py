@@ -234,11 +234,23 @@ class StagedSweep(Sweep):
         if dq is not None:
             dy = dq.on_sweep(view)
             forward = self.t[-1] >= self.t[0]
+            # the signs of the rate in time order, 0 where it rests (a dwell stage): a
+            # rate that is positive into a switch and negative after the rest that follows
+            # it turns round there (a crank that turns out, dwells, turns back: its
+            # largest angle is the dwell's, reached at the first switch)
+            rest = 1e-12 * max(1.0, float(np.nanmax(np.abs(dy))) if len(dy) else 1.0)
+            sign = np.where(np.abs(dy) <= rest, 0.0, np.sign(dy))
+            order = np.arange(len(self)) if forward else np.arange(len(self))[::-1]
+            at = np.empty(len(self), dtype=np.int64)
+            at[order] = np.arange(len(self))
+            later = sign[order]
             for s in self.switches:
                 lo, hi = (s.row_before, s.row_after) if forward else \
                     (s.row_after, s.row_before)
-                if dy[lo] * dy[hi] < 0:
-                    kind = "max" if dy[lo] > 0 else "min"
+                after = later[at[hi]:]
+                moving = after[np.flatnonzero(after)]
+                if sign[lo] != 0 and moving.size and sign[lo] * moving[0] < 0:
+                    kind = "max" if sign[lo] > 0 else "min"
                     events.append(Event(qty.label, kind, s.t, float(y[s.row_after]), s.t,
                                         float(y[s.row_after]), "switch"))
         events += self._lone_ends(qty, y, own, events)
