@@ -59,19 +59,27 @@ def guess_at(mech, guess, t) -> np.ndarray:
 
 def fit_given(mech, q, t, given, iterations=30):
     """Gauss-Newton on the coordinates not in ``given`` (indices) towards Φ(q, t) = 0, the
-    given ones held, in place; each step halved until ‖Φ‖ decreases (never a worse start
-    than q), the minimum-norm step where Φ_q's columns are dependent."""
+    given ones held, in place; each step halved until the residual decreases (never a
+    worse start than q), the minimum-norm step where Φ_q's columns are dependent. The rows
+    are weighted by their largest Jacobian entry at q (row equilibration), so that a row
+    whose size grows with the square of the unit of length (‖r1 − r2‖² − d²) does not
+    outweigh a revolute's: unweighted, the quick-return in units 1e5 times the seed's had
+    its ground pivots moved off to ease its distance row and Newton could not start."""
     free = [j for j in range(mech.n) if j not in given]
     mod, p = mech.module, mech.p
     r = np.empty(mech.m)
     J = np.empty((mech.m, mech.n))
     mod.phi(q, t, p, r)
-    size = float(np.linalg.norm(r))
-    for _ in range(iterations):
-        if not math.isfinite(size) or size <= mech.tol:
+    mod.phi_q(q, t, p, J)
+    top = np.max(np.abs(J), axis=1)
+    w = np.where(np.isfinite(top) & (top > 0.0), 1.0 / np.where(top > 0.0, top, 1.0), 1.0)
+    size = float(np.linalg.norm(w * r))
+    for k in range(iterations):
+        if not math.isfinite(size) or np.max(np.abs(r)) <= mech.tol:
             return
-        mod.phi_q(q, t, p, J)
-        step = np.linalg.lstsq(J[:, free], -r, rcond=None)[0]
+        if k:
+            mod.phi_q(q, t, p, J)
+        step = np.linalg.lstsq(w[:, None] * J[:, free], -w * r, rcond=None)[0]
         if not np.all(np.isfinite(step)):
             return
         scale = 1.0
@@ -79,7 +87,7 @@ def fit_given(mech, q, t, given, iterations=30):
             trial = q.copy()
             trial[free] += scale * step
             mod.phi(trial, t, p, r)
-            new = float(np.linalg.norm(r))
+            new = float(np.linalg.norm(w * r))
             if new < size:
                 break
             scale /= 2
