@@ -22,6 +22,8 @@ from .scripts import CHOOSE, PLAY, REDRAW, UNPACK
 
 WIDTH = 620              # the drawing's width in pixels
 PLOT_WIDTH, PLOT_HEIGHT = 440, 230
+BANNER = {"color": "#a01010", "background-color": "#fff0f0", "border": "1px solid #a01010",
+          "padding": "6px", "white-space": "pre-wrap", "font-size": "13px"}
 
 
 def _equal_size(extent, width=WIDTH):
@@ -110,9 +112,14 @@ class Page:
             s.js_link("value", sp, "value")
             sp.js_link("value", s, "value")
             self.sliders[name], self.spinners[name] = s, sp
+        # plain text (a solver's account may hold "<", as a Piecewise's condition does)
         self.note = Div(text="Note: " + ex.warning if getattr(ex, "warning", "") else "",
-                        width=420, name="note",
+                        width=420, name="note", render_as_text=True,
                         styles={"color": "#444444", "white-space": "pre-wrap"})
+        # above the drawing, on a server page: the model file changed but does not build
+        # (view.server); what a slider's move writes (the note, the message) leaves it
+        self.banner = Div(text="", visible=False, name="banner", render_as_text=True,
+                          width=fw, styles=BANNER)
 
         # the plots
         units = {q: unit_of(q, ex.mech) for q in ex.quantities}
@@ -183,7 +190,7 @@ class Page:
         self.reloader = Div(text="", visible=False, name="reloader")
         self.reloader.js_on_change("text", CustomJS(code="window.location.reload();"))
         controls.children.append(self.reloader)
-        self.layout = row(column(fig, controls),
+        self.layout = row(column(self.banner, fig, controls),
                           column(row(*self.selects, self.against), *plots),
                           name="mechgen_view")
         self.plots = plots

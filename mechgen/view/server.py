@@ -29,9 +29,32 @@ class Session:
     def __init__(self, doc, make_explorer, watch=None):
         self.doc, self.make, self.watch = doc, make_explorer, watch
         self.stamp = _stamp(watch)
-        self.build(make_explorer())
+        self.page = None
+        try:
+            ex = make_explorer()
+        except Exception as exc:   # a page opened while the file is broken: say why
+            if not watch:
+                raise
+            traceback.print_exc()
+            self.broken(exc)
+        else:
+            self.build(ex)
         if watch:
             doc.add_periodic_callback(self.look, WATCH_MS)
+
+    def broken(self, exc):
+        """The page of a model file that does not build (opened, or reloaded, while it
+        is being edited): the error, in place of the view, until the file builds."""
+        from bokeh.layouts import column
+        from bokeh.models import CustomJS, Div
+        from .page import BANNER
+        self.reloader = Div(text="", visible=False, name="reloader")
+        self.reloader.js_on_change("text", CustomJS(code="window.location.reload();"))
+        self.error = Div(text=_cannot_open(self.watch, exc), name="banner",
+                         render_as_text=True, width=720, styles=BANNER)
+        self.doc.clear()
+        self.doc.title = f"mechgen view: {os.path.basename(self.watch)} does not build"
+        self.doc.add_root(column(self.error, self.reloader))
 
     def build(self, ex):
         self.ex = ex
@@ -105,12 +128,22 @@ class Session:
         self.stamp = stamp
         try:
             self.make()
-        except Exception as exc:          # a model being edited may be broken: say so
-            self.page.note.text = f"{os.path.basename(self.watch)} changed but does not " \
-                                  f"build: {type(exc).__name__}: {exc}"
-            traceback.print_exc()
+        except Exception as exc:          # a model being edited may be broken: say so,
+            traceback.print_exc()         # above the drawing, until it builds again
+            if self.page is None:
+                self.error.text = _cannot_open(self.watch, exc)
+            else:
+                self.page.banner.text = f"{os.path.basename(self.watch)} changed but " \
+                    f"does not build: {type(exc).__name__}: {exc}\nThe page shows the " \
+                    f"model as it last built; save a fix to see it."
+                self.page.banner.visible = True
             return
-        self.page.reloader.text = repr(stamp)
+        (self.page or self).reloader.text = repr(stamp)
+
+
+def _cannot_open(path, exc) -> str:
+    return f"{os.path.basename(path)} does not build: {type(exc).__name__}: {exc}\n" \
+           f"This page shows the view once it builds: save a fix."
 
 
 def _stamp(path):

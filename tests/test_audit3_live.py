@@ -1,0 +1,100 @@
+"""Audit of `mechgen view` (API.md §7) as a user drives it: the server page with the model
+file watched while it is edited, and what the page says where it cannot show the view.
+Found in headless chromium (selenium) on examples/fourbar.py; checked here on the Bokeh
+documents the server builds, on the plain tier."""
+import os
+import shutil
+
+import pytest
+
+from conftest import EXAMPLES
+
+pytest.importorskip("bokeh")
+
+
+@pytest.fixture
+def fourbar_file(tmp_path, monkeypatch):
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+    path = tmp_path / "fourbar.py"
+    shutil.copy(os.path.join(EXAMPLES, "fourbar.py"), path)
+    return path
+
+
+def _maker(path, outdir):
+    import mechgen
+    from mechgen.view.explorer import Explorer
+    return lambda: Explorer(mechgen.compile(str(path), outdir=str(outdir), tier="python"),
+                            n=40, compiled=False)
+
+
+def _write(path, text):
+    """Write the model file so that the watch sees a change (its stamp: mtime and size)."""
+    before = os.stat(path).st_mtime_ns
+    path.write_text(text)
+    st = os.stat(path)
+    os.utime(path, ns=(st.st_atime_ns, max(st.st_mtime_ns, before + 10**6)))
+
+
+def _texts(doc):
+    """Every Div's text in a document (what the page says in words)."""
+    from bokeh.models import Div
+    return [m.text for m in doc.models if isinstance(m, Div) and m.text]
+
+
+def test_a_model_file_saved_broken_is_said_above_the_drawing_and_stays_said(fourbar_file,
+                                                                             tmp_path):
+    # `mechgen view fourbar.py`, the file saved with a syntax error: the page kept drawing
+    # the old model and said so only in the note under the six parameter sliders (off
+    # the screen of a 1340x900 window), and the next slider move wrote over that note
+    # (Page.show): nothing on the page said the file was broken any more
+    from bokeh.document import Document
+    from mechgen.view.server import Session
+    good = fourbar_file.read_text()
+    doc = Document()
+    s = Session(doc, _maker(fourbar_file, tmp_path / "gen"), watch=str(fourbar_file))
+    _write(fourbar_file, good.replace('m.param("c", 2.0)', 'm.param("c", 2.0'))
+    s.look()
+    banner = s.page.banner
+    assert banner.visible and "does not build" in banner.text and "syntax error" in \
+        banner.text and "fourbar.py:9" in banner.text
+    assert s.page.layout.children[0].children[0] is banner       # above the drawing
+    said = banner.text
+    s.moved("a", 0.9)                  # a slider moved on the model as it last built
+    assert s.page.banner.visible and s.page.banner.text == said
+    assert s.page.reloader.text == ""  # not reloaded onto a broken file
+    # fixed: the page reloads itself (a fresh session builds the new model)
+    _write(fourbar_file, good.replace('m.param("c", 2.0)', 'm.param("c", 2.2)'))
+    s.look()
+    assert s.page.reloader.text != ""
+    fresh = Session(Document(), _maker(fourbar_file, tmp_path / "gen"),
+                    watch=str(fourbar_file))
+    assert fresh.ex.params["c"] == 2.2 and not fresh.page.banner.visible
+
+
+def test_a_page_opened_while_the_model_file_is_broken_says_why_and_recovers(fourbar_file,
+                                                                            tmp_path):
+    # a page opened (or reloaded with F5) while the watched file did not build showed
+    # "500: Internal Server Error" and nothing else: Session() raised, the cause only in
+    # the terminal, and the page never came back once the file was fixed
+    from bokeh.document import Document
+    from mechgen.view.server import Session
+    good = fourbar_file.read_text()
+    _write(fourbar_file, good.replace("m.revolute(coupler[2], rocker[2])",
+                                      "m.revolute(coupler[2], rockr[2])"))
+    doc = Document()
+    s = Session(doc, _maker(fourbar_file, tmp_path / "gen"), watch=str(fourbar_file))
+    said = " ".join(_texts(doc))
+    assert "fourbar.py does not build" in said and "rockr" in said and ":22" in said
+    assert doc.session_callbacks               # still watching the file
+    _write(fourbar_file, good)
+    s.look()
+    assert s.reloader.text != ""               # built: the page reloads onto the view
+
+
+def test_the_pages_note_is_plain_text(fourbar_file, tmp_path):
+    # the note under the sliders (a solver's account of a failure, a mode's warning) was
+    # a Div rendering HTML: an account quoting a condition `v < 0` of a Piecewise cut
+    # the rest of the text off as a tag
+    from mechgen.view.page import Page
+    page = Page(_maker(fourbar_file, tmp_path / "gen")(), server=True)
+    assert page.note.render_as_text and page.banner.render_as_text
