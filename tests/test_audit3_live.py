@@ -98,3 +98,52 @@ def test_the_pages_note_is_plain_text(fourbar_file, tmp_path):
     from mechgen.view.page import Page
     page = Page(_maker(fourbar_file, tmp_path / "gen")(), server=True)
     assert page.note.render_as_text and page.banner.render_as_text
+
+
+def test_the_view_opens_on_a_model_with_a_point_placed_by_parameters():
+    # `mechgen view examples/internal_gear.py --model planetary` (and internal_gear, and
+    # their --html and mech.explore()) failed: "'frame.at(-2*rq - rs, 0)': body.at(x, y)
+    # takes two numbers": the default traced paths look up every point the module
+    # names, and a point the model placed with frame.at(expr, 0) was parsed as a local
+    # position to trace, not found as the module's own point
+    import mechgen
+    from conftest import GENERATED
+    from mechgen.plot.scene import Scene
+    from mechgen.view.explorer import Explorer
+    mech = mechgen.load(os.path.join(GENERATED, "planetary.py"), tier="python")
+    label = "frame.at(-2*rq - rs, 0)"
+    assert label in mech.point_names
+    scene = Scene(mech)
+    sw = mech.sweep(0, 1, 5)
+    body, path = scene.locate(label)
+    assert body.name == "frame"
+    P = sw.points()
+    k = mech.point_names.index(label)
+    assert abs(path(P, sw.Q) - P[:, k]).max() == 0.0
+    # -2*rq - rs at the defaults rq = 0.75, rs = 1: the ring's point at x = -2.5
+    assert abs(P[0, k, 0] + 2.5) < 1e-12 and abs(P[0, k, 1]) < 1e-12
+    ex = Explorer(mech, n=20, compiled=False)
+    assert ex.trace                     # and traced paths were chosen
+
+
+def test_the_views_ring_gear_is_not_filled_black():
+    # the view drew the frame's ring gear (an internal gear: its pitch circle drawn with
+    # facecolor "none" and alpha 1) as an opaque black disk over the whole planetary
+    # train: the patch's alpha replaced the "none" face's zero alpha; draw() leaves it
+    # unfilled
+    import mechgen
+    from conftest import GENERATED
+    from mechgen.view.geometry import Picture
+    mech = mechgen.load(os.path.join(GENERATED, "planetary.py"), tier="python")
+    s = mech.solve(0.1)
+    pic = Picture(mech, s.q, 0.1, mech.sweep(0, 1, 11))
+    ring = [p for p in pic.pieces if p["kind"] == "patch" and p["owner"] == "frame"
+            and len(p["xy"]) > 20]
+    assert ring, [(p["owner"], len(p["xy"])) for p in pic.pieces]
+    for p in ring:
+        assert p["fill"] is None or p["fill_alpha"] == 0.0, p
+    from mechgen.view.layers import drawing_columns
+    for rows in drawing_columns(pic)[2]:
+        for owner, fill, alpha in zip(rows["owner"], rows.get("fill_color", []),
+                                      rows.get("fill_alpha", [])):
+            assert not (fill == "#000000" and alpha > 0), (owner, fill, alpha)

@@ -122,7 +122,10 @@ class Scene:
         positions (F, 2) over frames P (F, N, 2), Q (F, n). ``label`` is a point of the
         module (see point()) or ``body.at(x, y)``: the point at local (x, y) of a body,
         which the model need not name (a coupler point whose curve to trace)."""
-        found = _AT.match(label) if isinstance(label, str) else None
+        # a label of the module's own (a point the model placed with body.at(expr, ...),
+        # "ring.at(-rr, 0)") is that point, not a local position to parse
+        found = _AT.match(label) if isinstance(label, str) and label not in self.labels \
+            else None
         if found is None:
             ground = next((b for b in self.bodies if b.ground and label == f"{b.name}[0]"
                            and label not in self.labels), None)

@@ -243,6 +243,8 @@ def _piece(art, ax, size=None):
                     width=width * PT_PX, z=z)
     if isinstance(art, Patch):
         fill, falpha = _color(art.get_facecolor())
+        if falpha == 0.0:       # facecolor "none" (an internal gear's pitch circle): no
+            fill = None         # fill, whatever the patch's alpha (matplotlib's rule)
         edge, _ = _color(art.get_edgecolor())
         alpha = art.get_alpha()
         return dict(kind="patch", xy=_data_xy(art, ax, size), fill=fill,
