@@ -147,3 +147,16 @@ def test_the_views_ring_gear_is_not_filled_black():
         for owner, fill, alpha in zip(rows["owner"], rows.get("fill_color", []),
                                       rows.get("fill_alpha", [])):
             assert not (fill == "#000000" and alpha > 0), (owner, fill, alpha)
+
+
+def test_the_cannot_assemble_message_says_the_value_that_fails(fourbar_file, tmp_path):
+    # fourbar (a = 0.8, b = 2.5, c = 2) turns its crank fully for d <= b + c - a = 3.7
+    # (closed form: the crank pin's distance to the rocker's pivot reaches d + a); the
+    # spinner set to d = 3.70001 said "Cannot assemble over the cycle for d = 3.7", a
+    # value that does run (the message rounded it to 4 digits)
+    ex = _maker(fourbar_file, tmp_path / "gen")()
+    data, _, message = ex.compute({"d": 3.70001})
+    assert len(data["t"]) == 0
+    assert "for d = 3.70001." in message, message
+    data, _, message = ex.compute({"d": 3.69})
+    assert message == "" and len(data["t"]) == 40

@@ -188,8 +188,9 @@ class Explorer:
     def _cannot(self, mech, values, changed, why):
         """The message shown in place of the drawing: where it stops, and the range of
         the parameter just changed over which it runs."""
-        said = ", ".join(f"{k} = {v:.4g}" for k, v in values.items() if k in changed) or \
-            ", ".join(f"{k} = {v:.4g}" for k, v in values.items())
+        # the values as typed (to 6 digits: 3.70001 is not said as 3.7, a value that runs)
+        said = ", ".join(f"{k} = {v:.6g}" for k, v in values.items() if k in changed) or \
+            ", ".join(f"{k} = {v:.6g}" for k, v in values.items())
         self.detail = why
         text = f"Cannot assemble over the cycle for {said}."
         for name in changed:        # what to do first: the range that runs
