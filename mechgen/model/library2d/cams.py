@@ -17,9 +17,10 @@ R the cam's rotation and r_c(s) = (X, Y) + R c(s) its global position, t(s) = R 
 
 Each row counts like any other constraint: net, each removes one degree of freedom
 (Mech's "1"). The contact geometry is checked when the constraint is declared, at the
-parameters' defaults (profiles.check_contact): a cusp, a roller larger than a hollow's
-radius of curvature or a flat face on a concave part is a ModelError naming the
-constraint, the cam and the parameter value.
+parameters' defaults (profiles.check_contact): a profile that jumps, a cusp, a corner
+under a roller, a flat face or another cam, a roller larger than a hollow's radius of
+curvature or a flat face on a concave part is a ModelError naming the constraint, the cam
+and the parameter value.
 """
 from __future__ import annotations
 
@@ -129,7 +130,8 @@ class CamsMixin:
         through them, its parameter running 0..2π once round the table at equal steps).
         ``period``: the parameter range of one turn (default 2π); ``periodic=True`` calls
         the function with the parameter wrapped into [0, period) (for a law written over
-        one turn only, such as a piecewise rise–dwell–return–dwell). Expressions may hold
+        one turn only, such as a piecewise rise–dwell–return–dwell; a polar profile turns
+        once in 2π, its r over a period that divides 2π: one lobe). Expressions may hold
         parameters. ``name`` (default ``profile1``, ``profile2``, ...) names it in labels."""
         if name is None:
             k = 1
@@ -222,8 +224,8 @@ class CamsMixin:
         con = self._cam(CamToCam,
                         lambda syms, nus: (cam1, profile1, cam2, profile2, syms[0], syms[1]),
                         self._contact_names(contact, 2), [g1, g2], name,
-                        [(cam1, _profile(profile1, "cam_to_cam", 2), {}),
-                         (cam2, _profile(profile2, "cam_to_cam", 4), {})])
+                        [(cam1, _profile(profile1, "cam_to_cam", 2), dict(corners=True)),
+                         (cam2, _profile(profile2, "cam_to_cam", 4), dict(corners=True))])
         con.points = profile_points(cam1, profile1) + profile_points(cam2, profile2)
         return con
 

@@ -254,12 +254,26 @@ def make_profile(model, name, xy=None, polar=None, points=None, period=None, per
     shown = sp.Symbol("s")
     text = (f"polar r = {sp.sympify(out).subs(probe, shown)}" if polar is not None else
             f"(x, y) = ({x.subs(probe, shown)}, {y.subs(probe, shown)})")
-    if periodic:
+    turn = per
+    if periodic and polar is not None:
+        # the function is r(θ): its argument is wrapped, not the angle of the point
+        # (r cos θ, r sin θ), which goes once round in 2π whatever r's period (a lobed
+        # cam written over one lobe, period=2*pi/3); wrapping cos θ too drew that lobe's
+        # sector alone, refused as a cusp
+        turn = 2 * sp.pi
+        lobes = float((turn / per).subs({sym: val for sym, val in model.params.values()}))
+        if not (lobes >= 1 and abs(lobes - round(lobes)) < 1e-9):
+            raise ModelError(f"profile '{name}': a polar profile's period must divide one "
+                             f"turn, 2π (2π / period = {lobes:.6g}), for r(θ) to close")
+        r = sp.sympify(out).subs(probe, wrap(probe, per))
+        x, y = r * sp.cos(probe), r * sp.sin(probe)
+        held |= per.free_symbols
+    elif periodic:
         x, y = x.subs(probe, wrap(probe, per)), y.subs(probe, wrap(probe, per))
         held |= per.free_symbols          # a period in parameters: arguments too
     params = [p for p in model.param_symbols if p in held]
     return Profile(name, "polar" if polar is not None else "parametric", probe, x, y,
-                   params, per, text)
+                   params, turn, text)
 
 
 def _table(name, points):
@@ -327,25 +341,99 @@ def orientation(model, profile) -> int:
     return 1 if area >= 0 else -1
 
 
-def check_contact(where, model, profile, radius=None, side=1, convex=False):
+def _breaks(model, profile, ss, v, closed):
+    """(s, jump, corner) of the first place where the profile's point jumps (``jump``,
+    the two points) or its tangent turns at once (``corner``, the angle in radians), else
+    None. Neighbouring samples that move or turn much more than the speed and curvature
+    at both say are candidates; bisecting each down to a parameter step of about 1e-11
+    tells a break (it stays) from a steep but smooth part (it vanishes). The join from the
+    end back to the start counts when the profile closes (a periodic law whose end does
+    not meet its start jumps there)."""
+    subs = {sym: val for sym, val in model.params.values()}
+    given = {p: float(subs[p]) for p in profile.params}
+    exprs = [derivative(f.expr, f.var, order) for order in range(3)
+             for f in (profile.fx, profile.fy)]
+
+    def at(s):
+        g = dict(given)
+        g[profile.var] = np.asarray(s, dtype=float)
+        return np.array(evaluate(exprs, g, g[profile.var].shape), dtype=float)
+
+    step = float(ss[1] - ss[0])
+    end = float(ss[-1] + step)
+    nxt = np.roll(v, -1, axis=1)
+    if closed:
+        nxt[:, -1] = at([end])[:, 0]        # the limit at the period: the start again
+    size = float(np.max(np.hypot(v[0] - v[0].mean(), v[1] - v[1].mean()))) or 1.0
+    # the trapezoid rule between neighbours: off by O(step² c'') where the profile is
+    # smooth, by the jump (the corner) itself where it breaks
+    miss = np.hypot(nxt[0] - v[0] - (v[2] + nxt[2]) * step / 2,
+                    nxt[1] - v[1] - (v[3] + nxt[3]) * step / 2)
+    moved = miss > np.hypot(nxt[2] - v[2], nxt[3] - v[3]) * step + 1e-9 * size
+    turn = np.arctan2(v[2] * nxt[3] - v[3] * nxt[2], v[2] * nxt[2] + v[3] * nxt[3])
+    bend = [(w[2] * w[5] - w[3] * w[4]) / np.maximum(np.hypot(w[2], w[3]), 1e-300) ** 2
+            for w in (v, nxt)]                                  # κ · speed, signed
+    turned = np.abs(turn - (bend[0] + bend[1]) * step / 2) > \
+        np.abs(bend[1] - bend[0]) * step + 1e-6
+    if not closed:
+        moved[-1] = turned[-1] = False
+    def gap(lo, hi):
+        p = at([lo, hi])
+        return (np.hypot(p[0, 1] - p[0, 0], p[1, 1] - p[1, 0]) / size,
+                abs(math.atan2(p[2, 0] * p[3, 1] - p[3, 0] * p[2, 1],
+                               p[2, 0] * p[2, 1] + p[3, 0] * p[3, 1])))
+
+    cases = [(k, 0) for k in np.flatnonzero(moved)[:8]] + \
+        [(k, 1) for k in np.flatnonzero(turned)[:8]]
+    for k, which in sorted(cases, key=lambda c: (c[1], c[0])):   # a jump before a corner
+        a, b = float(ss[k]), float(ss[k]) + step
+        while b - a > 1e-11 * max(1.0, abs(end)):
+            m = 0.5 * (a + b)
+            a, b = (a, m) if gap(a, m)[which] >= gap(m, b)[which] else (m, b)
+        d, t = gap(a, b)
+        if d > 1e-7 or t > 1e-5:
+            p = at([a, b])
+            return b, (p[:2, 0], p[:2, 1]) if d > 1e-7 else None, t
+    return None
+
+
+def check_contact(where, model, profile, radius=None, side=1, convex=False, corners=False):
     """Raise ModelError when a follower loses contact geometry on ``profile``: the profile
-    has a cusp (its tangent vanishes or turns back), a roller of ``radius`` is larger than
-    the radius of curvature of a part it rolls against from the hollow side, or (``convex``)
-    a flat face meets a concave part. ``where`` names the constraint and cam."""
+    jumps (its point is not continuous: any follower would jump with it), has a cusp (its
+    tangent vanishes or turns back), a corner (its tangent turns at once) under a roller,
+    a flat face or another cam (``corners``; a knife edge rides over one), a roller of
+    ``radius`` is larger than the radius of curvature of a part it rolls against from the
+    hollow side, or (``convex``) a flat face meets a concave part. ``where`` names the
+    constraint and cam."""
     ss, v = sample(model, profile)
     if not np.all(np.isfinite(v)):
         k = int(np.argmin(np.all(np.isfinite(v), axis=0)))
         raise ModelError(f"{where}: the profile '{profile}' is not finite at s = {ss[k]:.6g}")
     speed = np.hypot(v[2], v[3])
     turn = v[2] * np.roll(v[2], -1) + v[3] * np.roll(v[3], -1)   # t_i · t_(i+1)
-    if not closes(model, profile, ss, v):
+    closed = closes(model, profile, ss, v)
+    if not closed:
         turn[-1] = 1.0      # an open profile: no join from its end back to its start
+    broken = _breaks(model, profile, ss, v, closed)
+    if broken is not None and broken[1] is not None:
+        s, (p0, p1) = broken[0], broken[1]
+        seam = " (its end does not meet its start)" if abs(s - ss[-1] - (ss[1] - ss[0])) < \
+            1e-9 * max(1.0, abs(s)) else ""
+        raise ModelError(f"{where}: the profile '{profile}' jumps at s = {s:.6g}{seam}, from "
+                         f"({p0[0]:.6g}, {p0[1]:.6g}) to ({p1[0]:.6g}, {p1[1]:.6g}): a "
+                         "follower would jump with it; make the profile continuous")
     scale = float(np.max(speed)) or 1.0
     if np.min(speed) < 1e-7 * scale or np.any(turn < 0):
         k = int(np.argmin(speed)) if np.min(speed) < 1e-7 * scale else int(np.argmax(turn < 0))
         raise ModelError(f"{where}: the profile '{profile}' has a cusp at s = {ss[k]:.6g} "
                          "(its tangent vanishes or turns back there): a follower loses contact "
                          "geometry; smooth the profile (or the roller is too large for it)")
+    if broken is not None and (corners or convex or radius is not None):
+        raise ModelError(f"{where}: the profile '{profile}' has a corner at s = "
+                         f"{broken[0]:.6g} (its tangent turns by {math.degrees(broken[2]):.4g}° "
+                         "at once): a roller, a flat face or another cam loses contact "
+                         "geometry there (its contact point jumps); round the corner (a knife "
+                         "edge may ride over it)")
     kappa = (v[2] * v[5] - v[3] * v[4]) / speed ** 3
     nu = orientation(model, profile)
     if radius is not None:

@@ -1,0 +1,126 @@
+"""Audit of cam profiles (m.profile with cam_to_point, cam_to_line, cam_to_cam): a profile
+that jumps (a periodic law whose end misses its start, or two pieces that miss each other)
+or has a corner under a roller, refused where it is declared instead of a follower that
+jumps silently or a sweep that fails half-way blaming a lock; a polar law written over one
+lobe (period=2π/k, periodic=True) makes the whole cam. Expected values come from the
+geometry (closed forms, the envelope of the roller), never from mechgen."""
+import numpy as np
+import pytest
+
+import mechgen
+from mechgen import Model, Piecewise, T, cos, pi, sin
+
+BETA = 2 * pi / 3
+
+
+def _slider(name, guess_y):
+    """A cam turning at one turn per unit time about the origin, a follower sliding on the
+    vertical axis x = 0."""
+    m = Model(name)
+    g = m.ground("g", points=[(0, 0), (0, 1)])
+    cam = m.body("cam", guess=(0, 0, 0))
+    f = m.body("f", points=[(0, 0), (0, 1)], guess=(0, guess_y, 0))
+    m.revolute(g[1], cam[0])
+    m.rotation_lock(cam, 2 * pi * T)
+    m.translate(g.line(1, 2), f.line(1, 2))
+    return m, cam, f
+
+
+def _cycloidal(h, end=0, top=None):
+    """A rise of h over 120°, a dwell at ``top`` (h), a return to ``end`` (0), a dwell."""
+    top = h if top is None else top
+
+    def law(phi):
+        x1, x2 = phi / BETA, (phi - pi) / BETA
+        c = lambda x: x - sin(2 * pi * x) / (2 * pi)       # noqa: E731
+        return Piecewise((h * c(x1), phi < BETA), (top, phi < pi),
+                         (top + (end - top) * c(x2), phi < pi + BETA), (end, True))
+    return law
+
+
+def _knife_cam(name, law, radius=None):
+    """The pitch curve of a radial follower, (rb + s(φ)) at angle π/2 − φ in the cam's
+    frame, the follower's point on it (a knife edge, or the centre of a roller on the
+    profile itself)."""
+    m, cam, f = _slider(name, 4.0)
+    disc = m.profile("disc", xy=lambda p: ((4 + law(p)) * sin(p), (4 + law(p)) * cos(p)),
+                     periodic=True)
+    kw = {} if radius is None else dict(radius=radius)
+    m.cam_to_point(cam, disc, f[1], contact="s", guess=0.0, **kw)
+    return m
+
+
+@pytest.mark.parametrize("radius", [None, 0.5])
+def test_a_periodic_law_whose_end_misses_its_start_is_refused(radius):
+    # before: accepted; the follower's Y3 went 4.05 (t = 0.99) -> 4.00 (t = 1.0), a jump
+    # of the missing 0.05 at every turn, with Y3d = 0 and no error or warning
+    with pytest.raises(mechgen.ModelError,
+                       match=r"cam_to_point 4, cam 'cam': the profile 'disc' jumps at "
+                             r"s = 6\.28319 \(its end does not meet its start\), from "
+                             r"\(.*, 4\.05\) to \(0, 4\)"):
+        _knife_cam("seam", _cycloidal(1.5, end=0.05), radius)
+    _knife_cam("closes", _cycloidal(1.5), radius)                     # a closed law: fine
+
+
+def test_two_pieces_that_miss_each_other_are_refused():
+    """The dwell sits 0.02 above the end of the rise (at φ = 2π/3)."""
+    with pytest.raises(mechgen.ModelError, match=r"jumps at s = 2\.0944\d*, from "):
+        _knife_cam("step", _cycloidal(1.5, top=1.52))
+
+
+def _d_shape(radius):
+    """A disc of radius 2 cut flat by the chord y = −1: corners at θ = 7π/6 and 11π/6
+    where the tangent turns by 60°."""
+    m, cam, f = _slider("dshape", 2.5)
+    d = m.profile("D", polar=lambda th: Piecewise((2, th < 7 * pi / 6),
+                                                  (-1 / sin(th), th < 11 * pi / 6), (2, True)),
+                  periodic=True)
+    kw = {} if radius is None else dict(radius=radius)
+    m.cam_to_point(cam, d, f[1], contact="s", guess=float(np.pi / 2), **kw)
+    return m
+
+
+def test_a_roller_on_a_corner_is_refused_a_knife_edge_rides_over_it(tmp_path):
+    # before: accepted, and a sweep failed at t = 0.336 with a ConvergenceError that
+    # blamed the driver ("ask for a configuration that cannot assemble")
+    with pytest.raises(mechgen.ModelError, match=r"the profile 'D' has a corner at s = "
+                                                 r"3\.66519 \(its tangent turns by 60° at once\)"):
+        _d_shape(0.5)
+    mech = mechgen.compile(_d_shape(None), outdir=str(tmp_path), tier="python")
+    sw = mech.sweep(0, 1, 37)
+    phi = np.mod(np.pi / 2 - 2 * np.pi * sw.t, 2 * np.pi)     # the cam's angle under the edge
+    r = np.where(np.sin(phi) >= -0.5, 2.0, -1 / np.sin(phi))
+    assert np.max(np.abs(sw["Y3"] - r)) < 1e-9
+
+
+def _lobed(name, **kw):
+    """A three-lobed cam r = 2 + 0.3 cos 3θ under a roller of radius 0.4 on the axis
+    x = 0.3."""
+    m = Model(name)
+    g = m.ground("g", points=[(0, 0), (0.3, 0), (0.3, 1)])
+    cam = m.body("cam", guess=(0, 0, 0))
+    f = m.body("f", points=[(0, 0), (0, 1)], guess=(0.3, 2.6, 0))
+    m.revolute(g[1], cam[0])
+    m.rotation_lock(cam, 2 * pi * T)
+    m.translate(g.line(2, 3), f.line(1, 2))
+    d = m.profile("lobes", polar=lambda th: 2 + 0.3 * cos(3 * th), **kw)
+    m.cam_to_point(cam, d, f[1], contact="s", guess=float(np.pi / 2), radius=0.4)
+    return m
+
+
+def test_a_polar_law_written_over_one_lobe_makes_the_whole_cam(tmp_path):
+    # before: period=2π/3 wrapped cos θ and sin θ too, the profile was the first lobe's
+    # sector alone and the declaration was refused as "a cusp at s = 2.09335"
+    mech = mechgen.compile(_lobed("lobe", period=2 * pi / 3, periodic=True),
+                           outdir=str(tmp_path), tier="python")
+    sw = mech.sweep(0, 3, 7)                          # 3 turns in 6 steps
+    ph = np.linspace(0, 2 * np.pi, 200001)
+    rr = 2 + 0.3 * np.cos(3 * ph)
+    ref = []
+    for a in 2 * np.pi * sw.t:                        # the roller's envelope, sampled
+        px, py = rr * np.cos(ph + a) - 0.3, rr * np.sin(ph + a)
+        ok = np.abs(px) <= 0.4
+        ref.append(np.max(py[ok] + np.sqrt(0.16 - px[ok] ** 2)))
+    assert np.max(np.abs(sw["Y3"] - np.array(ref))) < 1e-6
+    with pytest.raises(mechgen.ModelError, match=r"period must divide one turn"):
+        _lobed("lobe2", period=2.0, periodic=True)
