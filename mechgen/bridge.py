@@ -177,6 +177,12 @@ class LazySymbolic:
         """As Symbolic.level."""
         return self._side().level(mech, expr)
 
+    def check_contacts(self, mech, given):
+        """As Symbolic.check_contacts once the model is loaded (never loads it: a
+        with_params of a module loaded without sympy stays without it)."""
+        if self._real is not None:
+            self._real.check_contacts(mech, given)
+
 
 class Symbolic:
     """The symbolic side of a mechanism built by ``mechgen.compile``: what the runtime
@@ -204,6 +210,22 @@ class Symbolic:
         if any(c + "d" in names for c in coords):
             return LEVEL["velocity"]
         return LEVEL["position"]
+
+
+    def check_contacts(self, mech, given):
+        """Warn (RuntimeWarning) for each cam whose contact geometry is lost at ``mech``'s
+        parameters, ``given`` (name -> value) the ones with_params changed: the check runs
+        where a cam is declared, at the defaults (mechgen.model.library2d.cams.contact_problems)."""
+        if not any(getattr(c, "checks", ()) for c in self.model.constraints):
+            return
+        import warnings
+        from .model.library2d.cams import contact_problems
+        values = mech.parameters
+        said = ", ".join(f"{k}={v!r}" for k, v in given.items())
+        for msg in contact_problems(self.model, values):
+            warnings.warn(f"model '{mech.name}' with {said}: {msg}; solves and sweeps there "
+                          "do not give the follower's physical motion", RuntimeWarning,
+                          stacklevel=3)
 
 
 def attach(mech, model):

@@ -124,3 +124,36 @@ def test_a_polar_law_written_over_one_lobe_makes_the_whole_cam(tmp_path):
     assert np.max(np.abs(sw["Y3"] - np.array(ref))) < 1e-6
     with pytest.raises(mechgen.ModelError, match=r"period must divide one turn"):
         _lobed("lobe2", period=2.0, periodic=True)
+
+
+def _dented(rho):
+    """A roller on r = 2 + 0.4 cos 3θ, whose hollows have a radius of curvature of 1.28."""
+    m, cam, f = _slider("dented", 2.5)
+    r = m.param("rho", rho)
+    d = m.profile("dented", polar=lambda th: 2 + 0.4 * cos(3 * th))
+    m.cam_to_point(cam, d, f[1], contact="s", guess=float(np.pi / 2), radius=r)
+    return m
+
+
+def test_with_params_asks_the_contact_check_again(tmp_path):
+    # before: with_params(rho=1.5) said nothing (the check ran at the default 0.3 only),
+    # and a sweep then stopped at t = 0.084 with a ConvergenceError about a lock (toggle)
+    import warnings
+    mech = mechgen.compile(_dented(0.3), outdir=str(tmp_path), tier="python")
+    with pytest.warns(RuntimeWarning, match=r"model 'dented' with rho=1\.5: cam_to_point 4, "
+                                            r"cam 'cam': the roller \(radius 1\.5\) is larger "
+                                            r"than the radius of curvature 1\.28"):
+        big = mech.with_params(rho=1.5)
+    assert big.parameters["rho"] == 1.5
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ok = mech.with_params(rho=1.0)                 # smaller than 1.28: fine, silent
+    sw = ok.sweep(0, 1, 13)
+    ph = np.linspace(0, 2 * np.pi, 100001)
+    rr = 2 + 0.4 * np.cos(3 * ph)
+    ref = []
+    for a in 2 * np.pi * sw.t:                        # the roller's envelope, sampled
+        px, py = rr * np.cos(ph + a), rr * np.sin(ph + a)
+        keep = np.abs(px) <= 1.0
+        ref.append(np.max(py[keep] + np.sqrt(1.0 - px[keep] ** 2)))
+    assert np.max(np.abs(sw["Y3"] - np.array(ref))) < 1e-6

@@ -156,6 +156,8 @@ class Mechanism:
         other.model, other.symbolic = self.model, self.symbolic
         other.guess, other.guess_t = self.guess.copy(), self.guess_t
         other.guess_p = self.guess_p
+        if values and hasattr(self.symbolic, "check_contacts"):   # cams, as declared
+            self.symbolic.check_contacts(other, values)   # (warns; _with_params does not)
         return other
 
     # -- guesses ----------------------------------------------------------------------

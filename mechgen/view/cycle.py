@@ -16,6 +16,7 @@ import warnings
 import numpy as np
 
 from ..errors import BranchJumpWarning, MechgenError
+from ..runtime.guesses import quiet_params
 from .geometry import poses
 
 DRIVER = "driver: "      # the prefix of a driver effort's column
@@ -156,7 +157,7 @@ def assembling_range(mech, name, lo, hi, t0, t1, n=40, designs=25):
 
 def _assembles(mech, name, value, t0, t1, n) -> bool:
     try:
-        solve_cycle(mech.with_params(**{name: value}), t0, t1, n)
+        solve_cycle(quiet_params(mech, {name: value}), t0, t1, n)
     except Failure:
         return False
     return True

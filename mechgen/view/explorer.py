@@ -10,6 +10,7 @@ import textwrap
 import numpy as np
 
 from ..errors import MechgenError
+from ..runtime.guesses import quiet_params
 from ..plot.scene import Scene
 from .cycle import (DRIVER, Failure, assembling_range, columns, empty_columns, quantity_names,
                     solve_cycle)
@@ -154,7 +155,7 @@ class Explorer:
         (columns, whether the glyphs were drawn again, message: "" when it runs)."""
         values = dict(self.params)
         values.update(params or {})
-        mech = self.mech.with_params(**values)
+        mech = quiet_params(self.mech, values)
         if guess is None and self.guess is not None:
             # the mode chosen: the last cycle's start, carried from its parameters to
             # these (Mechanism.with_params), not a Newton from it here

@@ -109,6 +109,30 @@ class CamToCam(Constraint):
 CAM_KINDS = {c.kind: c for c in (CamToPoint, CamToLine, CamToCam)}
 
 
+def contact_problems(model, values) -> list:
+    """What the contact-geometry check (profiles.check_contact) finds wrong with each cam
+    of ``model`` at the parameters ``values`` (name -> number; the others at their
+    defaults), as messages: the check runs where a cam is declared, at the defaults only,
+    and a mechanism's with_params asks again (a roller grown past a hollow's radius of
+    curvature rolls on a curve that is not the one the cam cuts)."""
+    from types import SimpleNamespace
+    proxy = SimpleNamespace(params={k: (sym, float(values.get(k, val)))
+                                    for k, (sym, val) in model.params.items()})
+    out = []
+    for con in model.constraints:
+        for where, prof, kw, nu in getattr(con, "checks", ()):
+            try:
+                now = check_contact(where, proxy, prof, **kw)
+            except ModelError as exc:
+                out.append(exc.message)
+                continue
+            if now != nu and kw.get("radius") is not None:
+                out.append(f"{where}: the profile '{prof}' runs the other way round here: "
+                           "the roller, on the side asked at the model's parameters, is now "
+                           "on its other side")
+    return out
+
+
 def profile_points(cam, profile, n=PROFILE_POINTS):
     """``n`` points of the profile fixed in the cam (for pictures), parameters kept."""
     out = []
@@ -162,6 +186,8 @@ class CamsMixin:
             self._equations = None
             raise
         con.contacts = tuple(syms)
+        con.checks = [(f"{where}, cam '{cam}'", prof, kw, nu)
+                      for (cam, prof, kw), nu in zip(checks, signs)]
         return con
 
     def _contact_names(self, contact, k):
@@ -230,4 +256,5 @@ class CamsMixin:
         return con
 
 
-__all__ = ["CamsMixin", "CamToPoint", "CamToLine", "CamToCam", "CAM_KINDS", "PROFILE_POINTS"]
+__all__ = ["CamsMixin", "CamToPoint", "CamToLine", "CamToCam", "CAM_KINDS", "PROFILE_POINTS",
+           "contact_problems"]

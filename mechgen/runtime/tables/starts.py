@@ -23,6 +23,7 @@ import numpy as np
 from ...errors import MechgenError
 from ...protocol import JUMP, OK, POINT_INFO_SIZE, STATUS_CODE, THROUGH_SINGULAR
 from ..entry import module_attr, solve_point
+from ..guesses import quiet_params
 from ..follow import CELL, follow
 from ..guesses import turned_home
 from ..results import Solution
@@ -72,7 +73,7 @@ def _starts(mech, ts, P, tol, maxit, meth, workers, followed):
             (followed or module_attr(mod, "SWITCH_TIMES", ())):
         # stages: the guess's mode followed to the table's first time at the guess's
         # parameters (stage by stage: runtime.follow), then carried to each design there
-        ref = mech.with_params(**dict(zip(mech.parameter_names, map(float, p_ref))))
+        ref = quiet_params(mech, dict(zip(mech.parameter_names, map(float, p_ref))))
         try:
             g = follow(ref, float(ts[0]), tol, maxit, meth, what="the table's start")
         except MechgenError:
