@@ -158,3 +158,18 @@ def test_with_params_asks_the_contact_check_again(tmp_path):
         keep = np.abs(px) <= 1.0
         ref.append(np.max(py[keep] + np.sqrt(1.0 - px[keep] ** 2)))
     assert np.max(np.abs(sw["Y3"] - np.array(ref))) < 1e-6
+
+
+def test_with_params_says_when_the_profile_turns_the_other_way(tmp_path):
+    """An ellipse (2 cos s, b sin s): b < 0 runs it clockwise, which turns the roller's
+    "outside" (fixed where declared) to its inside."""
+    m, cam, f = _slider("flip", 2.0)
+    b = m.param("b", 1.5)
+    d = m.profile("ell", xy=lambda s: (2 * cos(s), b * sin(s)))
+    m.cam_to_point(cam, d, f[1], contact="s", guess=float(np.pi / 2), radius=0.5)
+    mech = mechgen.compile(m, outdir=str(tmp_path), tier="python")
+    assert mech.solve(0)["Y3"] == pytest.approx(2.0, abs=1e-12)    # b + 0.5 above the pivot
+    # before: no warning, and solve(0) of b = -1.5 gave Y3 = -1.0, the roller inside the
+    # cam 0.5 above its lowest point (the same ellipse: physically Y3 = 2.0)
+    with pytest.warns(RuntimeWarning, match=r"with b=-1\.5: .*'ell' runs the other way round"):
+        mech.with_params(b=-1.5)
