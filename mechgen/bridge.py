@@ -211,7 +211,6 @@ class Symbolic:
             return LEVEL["velocity"]
         return LEVEL["position"]
 
-
     def check_contacts(self, mech, given):
         """Warn (RuntimeWarning) for each cam whose contact geometry is lost at ``mech``'s
         parameters, ``given`` (name -> value) the ones with_params changed: the check runs
