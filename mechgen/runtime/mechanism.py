@@ -444,15 +444,8 @@ class Mechanism:
                     q0 = follow(self, float(ts[0]), tol, maxit, meth)
             except MechgenError:    # the sweep says why, from the guess itself
                 q0 = self.guess.copy()
-        elif guess is None:     # where solve(ts[0]) is: the guess's mode followed there
-            with self._lock:    # (the way is kept on the mechanism, as solve's)
-                try:
-                    q0 = follow(self, float(ts[0]), tol, maxit, meth, what="the sweep's start")
-                except MechgenError as exc:
-                    exc.sweep = no_points(self, ts, lev)    # (a sweep's error carries one)
-                    raise
-        else:                   # (a Solution at another time: its mode followed to ts[0])
-            try:
+        else:       # where solve(ts[0]) is (no guess: the guess's mode followed there), or
+            try:    # a Solution at another time, its mode followed to ts[0] (start_at)
                 q0 = start_at(self, guess, float(ts[0]), tol, maxit, meth, "the sweep's start")
             except MechgenError as exc:
                 exc.sweep = no_points(self, ts, lev)

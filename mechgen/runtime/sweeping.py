@@ -251,6 +251,17 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
                      report), 0
 
 
+def divides(mech, ts, what, **where) -> SingularError:
+    """The SingularError of ``what`` (a sweep, a design table) whose equations divide by
+    zero at one of its times ts: Python's float division and numba's default error model
+    raise where numpy gives inf."""
+    return SingularError(
+        f"model '{mech.name}': its equations divide by zero at a time of {what} from "
+        f"t={ts[0]:.10g} to t={ts[-1]:.10g} (a driver such as 1/T, or the rate of "
+        "sqrt(T), at T = 0; the steps use the velocities): sweep a range that avoids that "
+        "time", **where)
+
+
 def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False, forces=None) -> Sweep:
     """A checked sweep: the compiled loops, the result, its warnings, or the error of the
     point where it stopped (carrying the points solved before it as ``.sweep``).
@@ -268,12 +279,7 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False, forces=None
         done, careful = compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report,
                                  forces)
     except ZeroDivisionError:       # Python's and numba's default error model raise
-        raise SingularError(
-            f"model '{mech.name}': its equations divide by zero at a time of the sweep from "
-            f"t={ts[0]:.10g} to t={ts[-1]:.10g} (a driver such as 1/T, or the rate of "
-            "sqrt(T), at T = 0; the sweep's steps use the velocities): sweep a range that "
-            "avoids that time",
-            level=LEVELS[lev]) from None
+        raise divides(mech, ts, "the sweep", level=LEVELS[lev]) from None
     if done == N:
         sw = Sweep(mech, ts, Q, QD if lev >= _VEL else None, QDD if lev >= _ACC else None,
                    S, report)

@@ -25,6 +25,7 @@ from ..forces.lookup import (column_name, division_error, effort_column, loads_g
 from ..guards import finite, fits, point_bytes, sweep_times
 from ..quantity import _lookup, column_names
 from ..results import Sweep, pandas, write_csv
+from ..sweeping import divides
 from .backends import cuda_keeps_points, progress_reporter, run_backend
 from .chunks import reduce_threads
 from .starts import design_starts, guess_reference, mark_starts
@@ -487,12 +488,7 @@ def _divides(mech, ts, slots):
     if slots is not None and len(slots):
         return division_error(mech, f"in the design table from t={ts[0]:.10g} to "
                                     f"t={ts[-1]:.10g} (or its equations of motion do)")
-    from ...errors import SingularError
-    return SingularError(
-        f"model '{mech.name}': its equations divide by zero at a time of the design table "
-        f"from t={ts[0]:.10g} to t={ts[-1]:.10g} (a driver such as 1/T, or the rate of "
-        "sqrt(T), at T = 0; the sweeps' steps use the velocities): sweep a range that "
-        "avoids that time")
+    return divides(mech, ts, "the design table")
 
 
 def report_failures(table, on_fail, stacklevel=2):
