@@ -142,6 +142,36 @@ def evaluate(mech, expr, solution_or_sweep):
     return out.reshape(out.shape[:-1] + shape)
 
 
+def expression_sensitivity(mech, expr, result, param, sens):
+    """Symbolic.sensitivity: the chain rule with each partial derivative differentiated by
+    sympy and evaluated on the result (the same evaluator as mech.evaluate)."""
+    import sympy as sp
+    matrix = isinstance(expr, (list, tuple, sp.MatrixBase))
+    expr = sp.ImmutableMatrix(expr) if matrix else sp.sympify(expr)
+    j = int(sens.columns[sens.params.index(param)])
+    table = _slots(mech)
+    total = 0.0
+    for s in sorted(expr.free_symbols, key=lambda x: x.name):
+        kind, k = table.get(s.name, (None, None))
+        if kind is None or kind == "t" or (kind == "p" and k != j):
+            continue
+        partial = expr.diff(s)
+        if (partial.is_zero_matrix if matrix else partial == 0):
+            continue
+        value = np.asarray(evaluate(mech, partial, result), dtype=np.float64)
+        if kind == "p":
+            total = total + value
+            continue
+        D = sens.full[kind]
+        factor = D[..., k, j]
+        if value.ndim > np.ndim(factor):
+            factor = np.reshape(factor, np.shape(factor) + (1,) * (value.ndim - np.ndim(factor)))
+        total = total + value * factor
+    if np.ndim(total) == 0 and not matrix:
+        return float(total) if not hasattr(result, "Q") else np.full(len(result), float(total))
+    return total
+
+
 class LazySymbolic:
     """The symbolic side of a mechanism loaded from a model file without sympy: it runs
     the model file (sympy) when first asked, then answers as :class:`Symbolic`."""
@@ -177,6 +207,14 @@ class LazySymbolic:
         """As Symbolic.level."""
         return self._side().level(mech, expr)
 
+    def build_sensitivities(self, module_path):
+        """As Symbolic.build_sensitivities (loads the model)."""
+        return self._side().build_sensitivities(module_path)
+
+    def sensitivity(self, mech, expr, result, param, sens):
+        """As Symbolic.sensitivity."""
+        return self._side().sensitivity(mech, expr, result, param, sens)
+
     def check_contacts(self, mech, given):
         """As Symbolic.check_contacts once the model is loaded (never loads it: a
         with_params of a module loaded without sympy stays without it)."""
@@ -210,6 +248,19 @@ class Symbolic:
         if any(c + "d" in names for c in coords):
             return LEVEL["velocity"]
         return LEVEL["position"]
+
+    def build_sensitivities(self, module_path):
+        """Write the sensitivity module beside the module at ``module_path``
+        (mechgen.compiler.sensitivities): the runtime asks for it the first time a call
+        wants sensitivities and none is there."""
+        from .compiler.sensitivities import build_sensitivities
+        return build_sensitivities(self.model, module_path)
+
+    def sensitivity(self, mech, expr, result, param, sens):
+        """∂expr/∂param on a Solution or Sweep carrying sensitivities ``sens``
+        (mechgen.runtime.sensitivity): Σ ∂expr/∂x · dx/dparam over the coordinates and
+        their rates x it holds, plus ∂expr/∂param, each partial derivative symbolic."""
+        return expression_sensitivity(mech, expr, result, param, sens)
 
     def check_contacts(self, mech, given):
         """Warn (RuntimeWarning) for each cam whose contact geometry is lost at ``mech``'s

@@ -10,6 +10,8 @@ import hashlib
 import re
 
 MECHGEN_VERSION = "0.1.0"
+# the file of a module's sensitivity companion: <name>_sensitivities.py beside <name>.py
+SENSITIVITY_SUFFIX = "_sensitivities"
 FORMAT_VERSION = 4          # the layout of a generated module that this runtime reads (4:
                             # a design table's sweeps start per design, start_designs)
 

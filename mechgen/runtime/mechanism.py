@@ -199,7 +199,8 @@ class Mechanism:
         return self.maxit if maxit is None else positive_count(maxit, "maxit")
 
     # -- solving ----------------------------------------------------------------------
-    def solve(self, t, guess=None, level="position", method=None, tol=None, maxit=None) -> Solution:
+    def solve(self, t, guess=None, level="position", method=None, tol=None, maxit=None,
+              sensitivities=None) -> Solution:
         """Solve at time t (Mech's SolveMech[t]). Without ``guess``: the configuration the
         mechanism reaches by moving from its guess (the model's, a configuration at t = 0,
         or set_guess()'s at its time) to t, on the assembly mode connected to it
@@ -209,10 +210,12 @@ class Mechanism:
         ``last``. Raises ConvergenceError or SingularError rather than returning a
         configuration that does not satisfy the constraints. level="static" or "dynamic"
         adds the multipliers, the driver efforts and the reactions
-        (mechgen.runtime.forces)."""
-        # users call this in their own loops (an optimizer, a control loop): the usual
-        # arguments (a float t, a level name this build solves) pass with a look-up each,
-        # anything else through the full checks of guards (the same errors, in order)
+        (mechgen.runtime.forces). ``sensitivities`` (True, or parameter names) adds
+        the derivatives with respect to the parameters (mechgen.runtime.sensitivity)."""
+        if sensitivities:
+            from .sensitivity import attach
+            return attach(self, self.solve(t, guess, level, method, tol, maxit), sensitivities)
+        # the usual arguments pass with a look-up each, anything else through guards' checks
         lev = self._levels.get(level) if level.__class__ is str else None
         with self._lock:
             if lev is None and is_force_level(level):
@@ -372,7 +375,7 @@ class Mechanism:
     # -- sweeps -----------------------------------------------------------------------
     def sweep(self, t0, t1, n, level="position", guess=None, method=None, tol=None,
               maxit=None, times=None, params=None, out=None, backend="cpu", workers=None,
-              client=None, reduce=None, **table_options) -> Sweep:
+              client=None, reduce=None, sensitivities=None, **table_options) -> Sweep:
         """Solve at n times from t0 to t1, both ends included (Mech's SolveMech[{t0, t1}, n]),
         each warm-started from the previous one. Raises on the first failure; the error
         carries the points solved before it as ``.sweep``. With ``params`` (a dict in which a
@@ -388,7 +391,12 @@ class Mechanism:
         ``(Q, QD, QDD)``, or a Sweep of as many points and at least this level from an
         earlier call, whose arrays are then overwritten. The result's arrays are views of
         them. level="static" or "dynamic" sweeps the kinematics, then solves the
-        multipliers at every point (mechgen.runtime.forces)."""
+        multipliers at every point (mechgen.runtime.forces). ``sensitivities``: as solve()."""
+        if sensitivities:
+            from .sensitivity import attach
+            return attach(self, self.sweep(t0, t1, n, level, guess, method, tol, maxit, times,
+                                           params, out, backend, workers, client, reduce,
+                                           **table_options), sensitivities)
         if is_force_level(level) and params is None:
             if out is not None or backend != "cpu" or reduce is not None:
                 raise ValueError(f"level={level!r}: out=, backend= and reduce= are for a "

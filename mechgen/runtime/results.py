@@ -7,6 +7,7 @@ import csv
 
 import numpy as np
 
+from ..errors import MechgenError
 from ..protocol import (INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP, INFO_STATUS, JUMP, LEVEL,
                         LEVELS, REPORT_JUMP, STATUS_CODE, STATUS_COLUMNS, STATUS_ITERATIONS,
                         STATUS_SUBSTEPS, INFO_SUBSTEPS)
@@ -80,8 +81,49 @@ def pandas():
     return pd
 
 
-class Solution:
+class Derivatives:
+    """What a Solution or Sweep solved with ``sensitivities=`` answers (API.md §8): the
+    Sensitivities object mechgen.runtime.sensitivity attaches does the work."""
+
+    def _carried(self):
+        sens = self.__dict__.get("sensitivities")
+        if sens is None:
+            call = "solve" if isinstance(self, Solution) else "sweep"
+            raise MechgenError(f"this result carries no sensitivities: {call}(..., "
+                               "sensitivities=True) or a list of parameter names")
+        return sens
+
+    def sensitivity(self, name, param):
+        """∂name/∂param: a coordinate or its rate (``"X4"``, ``"X4dd"``), a declared output,
+        a symbolic quantity (Mech's output functions) or, solved at a force level, a
+        driver's effort; a float on a Solution, an array over a Sweep's points."""
+        return self._carried().value(self, name, param)
+
+    @property
+    def sensitivity_params(self) -> list:
+        """The parameters whose derivatives this result carries (dq_dp's columns)."""
+        return list(self._carried().params)
+
+    @property
+    def dq_dp(self) -> np.ndarray:
+        """dq/dp: (coordinates, parameters) on a Solution, (points, coordinates,
+        parameters) on a Sweep; dqd_dp and dqdd_dp the same for the rates (None above
+        the result's level)."""
+        return self._carried().of_order(0)
+
+    @property
+    def dqd_dp(self):
+        return self._carried().of_order(1)
+
+    @property
+    def dqdd_dp(self):
+        return self._carried().of_order(2)
+
+
+class Solution(Derivatives):
     """One solved configuration: ``s.t``, ``s.q``, ``s.qd``, ``s.qdd`` and ``s["X4"]``."""
+
+    sensitivities = None        # the derivatives with respect to the parameters, if asked
 
     def __init__(self, mech, t, q, qd=None, qdd=None, iterations=0, residual=0.0,
                  singular=False, method="sorted"):
@@ -147,7 +189,7 @@ class Solution:
                 f"<table><tbody>{cells}</tbody></table>")
 
 
-class Sweep:
+class Sweep(Derivatives):
     """Solutions at many times: ``sw.t`` and ``sw["X4"]`` are numpy arrays.
 
     ``sw.Q`` (and ``sw.QD``, ``sw.QDD`` at the levels solved, else None) are the solved
@@ -160,6 +202,7 @@ class Sweep:
     between its outputs, never from the kinematics."""
 
     simulation = None
+    sensitivities = None        # the derivatives with respect to the parameters, if asked
 
     def __init__(self, mech, t, Q, QD=None, QDD=None, status=None, report=None):
         self.mechanism = mech
@@ -332,6 +375,11 @@ class Sweep:
             return []
         return self.mechanism.singularities(self.t[0], self.t[-1], n=max(len(self), 201),
                                             guess=self.Q[0])
+
+    @property
+    def sensitivity_singular(self) -> np.ndarray:
+        """The times of this sweep where Φ_q had lost rank: no sensitivities (NaN) there."""
+        return self.t[np.asarray(self._carried().singular, dtype=bool)]
 
     def _repr_html_(self):
         header, data = self.table()

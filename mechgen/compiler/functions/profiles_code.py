@@ -24,7 +24,7 @@ def used_profiles(exprs):
     return [found[k] for k in sorted(found)]
 
 
-def profile_helpers(model, eq, cse=True):
+def profile_helpers(model, eq, cse=True, extra=()):
     """[Helper] of every profile function that Φ, Φ_q, γ, the points or the outputs call.
 
     A coordinate itself is its expression with one CSE pass; its derivatives come from
@@ -32,6 +32,7 @@ def profile_helpers(model, eq, cse=True):
     from sympy's derivative of the whole expression (much larger, and slow to take apart
     again). Without CSE (``cse=False``) each is sympy's derivative, printed whole."""
     exprs = list(eq.phi) + list(eq.phi_q) + list(eq.gamma) + list(model.outputs.values())
+    exprs += list(extra)            # (a sensitivity module's derivatives)
     for con in model.constraints:
         for pt in getattr(con, "points", ()):
             exprs += list(pt.r)
@@ -41,7 +42,7 @@ def profile_helpers(model, eq, cse=True):
                                            for k in range(len(cls.params))]
         rule = dict(zip((cls.var,) + cls.params, args))
         memo = memos.setdefault((cls.var,) + cls.params, {})   # shared by x, y, x', ...
-        if cls.order and cse:
+        if cls.order and cse and not cls.wrt:
             key = (cls.base, cls.expr, cls.var, cls.params)
             if key not in programs:
                 programs[key] = Derivatives(replace(cls.expr, rule, memo), args[0])

@@ -59,6 +59,9 @@ FORCE_NAMES = [
     "multipliers_point", "sweep_fast_forces", "sweep_fast_statics",
 ]
 __all__ += FORCE_NAMES
+# what a sensitivity module defines (library/sensitivity.py reads them with N_COORDS,
+# N_EQS, phi_q, SING_RTOL and TINY); not in __all__: a module does not define them
+SENSITIVITY_NAMES = ["N_PARAMS", "phi_p", "velocity_rhs_p", "acceleration_rhs_p"]
 
 
 def njit(*args, **options):
@@ -343,3 +346,61 @@ def sweep_fast_statics(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, STATUS, LAM, FAC
         piv = multipliers_point(Q[k], zero, zero, ts[k], p, LAM[k])
         FPIV[k] = 1.0 if piv >= SING_RTOL else 0.0
     return done
+
+
+# -- what a sensitivity module defines (library/sensitivity.py reads them) ------------------
+N_PARAMS = 3
+
+
+@njit(cache=True)
+def phi_p(q, t, p, out):
+    """∂Φ/∂p (the columns a, b, w)."""
+    for i in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            out[i, j] = 0.0
+    out[0, 0] = math.cos(q[0])
+    out[0, 1] = math.cos(q[1])
+    out[1, 0] = math.sin(q[0])
+    out[1, 1] = math.sin(q[1])
+    out[2, 2] = -t
+
+
+@njit(cache=True)
+def velocity_rhs_p(q, qd, t, p, DQ, sel, out):
+    """(ν − Φ_q q̇)_q DQ + (ν − Φ_q q̇)_p on the columns sel."""
+    a, b = p[0], p[1]
+    c0, s0, c1, s1 = math.cos(q[0]), math.sin(q[0]), math.cos(q[1]), math.sin(q[1])
+    for i in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            out[i, j] = 0.0
+    out[0, 0] = s0 * qd[0]
+    out[0, 1] = s1 * qd[1]
+    out[1, 0] = -c0 * qd[0]
+    out[1, 1] = -c1 * qd[1]
+    out[2, 2] = 1.0
+    for k in range(sel.shape[0]):
+        c = sel[k]
+        out[0, c] += a * c0 * qd[0] * DQ[0, c] + b * c1 * qd[1] * DQ[1, c]
+        out[1, c] += a * s0 * qd[0] * DQ[0, c] + b * s1 * qd[1] * DQ[1, c]
+
+
+@njit(cache=True)
+def acceleration_rhs_p(q, qd, qdd, t, p, DQ, DQD, sel, out):
+    """(γ − Φ_q q̈)_q DQ + (γ − Φ_q q̈)_q̇ DQD + (γ − Φ_q q̈)_p on the columns sel."""
+    a, b = p[0], p[1]
+    c0, s0, c1, s1 = math.cos(q[0]), math.sin(q[0]), math.cos(q[1]), math.sin(q[1])
+    for i in range(out.shape[0]):
+        for j in range(out.shape[1]):
+            out[i, j] = 0.0
+    out[0, 0] = c0 * qd[0] ** 2 + s0 * qdd[0]
+    out[0, 1] = c1 * qd[1] ** 2 + s1 * qdd[1]
+    out[1, 0] = s0 * qd[0] ** 2 - c0 * qdd[0]
+    out[1, 1] = s1 * qd[1] ** 2 - c1 * qdd[1]
+    for k in range(sel.shape[0]):
+        c = sel[k]
+        out[0, c] += (a * (-s0 * qd[0] ** 2 + c0 * qdd[0]) * DQ[0, c]
+                      + b * (-s1 * qd[1] ** 2 + c1 * qdd[1]) * DQ[1, c]
+                      + 2 * a * c0 * qd[0] * DQD[0, c] + 2 * b * c1 * qd[1] * DQD[1, c])
+        out[1, c] += (a * (c0 * qd[0] ** 2 + s0 * qdd[0]) * DQ[0, c]
+                      + b * (c1 * qd[1] ** 2 + s1 * qdd[1]) * DQ[1, c]
+                      + 2 * a * s0 * qd[0] * DQD[0, c] + 2 * b * s1 * qd[1] * DQD[1, c])

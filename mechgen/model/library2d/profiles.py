@@ -65,6 +65,7 @@ class ProfileFunction(sp.Function):
     params: tuple = ()
     order = 0
     base = ""
+    wrt: tuple = ()         # the model parameters it is differentiated in (sensitivities)
 
     @classmethod
     def eval(cls, s, *params):
@@ -74,10 +75,13 @@ class ProfileFunction(sp.Function):
         return None
 
     def fdiff(self, argindex=1):
-        if argindex != 1:    # the parameters: their derivatives are never needed in Φ_q
-            return sp.Derivative(self, self.args[argindex - 1])
+        if argindex != 1:    # a model parameter: a sensitivity's (never Φ_q's)
+            if self.args[argindex - 1] != self.params[argindex - 2]:
+                return sp.Derivative(self, self.args[argindex - 1])
+            return profile_function(self.base, self.expr, self.var, self.params, self.order,
+                                    self.wrt + (self.params[argindex - 2],))(*self.args)
         return profile_function(self.base, self.expr, self.var, self.params,
-                                self.order + 1)(*self.args)
+                                self.order + 1, self.wrt)(*self.args)
 
     @property
     def helper(self):
@@ -88,7 +92,9 @@ class ProfileFunction(sp.Function):
         return f"{self.helper}({', '.join(printer._print(a) for a in self.args)})"
 
     def _sympystr(self, printer):
-        return f"{self.base}{chr(39) * self.order}({printer._print(self.args[0])})"
+        wrt = "".join(f"/d{p.name}" for p in self.wrt)
+        return f"{'d' if wrt else ''}{self.base}{chr(39) * self.order}{wrt}" \
+            f"({printer._print(self.args[0])})"
 
     def _mcode(self, printer):      # Mathematica, as Mech writes a function: disc_x'[s]
         return f"{self.base}{chr(39) * self.order}[{printer._print(self.args[0])}]"
@@ -106,8 +112,11 @@ class ProfileFunction(sp.Function):
 
     @classmethod
     def diffed(cls):
-        """Its expression, differentiated ``order`` times."""
-        return derivative(cls.expr, cls.var, cls.order)
+        """Its expression, differentiated ``order`` times (and in the parameters ``wrt``)."""
+        out = derivative(cls.expr, cls.var, cls.order)
+        for p in cls.wrt:
+            out = _diff(out, p)
+        return out
 
     @classmethod
     def _imp_(cls, s, *params):
@@ -141,13 +150,16 @@ def _folded(expr):
     return sp.piecewise_fold(expr) if expr.has(sp.Piecewise) else expr
 
 
-def profile_function(base, expr, var, params, order=0):
-    """The ProfileFunction class of derivative ``order`` of coordinate ``base``."""
-    key = (base, expr, var, params, order)
+def profile_function(base, expr, var, params, order=0, wrt=()):
+    """The ProfileFunction class of derivative ``order`` of coordinate ``base`` (and of
+    its derivative in the model parameters ``wrt``, sorted: a sensitivity's)."""
+    wrt = tuple(sorted(wrt, key=lambda p: p.name))
+    key = (base, expr, var, params, order, wrt)
     if key not in _FUNCTIONS:
-        name = base + ("_" + "s" * order if order else "")
+        name = base + ("_" + "s" * order if order else "") + \
+            "".join(f"_d{p.name}" for p in wrt)
         _FUNCTIONS[key] = type(name, (ProfileFunction,), dict(
-            expr=expr, var=var, params=params, order=order, base=base))
+            expr=expr, var=var, params=params, order=order, base=base, wrt=wrt))
     return _FUNCTIONS[key]
 
 

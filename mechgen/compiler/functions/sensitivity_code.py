@@ -1,0 +1,170 @@
+"""The straight-line functions of a sensitivity module: the derivatives of Φ, of the
+velocity and acceleration equations, of the points and of the outputs with respect to
+the parameters (mechgen.compiler.sensitivities lays them out).
+
+With D the derivatives of the coordinates with respect to the parameters (one column per
+parameter), the implicit-function theorem gives, the drivers' laws held:
+
+    Φ_q Dq   = −Φ_p                                   (position)
+    Φ_q Dq̇  = (ν − Φ_q q̇)_q Dq + (ν − Φ_q q̇)_p        (velocity)
+    Φ_q Dq̈  = (γ − Φ_q q̈)_q Dq + (γ − Φ_q q̈)_q̇ Dq̇ + (γ − Φ_q q̈)_p   (acceleration)
+
+the right sides are emitted here, symbolically differentiated once at build time, and
+solved on Φ_q's blocks by the library (library/sensitivity.py). A quantity r(q, q̇, q̈, p)
+(a point, an output) has the total derivative r_q Dq + r_q̇ Dq̇ + r_q̈ Dq̈ + r_p.
+"""
+from __future__ import annotations
+
+import sympy as sp
+
+from ...errors import ModelError
+from ...model.rates import almost_everywhere
+from ...model.symbolic import total_derivative
+from ..codegen.inputs import prologue, sym
+from ..codegen.ir import Assign, Code, Loop, Store
+from ..codegen.schedule import TempNames, emit
+
+# the loop over the parameters' columns and the names the loop reads
+COLUMN = "_c"
+
+
+def _diff(expr, x):
+    """∂expr/∂x with the rates of piecewise functions as numbers (model.rates)."""
+    return almost_everywhere(sp.diff(expr, x))
+
+
+def _refuse_unknown(model, exprs):
+    """A derivative sympy cannot write out (of an opaque function without a rate: a
+    profile's third derivative) cannot be emitted: say so at build time."""
+    for e in exprs:
+        if isinstance(e, sp.Basic) and e.has(sp.Derivative, sp.Subs):
+            found = next(iter(e.atoms(sp.Derivative) or e.atoms(sp.Subs)))
+            raise ModelError(f"model '{model.name}': its sensitivities need {found}, a "
+                             "derivative the model's functions do not provide", where=None)
+
+
+def _zero_fill(shape_loops):
+    return Loop(Code("for _i in range(out.shape[0])"),
+                (Loop(Code("for _j in range(out.shape[1])"), (Code("out[_i, _j] = 0.0"),)),)) \
+        if shape_loops == 2 else Loop(Code("for _i in range(out.shape[0])"),
+                                      (Code("out[_i] = 0.0"),))
+
+
+def _directional(model, rows, wrt, labels, with_qd, with_qdd, eq, target="out"):
+    """The body computing, for every selected column c (``sel``), ``target[i, c]`` =
+    Σ_k ∂rows[i]/∂x_k · D_x[k, c] + ∂rows[i]/∂p_c over the pairs (x, D) of ``wrt``
+    (a list of (symbols, array name)). ``rows`` are expressions; ``labels`` name them."""
+    params = list(eq.params)
+    head, loop = [], []
+    dsyms = {}
+    for xs, array in wrt:
+        for k, x in enumerate(xs):
+            dsyms[(array, k)] = sym(f"_d{array.lower()}{k}")
+    used_d = set()
+    stores_p = []
+    derivs = []
+    nans = []
+    for i, r in enumerate(rows):
+        if r is sp.nan or (isinstance(r, sp.Basic) and r.has(sp.nan)):
+            nans.append(Loop(Code("for _j in range(out.shape[1])"),
+                             (Code(f"{target}[{i}, _j] = math.nan  # {labels[i]}"),)))
+            loop.append((i, sp.S.Zero))
+            continue
+        acc = sp.S.Zero
+        for xs, array in wrt:
+            for k, x in enumerate(xs):
+                if x in r.free_symbols:
+                    d = _diff(r, x)
+                    if d != 0:
+                        acc += d * dsyms[(array, k)]
+                        used_d.add((array, k))
+                        derivs.append(d)
+        loop.append((i, acc))
+        for j, pj in enumerate(params):
+            if pj in r.free_symbols:
+                d = _diff(r, pj)
+                if d != 0:
+                    stores_p.append(Store(f"{target}[{i}, {j}]", d, labels[i]))
+                    derivs.append(d)
+    _refuse_unknown(model, derivs)
+    # Φ_p-like part first (every entry, zeros written), then the loop adds the rest
+    head.append(_zero_fill(2))
+    reads = [Code(f"{{0}} = {array}[{k}, {COLUMN}]", (dsyms[(array, k)],))
+             for (array, k) in sorted(used_d)]
+    sums = [Assign(sym(f"_r{i}"), acc) for i, acc in loop if acc != 0]
+    adds = [Code(f"{target}[{i}, {COLUMN}] += {{0}}", (sym(f"_r{i}"),))
+            for i, acc in loop if acc != 0]
+    variant = {dsyms[key] for key in used_d}
+    exprs = [s.expr for s in stores_p] + [a.expr for a in sums]
+    inputs = prologue(eq, exprs, with_qd=with_qd, with_qdd=with_qdd)
+    before_p = emit(stores_p, TempNames("_s"), True) if stores_p else []
+    if sums:
+        hoisted, inside = emit(sums, TempNames(), True, variant=variant)
+        body = reads + inside + adds
+        loop_st = [Loop(Code("for _k in range(sel.shape[0])"),
+                        (Code(f"{COLUMN} = sel[_k]"),) + tuple(body))]
+    else:
+        hoisted, loop_st = [], []
+    return inputs + head + before_p + hoisted + loop_st + nans
+
+
+def phi_p_body(model, eq):
+    """∂Φ/∂p: ``out[i, j]`` (zeros written first)."""
+    return _directional(model, list(eq.phi), [], eq.labels, False, False, eq)
+
+
+def velocity_rhs_body(model, eq):
+    """The right sides of Φ_q Dq̇ = (ν − Φ_q q̇)_q Dq + (ν − Φ_q q̇)_p."""
+    qd = list(eq.qd)
+    rows = [eq.nu[i] - sum((eq.phi_q[i, j] * qd[j] for j in range(len(qd))
+                            if eq.phi_q[i, j] != 0), sp.S.Zero) for i in range(eq.phi.rows)]
+    return _directional(model, rows, [(list(eq.q), "DQ")], eq.labels, True, False, eq)
+
+
+def acceleration_rhs_body(model, eq):
+    """The right sides of Φ_q Dq̈ = (γ − Φ_q q̈)_q Dq + (γ − Φ_q q̈)_q̇ Dq̇ + (γ − Φ_q q̈)_p."""
+    qdd = list(eq.qdd)
+    rows = [eq.gamma[i] - sum((eq.phi_q[i, j] * qdd[j] for j in range(len(qdd))
+                               if eq.phi_q[i, j] != 0), sp.S.Zero)
+            for i in range(eq.phi.rows)]
+    return _directional(model, rows, [(list(eq.q), "DQ"), (list(eq.qd), "DQD")], eq.labels,
+                        True, True, eq)
+
+
+def points_p_body(model, eq, points):
+    """The points' derivatives: ``out[2 k + d, j]`` for point k's coordinate d."""
+    rows, labels = [], []
+    for label, _, pt in points:
+        rows += [sp.sympify(pt.r[0]), sp.sympify(pt.r[1])]
+        labels += [label, ""]
+    return _directional(model, rows, [(list(eq.q), "DQ")], labels, False, False, eq)
+
+
+def points_d_body(eq, points):
+    """The points' velocities ``out[k, d]`` (d/dT of their positions)."""
+    st = []
+    for k, (label, _, pt) in enumerate(points):
+        for d in range(2):
+            st.append(Store(f"out[{k}, {d}]",
+                            almost_everywhere(total_derivative(sp.sympify(pt.r[d]),
+                                                               list(eq.q), 1)),
+                            label if d == 0 else ""))
+    exprs = [s.expr for s in st]
+    return prologue(eq, exprs, with_qd=True) + emit(st, TempNames(), True)
+
+
+def outputs_p_body(model, eq, names, order):
+    """The derivatives of the outputs (order 0), or of their first or second rates."""
+    rows, labels = [], []
+    for name in names:
+        expr = model.outputs[name]
+        try:
+            expr = total_derivative(expr, list(eq.q), order) if order else expr
+        except ModelError:
+            expr = sp.nan                 # a third derivative: not available
+        rows.append(almost_everywhere(sp.sympify(expr)))
+        labels.append(name + "'" * order)
+    wrt = [(list(eq.q), "DQ"), (list(eq.qd), "DQD"), (list(eq.qdd), "DQDD")]
+    return _directional(model, rows, wrt, labels, True, True, eq)
+
+

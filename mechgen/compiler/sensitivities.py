@@ -1,0 +1,166 @@
+"""The sensitivity module of a model: ``<name>_sensitivities.py`` beside ``<name>.py``,
+built only when sensitivities are asked for (``mechgen build --sensitivities``,
+``mechgen.compile(..., sensitivities=True)``, or the first call that asks for them on a
+mechanism that knows its model), so that a model or a call that does not ask pays
+nothing: its module is the one it was.
+
+It holds Φ_q again, the derivatives of Φ, of the velocity and acceleration equations, of
+the points and of the outputs with respect to every parameter
+(functions/sensitivity_code.py), and the library's block solve (library/sensitivity.py).
+It imports only math, numpy and numba, as every generated module, and states the
+MODEL_HASH of the module it belongs to.
+"""
+from __future__ import annotations
+
+import json
+import os
+import re
+from types import SimpleNamespace
+
+import sympy
+
+from ..errors import MechgenError
+from ..model.forces.holds import held
+from ..model.geometry import T
+from ..model.symbolic import check_square
+from ..protocol import MECHGEN_VERSION, SING_RTOL, STAMP, TINY, content_digest
+from .build import write_module
+from .codegen.ir import (Code, Loop, Options, code_words, expressions, render, symbols,
+                         walk)
+from .codegen.names import Names, emitter_symbols, identifiers, module_level_names, module_words
+from .functions.equations_code import phi_q_body, point_list
+from .functions.profiles_code import profile_helpers
+from .functions.sensitivity_code import (acceleration_rhs_body, outputs_p_body, phi_p_body,
+                                         points_d_body, points_p_body, velocity_rhs_body)
+from .library import body as library_body
+from .solver.plan import CHUNK_STORES
+from .render import environment
+
+SUFFIX = "_sensitivities"
+_HASH = re.compile(r'^MODEL_HASH = "([0-9a-f]+)"$', re.M)
+
+# (name, arguments, docstring) of the functions, in the module's order
+SIGNATURES = (
+    ("phi_q", "q, t, p, out", "Jacobian Φ_q (as in the module)."),
+    ("phi_p", "q, t, p, out", "∂Φ/∂p (N_EQS × N_PARAMS)."),
+    ("velocity_rhs_p", "q, qd, t, p, DQ, sel, out",
+     "(ν − Φ_q q̇)_q DQ + (ν − Φ_q q̇)_p on the columns sel: Φ_q DQD's right side."),
+    ("acceleration_rhs_p", "q, qd, qdd, t, p, DQ, DQD, sel, out",
+     "(γ − Φ_q q̈)_q DQ + (γ − Φ_q q̈)_q̇ DQD + (γ − Φ_q q̈)_p on the columns sel: "
+     "Φ_q DQDD's right side."),
+    ("points_p", "q, t, p, DQ, sel, out",
+     "The points' derivatives: out[2 k + d, c] of point k's coordinate d (POINTS' order)."),
+    ("points_d", "q, qd, t, p, out", "The points' velocities out[k, d]."),
+    ("outputs_p", "q, qd, qdd, t, p, DQ, DQD, DQDD, sel, out",
+     "The outputs' derivatives out[k, c]."),
+    ("outputs_d_p", "q, qd, qdd, t, p, DQ, DQD, DQDD, sel, out",
+     "The derivatives of the outputs' first rates."),
+    ("outputs_dd_p", "q, qd, qdd, t, p, DQ, DQD, DQDD, sel, out",
+     "The derivatives of the outputs' second rates."),
+)
+
+
+DOC = """The derivatives of the coordinates with respect to the parameters, the drivers' laws
+held (the implicit-function theorem at a solved configuration):
+
+    Φ_q Dq   = −Φ_p
+    Φ_q Dq̇  = (ν − Φ_q q̇)_q Dq + (ν − Φ_q q̇)_p
+    Φ_q Dq̈  = (γ − Φ_q q̈)_q Dq + (γ − Φ_q q̈)_q̇ Dq̇ + (γ − Φ_q q̈)_p
+
+Right sides differentiated symbolically at build time, solved on Φ_q's blocks in the
+module's solving order (solve_columns). D arrays are N_COORDS × N_PARAMS, a column per
+parameter; ``sel`` (int64) lists the columns to compute."""
+
+
+def _tuple(names) -> str:
+    return "(" + "".join(json.dumps(n) + ", " for n in names) + ")"
+
+
+def companion_path(module_path: str) -> str:
+    """Where the sensitivity module of the module at ``module_path`` lives."""
+    root, ext = os.path.splitext(module_path)
+    return root + SUFFIX + (ext or ".py")
+
+
+def module_hash_of(module_path: str) -> str:
+    """The MODEL_HASH a generated module states in its header."""
+    with open(module_path, encoding="utf-8") as fh:
+        found = _HASH.search(fh.read())
+    if not found:
+        raise MechgenError(f"{module_path} states no MODEL_HASH: not a module mechgen generated")
+    return found.group(1)
+
+
+def render_sensitivities(model, module_hash: str) -> str:
+    """The text of ``model``'s sensitivity module, for the module whose MODEL_HASH is
+    ``module_hash``."""
+    model = held(model)
+    eq = model.equations()
+    check_square(model, eq)
+    plan = SimpleNamespace(chunk_stores=CHUNK_STORES, cse=True)
+    points = point_list(model)
+    outputs = list(model.outputs)
+    jq, helpers = phi_q_body(plan, eq)
+    zero = Loop(Code("for _i in range(out.shape[0])"),
+                (Loop(Code("for _j in range(out.shape[1])"), (Code("out[_i, _j] = 0.0"),)),))
+    bodies = {
+        "phi_q": [zero] + list(jq),
+        "phi_p": phi_p_body(model, eq),
+        "velocity_rhs_p": velocity_rhs_body(model, eq),
+        "acceleration_rhs_p": acceleration_rhs_body(model, eq),
+        "points_p": points_p_body(model, eq, points),
+        "points_d": points_d_body(eq, points),
+    }
+    for order, name in enumerate(("outputs_p", "outputs_d_p", "outputs_dd_p")):
+        bodies[name] = outputs_p_body(model, eq, outputs, order) if outputs else [Code("pass")]
+    # a cam profile's functions (and their derivatives in parameters) as helpers
+    used = [e for b in bodies.values() for st in walk(b) for e in expressions(st)]
+    helpers = profile_helpers(model, eq, extra=used) + list(helpers)
+    library = library_body("sensitivity.py")
+    everything = [st for b in bodies.values() for st in b] + \
+        [st for h in helpers for st in h.body]
+    derived, plain = emitter_symbols(symbols(everything))
+    used = set(module_words()) | module_level_names(library) | plain
+    words = set(code_words(everything)) | {a for _, a2, _ in SIGNATURES for a in a2.split(", ")}
+    used |= identifiers("\n".join(sorted(words)))
+    names = Names([*eq.params, *eq.q, *eq.qd, *eq.qdd, T], used, derived)
+    options = Options(names=names)
+    functions = [dict(name=fn, args=args, doc=doc, lines=render(bodies[fn], options))
+                 for fn, args, doc in SIGNATURES]
+    helpers = [dict(name=h.name, args=h.args, doc=h.doc, lines=render(h.body, options))
+               for h in helpers]
+    constants = [("MODEL_NAME", json.dumps(model.name)), ("MODULE_HASH", json.dumps(module_hash)),
+                 ("COMPANION", '"sensitivities"'), ("N_COORDS", str(len(eq.q))),
+                 ("N_EQS", str(eq.phi.rows)), ("N_PARAMS", str(len(eq.params))),
+                 ("COORDINATES", _tuple(s.name for s in eq.q)),
+                 ("PARAMETERS", _tuple(s.name for s in eq.params)),
+                 ("N_POINTS", str(len(points))), ("OUTPUTS", _tuple(outputs)),
+                 ("SING_RTOL", repr(SING_RTOL)), ("TINY", repr(TINY))]
+    ctx = dict(name=model.name, module_name=model.name + SUFFIX, doc=DOC,
+               mechgen_version=MECHGEN_VERSION, coordinates=[s.name for s in eq.q],
+               parameters=[s.name for s in eq.params], constants=constants,
+               functions=helpers + functions, library=library)
+    body = environment().get_template("sensitivities.py.j2").render(**ctx)
+    head = (f"# Generated by mechgen {MECHGEN_VERSION} -- do not edit.\n"
+            f"# sympy {sympy.__version__}\n")
+    text = head + body
+    compile(text, f"{model.name}{SUFFIX}.py", "exec", dont_inherit=True)
+    return STAMP.format(digest=content_digest(text)) + text
+
+
+def build_sensitivities(model, module_path: str) -> str:
+    """Write the sensitivity module of ``model`` beside its module at ``module_path``
+    (unless the file there already holds the same text); returns its path."""
+    path = companion_path(module_path)
+    text = render_sensitivities(model, module_hash_of(module_path))
+    try:
+        with open(path, encoding="utf-8") as fh:
+            if fh.read() == text:
+                return path
+    except OSError:
+        pass
+    return write_module(text, path)
+
+
+__all__ = ["SUFFIX", "build_sensitivities", "companion_path", "module_hash_of",
+           "render_sensitivities"]

@@ -1,0 +1,157 @@
+"""dq/dp, dq̇/dp, dq̈/dp at a solved point and along a sweep, by the sensitivity module's
+compiled block solve (companion.py); a module with more equations than coordinates (a
+redundant build) by least squares on Φ_q, its rows consistent.
+
+A point where Φ_q has lost rank has no derivatives: a single solve raises SingularError,
+a sweep gives NaN there and lists the times (``sw.sensitivity_singular``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...errors import SolveError
+from ...protocol import LEVEL, SING_RTOL
+from .companion import companion
+
+
+@dataclass(frozen=True)
+class Sensitivities:
+    """The derivatives of a result with respect to ``params`` (names, their indices in
+    the module's PARAMETERS ``columns``): ``full`` holds (Dq, Dq̇, Dq̈), each of shape
+    (coordinates, all parameters) for a solution, (points, coordinates, all parameters)
+    for a sweep, NaN in the columns not asked for, None above the result's level;
+    ``singular``: per point of a sweep, whether Φ_q had lost rank there (a solution's:
+    False, it raised)."""
+    params: tuple
+    columns: np.ndarray
+    full: tuple
+    singular: object = False
+
+    def value(self, result, what, param):
+        """∂what/∂param on ``result`` (mechgen.runtime.sensitivity.values)."""
+        from .values import sensitivity
+        return sensitivity(result, what, param)
+
+    def of_order(self, order):
+        """dq (0), dq̇ (1) or dq̈ (2) on the parameters asked for, or None."""
+        D = self.full[order]
+        return None if D is None else D[..., self.columns]
+
+
+def parameter_columns(mech, which) -> tuple:
+    """(names, indices) of the parameters ``which`` asks for: True (all), a name or a
+    list of names."""
+    names = list(mech.parameter_names)
+    if which is True:
+        chosen = names
+    elif isinstance(which, str):
+        chosen = [which]
+    else:
+        chosen = list(which)
+    if not chosen:
+        raise ValueError(f"sensitivities: '{mech.name}' has no parameters"
+                         if not names else "sensitivities: no parameter named")
+    unknown = [c for c in chosen if c not in names]
+    if unknown:
+        raise KeyError(f"sensitivities: {', '.join(map(repr, unknown))} "
+                       f"{'is' if len(unknown) == 1 else 'are'} not a parameter of "
+                       f"'{mech.name}' (its parameters: {', '.join(names) or 'none'})")
+    return tuple(dict.fromkeys(chosen)), np.array([names.index(c) for c in dict.fromkeys(chosen)],
+                                                  dtype=np.int64)
+
+
+def _level(qd, qdd) -> int:
+    return LEVEL["position"] if qd is None else \
+        LEVEL["velocity"] if qdd is None else LEVEL["acceleration"]
+
+
+def of_solution(mech, sol, which) -> Sensitivities:
+    """The sensitivities of a Solution; SingularError where Φ_q has lost rank."""
+    names, cols = parameter_columns(mech, which)
+    comp, blocks = companion(mech)
+    n, npar = mech.n, len(mech.parameter_names)
+    level = _level(sol.qd, sol.qdd)
+    D = [np.full((n, npar), np.nan) for _ in range(3)]
+    zero = np.zeros(n)
+    qd = zero if sol.qd is None else sol.qd
+    qdd = zero if sol.qdd is None else sol.qdd
+    p = np.asarray(mech.p, dtype=np.float64)
+    if blocks.square:
+        status = comp.sensitivities_point(
+            sol.q, qd, qdd, sol.t, p, level, blocks.brow, blocks.bvar, blocks.bstart, cols,
+            D[0], D[1], D[2], np.empty((mech.m, n)), np.empty((mech.m, npar)))
+    else:
+        status = _least_squares(comp, mech, sol.q, qd, qdd, sol.t, p, level, cols, D)
+    if status != 0:
+        from ..analysis.locks import singular_error
+        raise singular_error(mech, sol.t, sol.q, "sensitivities of the position"
+                             if level == 0 else "sensitivities")
+    return Sensitivities(names, cols, (D[0], D[1] if level >= 1 else None,
+                                       D[2] if level >= 2 else None), False)
+
+
+def _least_squares(comp, mech, q, qd, qdd, t, p, level, cols, D) -> int:
+    """The chain on a redundant build: each right side must lie in Φ_q's range."""
+    J = np.empty((mech.m, mech.n))
+    B = np.empty((mech.m, len(mech.parameter_names)))
+    comp.phi_q(q, t, p, J)
+    scale = np.abs(J).sum(axis=1, keepdims=True)
+    scale[scale == 0] = 1.0
+    Js = J / scale
+    u, s, vt = np.linalg.svd(Js, full_matrices=False)
+    if s.size == 0 or s[-1] <= SING_RTOL * s[0] or s.size < mech.n:
+        return 2
+
+    def solve(rhs, out):
+        x = vt.T @ ((u.T @ (rhs / scale)) / s[:, None])
+        if np.max(np.abs(Js @ x - rhs / scale), initial=0.0) > 1e-8 * (1 + np.max(np.abs(x))):
+            raise SolveError(f"the redundant constraints of '{mech.name}' disagree at "
+                             f"t={t:.10g} once a parameter moves: its derivatives do not exist")
+        out[:, cols] = x[:, cols]
+
+    comp.phi_p(q, t, p, B)
+    solve(-B, D[0])
+    if level >= 1:
+        comp.velocity_rhs_p(q, qd, t, p, D[0], cols, B)
+        solve(B, D[1])
+    if level >= 2:
+        comp.acceleration_rhs_p(q, qd, qdd, t, p, D[0], D[1], cols, B)
+        solve(B, D[2])
+    return 0
+
+
+def of_sweep(mech, sw, which) -> Sensitivities:
+    """The sensitivities along a Sweep (NaN, and flagged, where Φ_q has lost rank)."""
+    names, cols = parameter_columns(mech, which)
+    comp, blocks = companion(mech)
+    N, n, npar = len(sw), mech.n, len(mech.parameter_names)
+    level = _level(sw.QD, sw.QDD)
+    Q = np.ascontiguousarray(sw.Q, dtype=np.float64)
+    QD = np.ascontiguousarray(sw.QD) if level >= 1 else np.zeros((1, n))
+    QDD = np.ascontiguousarray(sw.QDD) if level >= 2 else np.zeros((1, n))
+    DQ = np.full((N, n, npar), np.nan)
+    DQD = np.full((N if level >= 1 else 1, n, npar), np.nan)
+    DQDD = np.full((N if level >= 2 else 1, n, npar), np.nan)
+    status = np.zeros(N, dtype=np.int64)
+    ts = np.ascontiguousarray(sw.solved_t, dtype=np.float64)
+    p = np.asarray(mech.p, dtype=np.float64)
+    if blocks.square:
+        comp.sensitivities_rows(ts, Q, QD, QDD, p, level, blocks.brow, blocks.bvar,
+                                blocks.bstart, cols, DQ, DQD, DQDD, status)
+    else:
+        for k in range(N):
+            D = [DQ[k], DQD[k if level >= 1 else 0], DQDD[k if level >= 2 else 0]]
+            try:
+                status[k] = _least_squares(comp, mech, Q[k], QD[k if level >= 1 else 0],
+                                           QDD[k if level >= 2 else 0], ts[k], p, level,
+                                           cols, D)
+            except SolveError:
+                status[k] = 2
+            if status[k]:
+                for d in D:
+                    d[:, cols] = np.nan
+    singular = status != 0
+    return Sensitivities(names, cols, (DQ, DQD if level >= 1 else None,
+                                       DQDD if level >= 2 else None), singular)
