@@ -71,3 +71,49 @@ def _output(mech, result, sens, quantity, j):
         values[k] = at(result.Q[k], None if result.QD is None else result.QD[k],
                        None if result.QDD is None else result.QDD[k], ts[k], D)
     return values
+
+
+def point_index(mech, point) -> int:
+    """The index in mech.point_names of ``point``: an index, a label (``"coupler[3]"``)
+    or a model Point (its label)."""
+    if isinstance(point, (int, np.integer)) and not isinstance(point, bool):
+        if not 0 <= int(point) < len(mech.point_names):
+            raise IndexError(f"point index {point} out of range (0..{len(mech.point_names) - 1})")
+        return int(point)
+    label = point if isinstance(point, str) else getattr(point, "label", None)
+    if label not in mech.point_names:
+        raise KeyError(f"{label or point!r} is not a point of '{mech.name}' "
+                       f"(its points: {', '.join(mech.point_names)})")
+    return mech.point_names.index(label)
+
+
+def point_sensitivity(result, point) -> np.ndarray:
+    """∂(x, y)/∂p of a point on a result carrying sensitivities: (2, parameters asked)
+    on a Solution, (points, 2, parameters asked) on a Sweep, columns in
+    ``result.sensitivity_params`` order."""
+    sens = result.sensitivities
+    mech = result.mechanism
+    k = point_index(mech, point)
+    comp, _ = companion(mech)
+    npts, npar = len(mech.point_names), len(mech.parameter_names)
+    out = np.empty((2 * npts, npar))
+    p = np.asarray(mech.p, dtype=np.float64)
+    cols = sens.columns
+    if not hasattr(result, "Q"):
+        comp.points_p(result.q, float(result.t), p, sens.full[0], cols, out)
+        return out[2 * k:2 * k + 2][:, cols].copy()
+    values = np.empty((len(result), 2, len(cols)))
+    ts = result.solved_t
+    for i in range(len(result)):
+        comp.points_p(result.Q[i], float(ts[i]), p, sens.full[0][i], cols, out)
+        values[i] = out[2 * k:2 * k + 2][:, cols]
+    return values
+
+
+def point_velocity(mech, q, qd, t, point) -> np.ndarray:
+    """d(x, y)/dT of a point at (q, q̇, t): the sensitivity module's points_d."""
+    comp, _ = companion(mech)
+    out = np.empty((len(mech.point_names), 2))
+    comp.points_d(np.asarray(q, dtype=np.float64), np.asarray(qd, dtype=np.float64), float(t),
+                  np.asarray(mech.p, dtype=np.float64), out)
+    return out[point_index(mech, point)].copy()
