@@ -35,23 +35,23 @@ F = _third(D, E, f, g, -1)
 G = _third(E, F, i, h, 1)
 
 
-def leg(m, body=None, crank_length=m_):
+def leg(m, body=None, crank_length=m_, upper_length=j, lower_length=k, foot_length=g):
     """Jansen's leg built into model ``m``: the frame, the seven bodies, the eleven pins and
     the crank turning once a unit of time; returns the bodies by name. ``body(m, name,
     points, guess, length)`` makes each body (plain ones by default; a model with masses
-    passes its own), and ``crank_length`` may be a parameter (the guesses stay those of
-    the holy numbers)."""
+    passes its own), and ``crank_length`` (and the upper and lower links' and the foot's
+    lengths) may be parameters (the guesses stay those of the holy numbers)."""
     if body is None:
         def body(m, name, points, guess, length):
             return m.body(name, points=points, guess=guess)
     frame = m.ground("frame", points=[O, B])
     crank = body(m, "crank", [(0, 0), (crank_length, 0)], (0, 0, 0), m_)
-    upper = body(m, "upper", [(0, 0), (j, 0)], (*A, _frame(A, C)), j)
+    upper = body(m, "upper", [(0, 0), (upper_length, 0)], (*A, _frame(A, C)), j)
     hip = body(m, "hip", [(0, 0), (b, 0), _frame(B, C, D)], (*B, _frame(B, C)), b)
-    lower = body(m, "lower", [(0, 0), (k, 0)], (*A, _frame(A, E)), k)
+    lower = body(m, "lower", [(0, 0), (lower_length, 0)], (*A, _frame(A, E)), k)
     cee = body(m, "cee", [(0, 0), (c, 0)], (*B, _frame(B, E)), c)
     eff = body(m, "eff", [(0, 0), (f, 0)], (*D, _frame(D, F)), f)
-    foot = body(m, "foot", [(0, 0), (g, 0), _frame(E, F, G)], (*E, _frame(E, F)), g)
+    foot = body(m, "foot", [(0, 0), (foot_length, 0), _frame(E, F, G)], (*E, _frame(E, F)), g)
     m.revolute(frame[1], crank[1])
     m.rotation_lock(crank, 2 * pi * T, name="crank angle")
     m.revolute(crank[2], upper[1])

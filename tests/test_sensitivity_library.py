@@ -36,7 +36,7 @@ def test_chain_matches_the_closed_form(t):
     D = [np.zeros((3, 3)) for _ in range(3)]
     sel = np.arange(3, dtype=np.int64)
     status = S.sensitivities_point(q, qd, qdd, t, p, 2, BROW, BVAR, BSTART, sel, *D,
-                                   np.empty((3, 3)), np.empty((3, 3)))
+                                   np.empty((3, 3)), np.empty((3, 3)), np.empty(21))
     assert status == S.SENS_OK
     for c in range(3):
         h = 1e-5
@@ -55,7 +55,7 @@ def test_only_the_selected_columns_are_written():
     D = [np.full((3, 3), 7.0) for _ in range(3)]
     sel = np.array([1], dtype=np.int64)
     S.sensitivities_point(q, qd, qdd, 0.4, p, 2, BROW, BVAR, BSTART, sel, *D,
-                          np.empty((3, 3)), np.empty((3, 3)))
+                          np.empty((3, 3)), np.empty((3, 3)), np.empty(21))
     for d in D:
         assert np.all(d[:, [0, 2]] == 7.0) and np.all(d[:, 1] != 7.0)
 
@@ -67,12 +67,13 @@ def test_a_lost_rank_is_refused():
     q = np.array([th, -math.pi / 2, a * math.cos(th)])
     J, X = np.zeros((3, 3)), np.zeros((3, 3))
     toy.phi_q(q, 0.0, np.array([a, b, 1.0]), J)
-    status = S.solve_columns(J, np.eye(3), X, BROW, BVAR, BSTART, np.arange(3, dtype=np.int64))
+    status = S.solve_columns(J, np.eye(3), X, BROW, BVAR, BSTART, np.arange(3, dtype=np.int64),
+                             np.empty(21))
     assert status == S.SENS_SINGULAR
     # one block of everything (an unsorted module) says the same
     status = S.solve_columns(J, np.eye(3), X, np.arange(3, dtype=np.int64),
                              np.arange(3, dtype=np.int64), np.array([0, 3], dtype=np.int64),
-                             np.arange(3, dtype=np.int64))
+                             np.arange(3, dtype=np.int64), np.empty(21))
     assert status == S.SENS_SINGULAR
 
 
@@ -84,7 +85,8 @@ def test_one_dense_block_equals_the_sorted_blocks():
     B = np.arange(9.0).reshape(3, 3) - 4
     X1, X2 = np.zeros((3, 3)), np.zeros((3, 3))
     sel = np.arange(3, dtype=np.int64)
-    S.solve_columns(J, B, X1, BROW, BVAR, BSTART, sel)
-    S.solve_columns(J, B, X2, np.array([0, 1, 2]), np.array([0, 1, 2]), np.array([0, 3]), sel)
+    S.solve_columns(J, B, X1, BROW, BVAR, BSTART, sel, np.empty(21))
+    S.solve_columns(J, B, X2, np.array([0, 1, 2]), np.array([0, 1, 2]), np.array([0, 3]), sel,
+                    np.empty(21))
     assert np.allclose(X1, np.linalg.solve(J, B), rtol=1e-13, atol=1e-13)
     assert np.allclose(X2, X1, rtol=1e-13, atol=1e-13)

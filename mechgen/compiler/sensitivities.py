@@ -23,7 +23,8 @@ from ..errors import MechgenError
 from ..model.forces.holds import held
 from ..model.geometry import T
 from ..model.symbolic import check_square
-from ..protocol import MECHGEN_VERSION, SING_RTOL, STAMP, TINY, content_digest
+from ..protocol import (MECHGEN_VERSION, SENSITIVITY_FORMAT, SING_RTOL, STAMP, TINY,
+                        content_digest)
 from .build import write_module
 from .codegen.ir import (Code, Loop, Options, code_words, expressions, render, symbols,
                          walk)
@@ -31,9 +32,10 @@ from .codegen.names import Names, emitter_symbols, identifiers, module_level_nam
 from .functions.equations_code import phi_q_body, point_list
 from .functions.profiles_code import profile_helpers
 from .functions.sensitivity_code import (acceleration_rhs_body, outputs_p_body, phi_p_body,
-                                         points_d_body, points_p_body, velocity_rhs_body)
+                                         points_d_body, points_p_body, solve_sorted_body,
+                                         velocity_rhs_body)
 from .library import body as library_body
-from .solver.plan import CHUNK_STORES
+from .solver.plan import CHUNK_STORES, make_plan
 from .render import environment
 
 SUFFIX = "_sensitivities"
@@ -51,6 +53,9 @@ SIGNATURES = (
     ("points_p", "q, t, p, DQ, sel, out",
      "The points' derivatives: out[2 k + d, c] of point k's coordinate d (POINTS' order)."),
     ("points_d", "q, qd, t, p, out", "The points' velocities out[k, d]."),
+    ("solve_sorted", "q, t, p, B, sel, X",
+     "Φ_q X = B on the columns sel, block by block in the module's solving order "
+     "(0, or 2 where Φ_q has lost rank)."),
     ("outputs_p", "q, qd, qdd, t, p, DQ, DQD, DQDD, sel, out",
      "The outputs' derivatives out[k, c]."),
     ("outputs_d_p", "q, qd, qdd, t, p, DQ, DQD, DQDD, sel, out",
@@ -91,13 +96,16 @@ def module_hash_of(module_path: str) -> str:
     return found.group(1)
 
 
-def render_sensitivities(model, module_hash: str) -> str:
+def render_sensitivities(model, module_hash: str, sort=True) -> str:
     """The text of ``model``'s sensitivity module, for the module whose MODEL_HASH is
-    ``module_hash``."""
+    ``module_hash`` (``sort``: whether that module is sorted; its Φ_q is then solved on
+    the same blocks, written out: solve_sorted)."""
     model = held(model)
     eq = model.equations()
     check_square(model, eq)
     plan = SimpleNamespace(chunk_stores=CHUNK_STORES, cse=True)
+    solver = make_plan(model, eq, sort=sort) if eq.phi.rows == len(eq.q) else None
+    sorted_ = solver is not None and solver.sorted
     points = point_list(model)
     outputs = list(model.outputs)
     jq, helpers = phi_q_body(plan, eq)
@@ -110,13 +118,14 @@ def render_sensitivities(model, module_hash: str) -> str:
         "acceleration_rhs_p": acceleration_rhs_body(model, eq),
         "points_p": points_p_body(model, eq, points),
         "points_d": points_d_body(eq, points),
+        "solve_sorted": solve_sorted_body(solver, eq) if sorted_ else [Code("return -1")],
     }
     for order, name in enumerate(("outputs_p", "outputs_d_p", "outputs_dd_p")):
         bodies[name] = outputs_p_body(model, eq, outputs, order) if outputs else [Code("pass")]
     # a cam profile's functions (and their derivatives in parameters) as helpers
     used = [e for b in bodies.values() for st in walk(b) for e in expressions(st)]
     helpers = profile_helpers(model, eq, extra=used) + list(helpers)
-    library = library_body("sensitivity.py")
+    library = library_body("linalg.py") + "\n\n" + library_body("sensitivity.py")
     everything = [st for b in bodies.values() for st in b] + \
         [st for h in helpers for st in h.body]
     derived, plain = emitter_symbols(symbols(everything))
@@ -130,12 +139,14 @@ def render_sensitivities(model, module_hash: str) -> str:
     helpers = [dict(name=h.name, args=h.args, doc=h.doc, lines=render(h.body, options))
                for h in helpers]
     constants = [("MODEL_NAME", json.dumps(model.name)), ("MODULE_HASH", json.dumps(module_hash)),
-                 ("COMPANION", '"sensitivities"'), ("N_COORDS", str(len(eq.q))),
+                 ("COMPANION", '"sensitivities"'), ("SENSITIVITY_FORMAT", str(SENSITIVITY_FORMAT)),
+                 ("N_COORDS", str(len(eq.q))),
                  ("N_EQS", str(eq.phi.rows)), ("N_PARAMS", str(len(eq.params))),
                  ("COORDINATES", _tuple(s.name for s in eq.q)),
                  ("PARAMETERS", _tuple(s.name for s in eq.params)),
                  ("N_POINTS", str(len(points))), ("OUTPUTS", _tuple(outputs)),
-                 ("SING_RTOL", repr(SING_RTOL)), ("TINY", repr(TINY))]
+                 ("SING_RTOL", repr(SING_RTOL)), ("TINY", repr(TINY)),
+                 ("SORTED", str(sorted_))]
     ctx = dict(name=model.name, module_name=model.name + SUFFIX, doc=DOC,
                mechgen_version=MECHGEN_VERSION, coordinates=[s.name for s in eq.q],
                parameters=[s.name for s in eq.params], constants=constants,
@@ -152,7 +163,9 @@ def build_sensitivities(model, module_path: str) -> str:
     """Write the sensitivity module of ``model`` beside its module at ``module_path``
     (unless the file there already holds the same text); returns its path."""
     path = companion_path(module_path)
-    text = render_sensitivities(model, module_hash_of(module_path))
+    with open(module_path, encoding="utf-8") as fh:
+        sort = "\nSORTED = True\n" in fh.read()
+    text = render_sensitivities(model, module_hash_of(module_path), sort)
     try:
         with open(path, encoding="utf-8") as fh:
             if fh.read() == text:

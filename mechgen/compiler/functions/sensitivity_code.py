@@ -168,3 +168,42 @@ def outputs_p_body(model, eq, names, order):
     return _directional(model, rows, wrt, labels, True, True, eq)
 
 
+
+
+def solve_sorted_body(plan, eq):
+    """Φ_q X = B on the columns ``sel`` by block forward substitution in the plan's
+    solving order (the module's): Φ_q's entries and each block's singularity test once,
+    then per column the substitution (a block of three or more unknowns by _gauss).
+    Returns 2 (SINGULAR) where a block's pivot is below SING_RTOL of its scale."""
+    from ..solver.linear import linear_code
+    m = eq.phi.rows
+    rhs = {i: sym(f"_b{i}") for i in range(m)}
+    code = linear_code(plan, eq, 1, known=rhs)
+    body = [st for piece in code.blocks for st in piece[0]]
+    used = set()
+    for st in body:
+        for e in _exprs(st):
+            used |= sp.sympify(e).free_symbols
+    head = [Assign(s, eq.nonzeros[i, j]) for (i, j), s in code.jsym.items()
+            if isinstance(s, sp.Symbol) and s in used]
+    reads = [Code(f"{{0}} = B[{i}, {COLUMN}]", (rhs[i],)) for i in range(m) if rhs[i] in used]
+    writes = [Store(f"X[{k}, {COLUMN}]", x) for k, x in enumerate(eq.qd)]
+    exprs = [a.expr for a in head]
+    inputs = prologue(eq, exprs)
+    before = emit(head, TempNames("_s"), plan.cse)
+    variant = set(rhs.values()) | set(eq.qd)
+    hoisted, inside = emit(body, TempNames(), plan.cse, variant=variant)
+    loop = Loop(Code("for _k in range(sel.shape[0])"),
+                (Code(f"{COLUMN} = sel[_k]"),) + tuple(reads) + tuple(inside) + tuple(writes))
+    return inputs + before + hoisted + [loop, Code("return 0")]
+
+
+def _exprs(st):
+    from ..codegen.ir import Guard
+    if isinstance(st, (Assign, Store)):
+        return [st.expr]
+    if isinstance(st, Guard):
+        return [st.value, st.bound]
+    if isinstance(st, Code):
+        return list(st.args)
+    return []

@@ -11,8 +11,8 @@ import math
 
 import numpy as np
 
-from .toy import (N_COORDS, N_EQS, N_PARAMS, SING_RTOL, TINY, acceleration_rhs_p, njit,
-                  phi_p, phi_q, velocity_rhs_p)
+from .toy import (N_COORDS, N_EQS, N_PARAMS, SING_RTOL, SORTED, TINY, acceleration_rhs_p,
+                  njit, phi_p, phi_q, solve_sorted, velocity_rhs_p)
 
 # -- module body: below this line, the text as a generated module holds it --
 # ---------------------------------------------------------------------------------------
@@ -23,12 +23,13 @@ SENS_SINGULAR = 2
 
 
 @njit(cache=True)
-def solve_columns(J, B, X, brow, bvar, bstart, sel):
+def solve_columns(J, B, X, brow, bvar, bstart, sel, work):
     """Φ_q X = B for the columns ``sel`` of B, block by block in the solving order
     (``brow``, ``bvar``: the rows and unknowns of the blocks, block b at
     bstart[b]:bstart[b + 1]); each block factorised once (partial pivoting), each column
-    then substituted. Returns SENS_SINGULAR where a block's pivot falls below SING_RTOL
-    times its row's scale (Φ_q has lost rank: the derivatives are not determined)."""
+    then substituted. ``work``: scratch of at least (N_COORDS + 4) * N_COORDS floats.
+    Returns SENS_SINGULAR where a block's pivot falls below SING_RTOL times its row's
+    scale (Φ_q has lost rank: the derivatives are not determined)."""
     n = J.shape[1]
     for k in range(sel.shape[0]):
         for j in range(n):
@@ -36,85 +37,130 @@ def solve_columns(J, B, X, brow, bvar, bstart, sel):
     for b in range(bstart.shape[0] - 1):
         s0 = bstart[b]
         m = bstart[b + 1] - s0
-        A = np.empty((m, m))
-        perm = np.empty(m, dtype=np.int64)
+        # the block (m × m, row-major in work), its rows' scales, the row order, the rhs
+        A = work[:m * m]
+        scale = work[m * m:m * m + m]
+        perm = work[m * m + m:m * m + 2 * m]
+        rhs = work[m * m + 2 * m:m * m + 3 * m]
+        if m == 1:
+            r = brow[s0]
+            a = J[r, bvar[s0]]
+            s = 0.0
+            for j in range(n):
+                s += abs(J[r, j])
+            if not (abs(a) > TINY and abs(a) > SING_RTOL * s):
+                return SENS_SINGULAR
+            for k in range(sel.shape[0]):
+                col = sel[k]
+                v = B[r, col]
+                for j in range(n):
+                    if J[r, j] != 0.0:
+                        v -= J[r, j] * X[j, col]
+                X[bvar[s0], col] = v / a
+            continue
         for i in range(m):
             perm[i] = i
-            for jj in range(m):
-                A[i, jj] = J[brow[s0 + i], bvar[s0 + jj]]
-        scale = np.empty(m)
-        for i in range(m):
             s = 0.0
             for j in range(n):
                 s += abs(J[brow[s0 + i], j])
             scale[i] = s
-        # LU with partial pivoting, rows swapped in perm
+            for jj in range(m):
+                A[i * m + jj] = J[brow[s0 + i], bvar[s0 + jj]]
+        # LU with partial pivoting, the rows' order in perm
         for c in range(m):
             piv = c
-            big = abs(A[c, c])
+            big = abs(A[c * m + c])
             for r in range(c + 1, m):
-                if abs(A[r, c]) > big:
-                    big = abs(A[r, c])
+                if abs(A[r * m + c]) > big:
+                    big = abs(A[r * m + c])
                     piv = r
             if piv != c:
                 for jj in range(m):
-                    A[c, jj], A[piv, jj] = A[piv, jj], A[c, jj]
+                    A[c * m + jj], A[piv * m + jj] = A[piv * m + jj], A[c * m + jj]
                 perm[c], perm[piv] = perm[piv], perm[c]
-            if not (big > TINY and big > SING_RTOL * scale[perm[c]]):
+            if not (big > TINY and big > SING_RTOL * scale[int(perm[c])]):
                 return SENS_SINGULAR
             for r in range(c + 1, m):
-                f = A[r, c] / A[c, c]
-                A[r, c] = f
+                f = A[r * m + c] / A[c * m + c]
+                A[r * m + c] = f
                 for jj in range(c + 1, m):
-                    A[r, jj] -= f * A[c, jj]
-        rhs = np.empty(m)
+                    A[r * m + jj] -= f * A[c * m + jj]
         for k in range(sel.shape[0]):
             col = sel[k]
             for i in range(m):
-                row = brow[s0 + perm[i]]
+                row = brow[s0 + int(perm[i])]
                 v = B[row, col]
                 for j in range(n):
-                    a = J[row, j]
-                    if a != 0.0:
-                        v -= a * X[j, col]   # unknowns not yet solved are 0 here
+                    if J[row, j] != 0.0:
+                        v -= J[row, j] * X[j, col]   # unknowns not yet solved are 0 here
                 rhs[i] = v
-            # the block's own unknowns are still 0 in X: the sum above left them out
             for i in range(m):
                 v = rhs[i]
                 for jj in range(i):
-                    v -= A[i, jj] * rhs[jj]
+                    v -= A[i * m + jj] * rhs[jj]
                 rhs[i] = v
             for i in range(m - 1, -1, -1):
                 v = rhs[i]
                 for jj in range(i + 1, m):
-                    v -= A[i, jj] * rhs[jj]
-                rhs[i] = v / A[i, i]
+                    v -= A[i * m + jj] * rhs[jj]
+                rhs[i] = v / A[i * m + i]
             for i in range(m):
                 X[bvar[s0 + i], col] = rhs[i]
     return SENS_OK
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def sensitivities_point(q, qd, qdd, t, p, level, brow, bvar, bstart, sel, DQ, DQD, DQDD,
-                        J, B):
+                        J, B, work):
     """The derivatives of q (and of q̇, q̈ up to ``level``) with respect to the parameters
     ``sel`` at a solved point into DQ, DQD, DQDD (N_COORDS × N_PARAMS; the columns not in
-    sel are left as they are). J and B are scratch (N_EQS × N_COORDS, N_EQS × N_PARAMS).
+    sel are left as they are). J, B and work are scratch (N_EQS × N_COORDS, N_EQS ×
+    N_PARAMS, solve_columns'). Φ_q X = B is solved on the module's blocks written out
+    (solve_sorted) where it is sorted, else by solve_columns; each call below passes few
+    arrays (a call between jitted functions costs about as much per array as the work).
     Returns SENS_OK, or SENS_SINGULAR where Φ_q has lost rank."""
-    phi_q(q, t, p, J)
     phi_p(q, t, p, B)
     for i in range(B.shape[0]):
         for k in range(sel.shape[0]):
             B[i, sel[k]] = -B[i, sel[k]]
-    status = solve_columns(J, B, DQ, brow, bvar, bstart, sel)
+    if SORTED:
+        status = solve_sorted(q, t, p, B, sel, DQ)
+    else:
+        phi_q(q, t, p, J)
+        status = solve_columns(J, B, DQ, brow, bvar, bstart, sel, work)
     if status != SENS_OK or level < 1:
         return status
     velocity_rhs_p(q, qd, t, p, DQ, sel, B)
-    status = solve_columns(J, B, DQD, brow, bvar, bstart, sel)
+    if SORTED:
+        status = solve_sorted(q, t, p, B, sel, DQD)
+    else:
+        status = solve_columns(J, B, DQD, brow, bvar, bstart, sel, work)
     if status != SENS_OK or level < 2:
         return status
     acceleration_rhs_p(q, qd, qdd, t, p, DQ, DQD, sel, B)
-    return solve_columns(J, B, DQDD, brow, bvar, bstart, sel)
+    if SORTED:
+        return solve_sorted(q, t, p, B, sel, DQDD)
+    return solve_columns(J, B, DQDD, brow, bvar, bstart, sel, work)
+
+
+@njit(cache=True)
+def sensitivities_at(q, qd, qdd, t, p, level, sel, D, blocks, scratch):
+    """sensitivities_point as one call from Python (few arguments: numba checks each):
+    D (3 × N_COORDS × N_PARAMS) receives Dq, Dq̇, Dq̈ up to ``level``, NaN elsewhere;
+    ``blocks`` holds brow, bvar and bstart one after the other; ``scratch`` at least
+    N_EQS (N_COORDS + N_PARAMS) + (N_COORDS + 4) N_COORDS floats."""
+    n = N_COORDS
+    nb = blocks.shape[0] - 2 * n
+    brow, bvar, bstart = blocks[:n], blocks[n:2 * n], blocks[2 * n:2 * n + nb]
+    J = scratch[:N_EQS * n].reshape((N_EQS, n))
+    B = scratch[N_EQS * n:N_EQS * (n + N_PARAMS)].reshape((N_EQS, N_PARAMS))
+    work = scratch[N_EQS * (n + N_PARAMS):]
+    for k in range(3):
+        for i in range(n):
+            for j in range(N_PARAMS):
+                D[k, i, j] = math.nan
+    return sensitivities_point(q, qd, qdd, t, p, level, brow, bvar, bstart, sel, D[0], D[1],
+                               D[2], J, B, work)
 
 
 @njit(cache=True)
@@ -125,6 +171,7 @@ def sensitivities_rows(ts, Q, QD, QDD, p, level, brow, bvar, bstart, sel, DQ, DQ
     with SENS_SINGULAR; so is a point where Φ_q has lost rank."""
     J = np.empty((N_EQS, N_COORDS))
     B = np.empty((N_EQS, N_PARAMS))
+    work = np.empty((N_COORDS + 4) * N_COORDS)
     for k in range(ts.shape[0]):
         finite = True
         for j in range(Q.shape[1]):
@@ -135,7 +182,7 @@ def sensitivities_rows(ts, Q, QD, QDD, p, level, brow, bvar, bstart, sel, DQ, DQ
         status = SENS_SINGULAR
         if finite:
             status = sensitivities_point(Q[k], QD[kd], QDD[ka], ts[k], p, level, brow, bvar,
-                                         bstart, sel, DQ[k], DQD[kd], DQDD[ka], J, B)
+                                         bstart, sel, DQ[k], DQD[kd], DQDD[ka], J, B, work)
         STATUS[k] = status
         if status != SENS_OK:
             for j in range(DQ.shape[1]):

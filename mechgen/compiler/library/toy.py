@@ -61,7 +61,8 @@ FORCE_NAMES = [
 __all__ += FORCE_NAMES
 # what a sensitivity module defines (library/sensitivity.py reads them with N_COORDS,
 # N_EQS, phi_q, SING_RTOL and TINY); not in __all__: a module does not define them
-SENSITIVITY_NAMES = ["N_PARAMS", "phi_p", "velocity_rhs_p", "acceleration_rhs_p"]
+SENSITIVITY_NAMES = ["N_PARAMS", "phi_p", "velocity_rhs_p", "acceleration_rhs_p",
+                     "solve_sorted"]
 
 
 def njit(*args, **options):
@@ -404,3 +405,22 @@ def acceleration_rhs_p(q, qd, qdd, t, p, DQ, DQD, sel, out):
         out[1, c] += (a * (c0 * qd[0] ** 2 + s0 * qdd[0]) * DQ[0, c]
                       + b * (c1 * qd[1] ** 2 + s1 * qdd[1]) * DQ[1, c]
                       + 2 * a * s0 * qd[0] * DQD[0, c] + 2 * b * s1 * qd[1] * DQD[1, c])
+
+
+@njit(cache=True)
+def solve_sorted(q, t, p, B, sel, X):
+    """Φ_q X = B on the columns sel in the toy's solving order: th (row 2), ph (row 1), x
+    (row 0)."""
+    a, b = p[0], p[1]
+    j10, j11 = a * math.cos(q[0]), b * math.cos(q[1])
+    j00, j01 = -a * math.sin(q[0]), -b * math.sin(q[1])
+    if not abs(j11) > SING_RTOL * (abs(j10) + abs(j11)):
+        return 2
+    for k in range(sel.shape[0]):
+        c = sel[k]
+        th = B[2, c]
+        ph = (B[1, c] - j10 * th) / j11
+        X[0, c] = th
+        X[1, c] = ph
+        X[2, c] = -(B[0, c] - j00 * th - j01 * ph)
+    return 0

@@ -13,14 +13,13 @@ def attach(mech, result, which):
     """``result`` (a Solution or Sweep of ``mech``) with its sensitivities to the
     parameters ``which`` (True: all; a name; a list of names) computed and attached
     (``result.sensitivities``); returns it."""
-    if hasattr(result, "Q"):
-        result.sensitivities = of_sweep(mech, result, which)
-    else:
+    if "Q" not in result.__dict__:
         result.sensitivities = of_solution(mech, result, which)
-    forces = getattr(result, "lam", None) if "lam" in getattr(result, "__dict__", {}) else None
-    if forces is not None:
-        from .forces import attach_forces
-        attach_forces(mech, result)
+    elif "P" in result.__dict__:            # a design table
+        from .tables import of_table
+        result.sensitivities = of_table(mech, result, which)
+    else:
+        result.sensitivities = of_sweep(mech, result, which)
     return result
 
 

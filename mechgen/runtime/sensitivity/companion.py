@@ -16,7 +16,7 @@ import weakref
 import numpy as np
 
 from ...errors import MechgenError
-from ...protocol import SENSITIVITY_SUFFIX, content_digest, stamp_of
+from ...protocol import SENSITIVITY_FORMAT, SENSITIVITY_SUFFIX, content_digest, stamp_of
 
 _LOADED = weakref.WeakKeyDictionary()     # module -> (companion, Blocks)
 _LOCK = threading.Lock()
@@ -42,6 +42,13 @@ class Blocks:
         self.bvar = np.asarray(cols, dtype=np.int64)
         self.bstart = np.asarray(start, dtype=np.int64)
         self.square = m == n
+        # a single solve's: the three arrays in one, its scratch (one call at a time: a
+        # Mechanism's lock is held), q̇ = 0 where the level has none
+        self.packed = np.concatenate([self.brow, self.bvar, self.bstart])
+        npar = len(module.PARAMETERS)
+        self.scratch = np.empty(m * (n + npar) + (n + 4) * n)
+        self.shape = (3, n, npar)
+        self.zero = np.zeros(n)
 
 
 def path_of(module) -> str:
@@ -64,8 +71,9 @@ def _import(path, module_hash, tier):
         return None
     found = stamp_of(text)
     if found is None or found != content_digest(text) or \
-            f'MODULE_HASH = "{module_hash}"' not in text:
-        return None
+            f'MODULE_HASH = "{module_hash}"' not in text or \
+            f"SENSITIVITY_FORMAT = {SENSITIVITY_FORMAT}\n" not in text:
+        return None     # another module's, or an older layout: built again
     if tier == "python":
         from ..loading.plain import python_module
         return python_module(path)
@@ -88,6 +96,9 @@ def _import(path, module_hash, tier):
 def companion(mech):
     """(sensitivity module, Blocks) of ``mech``'s module, loading or building it."""
     module = mech.module
+    hit = _LOADED.get(module)
+    if hit is not None:
+        return hit
     with _LOCK:
         hit = _LOADED.get(module)
         if hit is not None:

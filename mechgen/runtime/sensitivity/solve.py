@@ -7,8 +7,6 @@ a sweep gives NaN there and lists the times (``sw.sensitivity_singular``).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from ...errors import SolveError
@@ -16,7 +14,6 @@ from ...protocol import LEVEL, SING_RTOL
 from .companion import companion
 
 
-@dataclass(frozen=True)
 class Sensitivities:
     """The derivatives of a result with respect to ``params`` (names, their indices in
     the module's PARAMETERS ``columns``): ``full`` holds (Dq, Dq̇, Dq̈), each of shape
@@ -24,10 +21,11 @@ class Sensitivities:
     for a sweep, NaN in the columns not asked for, None above the result's level;
     ``singular``: per point of a sweep, whether Φ_q had lost rank there (a solution's:
     False, it raised)."""
-    params: tuple
-    columns: np.ndarray
-    full: tuple
-    singular: object = False
+
+    __slots__ = ("params", "columns", "full", "singular")
+
+    def __init__(self, params, columns, full, singular=False):
+        self.params, self.columns, self.full, self.singular = params, columns, full, singular
 
     def value(self, result, what, param):
         """∂what/∂param on ``result`` (mechgen.runtime.sensitivity.values)."""
@@ -67,29 +65,39 @@ def _level(qd, qdd) -> int:
         LEVEL["velocity"] if qdd is None else LEVEL["acceleration"]
 
 
+_COLUMNS = {}       # (parameter names, which) -> parameter_columns' answer
+
+
+def _columns(mech, which):
+    key = (mech.parameter_names, which if which is True or isinstance(which, str)
+           else tuple(which))
+    hit = _COLUMNS.get(key)
+    if hit is None:
+        hit = _COLUMNS[key] = parameter_columns(mech, which)
+    return hit
+
+
 def of_solution(mech, sol, which) -> Sensitivities:
     """The sensitivities of a Solution; SingularError where Φ_q has lost rank."""
-    names, cols = parameter_columns(mech, which)
+    names, cols = _columns(mech, which)
     comp, blocks = companion(mech)
-    n, npar = mech.n, len(mech.parameter_names)
-    level = _level(sol.qd, sol.qdd)
-    D = [np.full((n, npar), np.nan) for _ in range(3)]
-    zero = np.zeros(n)
-    qd = zero if sol.qd is None else sol.qd
-    qdd = zero if sol.qdd is None else sol.qdd
-    p = np.asarray(mech.p, dtype=np.float64)
+    qd, qdd = sol.qd, sol.qdd
+    level = 0 if qd is None else 1 if qdd is None else 2
+    D = np.empty(blocks.shape)
     if blocks.square:
-        status = comp.sensitivities_point(
-            sol.q, qd, qdd, sol.t, p, level, blocks.brow, blocks.bvar, blocks.bstart, cols,
-            D[0], D[1], D[2], np.empty((mech.m, n)), np.empty((mech.m, npar)))
+        status = comp.sensitivities_at(sol.q, blocks.zero if qd is None else qd,
+                                       blocks.zero if qdd is None else qdd, sol.t, mech.p,
+                                       level, cols, D, blocks.packed, blocks.scratch)
     else:
-        status = _least_squares(comp, mech, sol.q, qd, qdd, sol.t, p, level, cols, D)
+        D[:] = np.nan
+        status = _least_squares(comp, mech, sol.q, blocks.zero if qd is None else qd,
+                                blocks.zero if qdd is None else qdd, sol.t, mech.p, level,
+                                cols, D)
     if status != 0:
         from ..analysis.locks import singular_error
-        raise singular_error(mech, sol.t, sol.q, "sensitivities of the position"
-                             if level == 0 else "sensitivities")
-    return Sensitivities(names, cols, (D[0], D[1] if level >= 1 else None,
-                                       D[2] if level >= 2 else None), False)
+        raise singular_error(mech, sol.t, sol.q, "parameter derivatives")
+    return Sensitivities(names, cols, (D[0], D[1] if level else None,
+                                       D[2] if level == 2 else None), False)
 
 
 def _least_squares(comp, mech, q, qd, qdd, t, p, level, cols, D) -> int:
@@ -138,7 +146,8 @@ def of_sweep(mech, sw, which) -> Sensitivities:
     ts = np.ascontiguousarray(sw.solved_t, dtype=np.float64)
     p = np.asarray(mech.p, dtype=np.float64)
     if blocks.square:
-        comp.sensitivities_rows(ts, Q, QD, QDD, p, level, blocks.brow, blocks.bvar,
+        comp.sensitivities_rows(ts, Q, QD, QDD, np.asarray(p, dtype=np.float64), level,
+                                blocks.brow, blocks.bvar,
                                 blocks.bstart, cols, DQ, DQD, DQDD, status)
     else:
         for k in range(N):

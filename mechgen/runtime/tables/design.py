@@ -60,6 +60,8 @@ class DesignTable:
     only ``tab.reduced(name)`` (minimum, maximum and their times per design).
     """
 
+    sensitivities = None    # with sensitivities=: each design's (mechgen.runtime.sensitivity)
+
     def __init__(self, mech, names, axes, t, P, data, level, grid=True, reduced=(),
                  force_level=None, start=None):
         self.mechanism = mech
@@ -230,6 +232,8 @@ class DesignTable:
         QDD = self.QDD[d, :k].copy() if self._have >= LEVEL["acceleration"] else None
         sw = Sweep(mech, self.t[:k].copy(), self.Q[d, :k].copy(), QD, QDD,
                    self.INFO[d, :k].copy())
+        if self.sensitivities is not None:
+            sw.sensitivities = self.sensitivities.design(d, k)
         return sw if self.force_level is None else attach(sw, self.force_level)
 
     def driver(self, name) -> np.ndarray:
@@ -251,6 +255,20 @@ class DesignTable:
                                  self.done, index, self.force_level)
         except ZeroDivisionError:
             raise division_error(mech, f"in tab.driver({name!r})") from None
+        return out.reshape(self.shape + (len(self.t),))
+
+    def sensitivity(self, name, param) -> np.ndarray:
+        """∂name/∂param at every point of a table made with ``sensitivities=``: shape
+        ``tab.shape + (len(tab.t),)``, NaN where a design did not solve (or lost rank)."""
+        if self.sensitivities is None:
+            raise MechgenError("this design table carries no sensitivities: make it with "
+                               "sensitivities=True or a list of parameter names")
+        out = np.full((len(self), len(self.t)), np.nan)
+        for d in range(len(self)):
+            k = int(self.done[d])
+            if k:
+                index = np.unravel_index(d, self.shape) if self.grid else (d,)
+                out[d, :k] = self.sweep(*index).sensitivity(name, param)
         return out.reshape(self.shape + (len(self.t),))
 
     @property
