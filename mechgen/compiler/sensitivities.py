@@ -31,7 +31,8 @@ from .codegen.ir import (Code, Loop, Options, code_words, expressions, render, s
 from .codegen.names import Names, emitter_symbols, identifiers, module_level_names, module_words
 from .functions.equations_code import phi_q_body, point_list
 from .functions.profiles_code import profile_helpers
-from .functions.sensitivity_code import (acceleration_rhs_body, outputs_p_body, phi_p_body,
+from .functions.sensitivity_code import (acceleration_rhs_body, driver_factors_p_body,
+                                         force_rhs_body, outputs_p_body, phi_p_body,
                                          points_d_body, points_p_body, solve_sorted_body,
                                          velocity_rhs_body)
 from .library import body as library_body
@@ -56,6 +57,10 @@ SIGNATURES = (
     ("solve_sorted", "q, t, p, B, sel, X",
      "Φ_q X = B on the columns sel, block by block in the module's solving order "
      "(0, or 2 where Φ_q has lost rank)."),
+    ("force_rhs_p", "q, qd, qdd, t, p, lam, DQ, DQD, DQDD, sel, out",
+     "Φ_qᵀ Dλ's right side (N_COORDS × N_PARAMS), λ held (a model with mass or loads)."),
+    ("driver_factors_p", "q, t, p, DQ, sel, out",
+     "The derivatives of the driver factors ∂Φ/∂f (the module's DRIVER_ROWS)."),
     ("outputs_p", "q, qd, qdd, t, p, DQ, DQD, DQDD, sel, out",
      "The outputs' derivatives out[k, c]."),
     ("outputs_d_p", "q, qd, qdd, t, p, DQ, DQD, DQDD, sel, out",
@@ -119,6 +124,9 @@ def render_sensitivities(model, module_hash: str, sort=True) -> str:
         "points_p": points_p_body(model, eq, points),
         "points_d": points_d_body(eq, points),
         "solve_sorted": solve_sorted_body(solver, eq) if sorted_ else [Code("return -1")],
+        "force_rhs_p": force_rhs_body(model, eq) if model.has_dynamics else [Code("pass")],
+        "driver_factors_p": driver_factors_p_body(model, eq) if model.has_dynamics
+        else [Code("pass")],
     }
     for order, name in enumerate(("outputs_p", "outputs_d_p", "outputs_dd_p")):
         bodies[name] = outputs_p_body(model, eq, outputs, order) if outputs else [Code("pass")]
@@ -146,7 +154,7 @@ def render_sensitivities(model, module_hash: str, sort=True) -> str:
                  ("PARAMETERS", _tuple(s.name for s in eq.params)),
                  ("N_POINTS", str(len(points))), ("OUTPUTS", _tuple(outputs)),
                  ("SING_RTOL", repr(SING_RTOL)), ("TINY", repr(TINY)),
-                 ("SORTED", str(sorted_))]
+                 ("SORTED", str(sorted_)), ("FORCES", str(bool(model.has_dynamics)))]
     ctx = dict(name=model.name, module_name=model.name + SUFFIX, doc=DOC,
                mechgen_version=MECHGEN_VERSION, coordinates=[s.name for s in eq.q],
                parameters=[s.name for s in eq.params], constants=constants,

@@ -21,7 +21,7 @@ from ...errors import ModelError
 from ...model.rates import almost_everywhere
 from ...model.symbolic import total_derivative
 from ..codegen.inputs import prologue, sym
-from ..codegen.ir import Assign, Code, Loop, Store
+from ..codegen.ir import Assign, Code, Loop, Store, expressions, walk
 from ..codegen.schedule import TempNames, emit
 
 # the loop over the parameters' columns and the names the loop reads
@@ -207,3 +207,37 @@ def _exprs(st):
     if isinstance(st, Code):
         return list(st.args)
     return []
+
+
+def force_rhs_body(model, eq):
+    """For a model with mass or loads: the right sides of Φ_qᵀ Dλ = (F − Φ_qᵀ λ)_q Dq +
+    (…)_q̇ Dq̇ + (…)_q̈ Dq̈ + (…)_p, F = Q_a + Q_c − I (mechgen.model.forces.dynamics), λ
+    held; one row per coordinate."""
+    from ...model.forces.dynamics import dynamics
+    dyn = dynamics(model, eq)
+    lam = [sym(f"_lam{i}") for i in range(eq.phi.rows)]
+    rows = []
+    for j in range(len(eq.q)):
+        f = dyn.applied[j] + dyn.conservative[j] - dyn.inertial[j]
+        rows.append(f - sum((eq.phi_q[i, j] * lam[i] for i in range(eq.phi.rows)
+                             if eq.phi_q[i, j] != 0), sp.S.Zero))
+    labels = [f"{q.name}: Q_a + Q_c − I − Φ_qᵀλ" for q in eq.q]
+    body = _directional(model, rows, [(list(eq.q), "DQ"), (list(eq.qd), "DQD"),
+                                      (list(eq.qdd), "DQDD")], labels, True, True, eq)
+    used = set()
+    for st in walk(body):
+        for e in expressions(st):
+            used |= sp.sympify(e).free_symbols
+    loads = [Code(f"{{0}} = lam[{i}]", (x,)) for i, x in enumerate(lam) if x in used]
+    return loads + body
+
+
+def driver_factors_p_body(model, eq):
+    """The derivatives of the driver factors ∂Φ/∂f (DRIVER_ROWS' order)."""
+    from ...model.forces.dynamics import dynamics
+    dyn = dynamics(model, eq)
+    rows = [sp.sympify(f) for _, f in dyn.drivers]
+    labels = [eq.labels[i] for i, _ in dyn.drivers]
+    if not rows:
+        return [Code("pass")]
+    return _directional(model, rows, [(list(eq.q), "DQ")], labels, False, False, eq)

@@ -76,6 +76,13 @@ def _effort(tab, mech, name, lam_rows, factors):
     return np.sum(lam_rows[..., list(rows)] * f, axis=-1)
 
 
+def effort(mech, name, lam_rows, factors):
+    """A driver's effort (its rows' λ times their factors, summed; as Solution.driver
+    signs it) from λ and DRIVER_ROWS' factors (a leading axis of points allowed): linear
+    in each, so that its derivative is effort(dλ, factors) + effort(λ, dfactors)."""
+    return _effort(tables(mech), mech, name, lam_rows, factors)
+
+
 def warn_shared(mech, name, indeterminate, stacklevel):
     """A RedundancyWarning where driver ``name`` is among the constraints whose
     multipliers are not unique (two drivers that prescribe one motion, say): its effort

@@ -20,6 +20,9 @@ def attach(mech, result, which):
         result.sensitivities = of_table(mech, result, which)
     else:
         result.sensitivities = of_sweep(mech, result, which)
+    if getattr(type(result), "force_level", None) is not None and "P" not in result.__dict__:
+        from .forces import attach_forces
+        attach_forces(mech, result)
     return result
 
 
