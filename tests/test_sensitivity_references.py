@@ -397,3 +397,22 @@ def test_sweep_through_a_singular_configuration_gives_nan_there(mechs):
         ref, _, _ = cf.sensitivities(cf.fourbar, t, params, ["a"])
         assert x4[k] == pytest.approx(ref[8, 0], rel=RTOL, abs=RTOL)
 
+
+
+def test_sensitivity_of_mech_output_functions(mechs):
+    """A symbolic quantity (Mech's location, here the coupler point (0.5, 0.8) and the
+    rocker's tip) through the symbolic side: the same as the closed form's, a vector
+    quantity with a last axis, on a sweep and at a solve."""
+    mech = mechs("fourbar")
+    coupler, rocker = mech.model.bodies["coupler"], mech.model.bodies["rocker"]
+    sw = mech.sweep(0.1, 0.9, 5, level="position", sensitivities=["a", "c"])
+    both = sw.sensitivity(location(coupler[3]), "a")
+    assert both.shape == (5, 2)
+    for k, t in enumerate(sw.t):
+        ref, _, _ = cf.sensitivities(cf.fourbar_outputs, float(t), FOURBAR, ["a", "c"])
+        assert both[k, 0] == pytest.approx(ref[0, 0], rel=RTOL, abs=RTOL)
+        tip = sw.sensitivity(location(rocker[2])[1], "c")[k]
+        assert tip == pytest.approx(ref[1, 1], rel=RTOL, abs=RTOL)
+    s = mech.solve(0.3, sensitivities=["c"])
+    ref, _, _ = cf.sensitivities(cf.fourbar_outputs, 0.3, FOURBAR, ["c"])
+    assert s.sensitivity(location(rocker[2])[1], "c") == pytest.approx(ref[1, 0], rel=RTOL)
