@@ -139,6 +139,7 @@ def render_sensitivities(model, module_hash: str, sort=True) -> str:
     derived, plain = emitter_symbols(symbols(everything))
     used = set(module_words()) | module_level_names(library) | plain
     words = set(code_words(everything)) | {a for _, a2, _ in SIGNATURES for a in a2.split(", ")}
+    words |= {name for name, _, _ in SIGNATURES}
     used |= identifiers("\n".join(sorted(words)))
     names = Names([*eq.params, *eq.q, *eq.qd, *eq.qdd, T], used, derived)
     options = Options(names=names)

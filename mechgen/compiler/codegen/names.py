@@ -37,6 +37,7 @@ _HERE = os.path.dirname(os.path.abspath(__file__))
 _JINJA_TAG = re.compile(r"\{%.*?%\}|\{#.*?#\}", re.S)
 _JINJA_VALUE = re.compile(r"\{\{.*?\}\}", re.S)
 _WORD = re.compile(r"(?<![\w.])[A-Za-z_]\w*")
+_MACRO_NAME = re.compile(r"\{\{\s*function\(\s*\"(\w+)\"")
 
 
 def identifiers(source: str) -> set[str]:
@@ -71,8 +72,10 @@ def _template_sources():
         if name.endswith(".j2"):
             with open(os.path.join(folder, name), encoding="utf-8") as fh:
                 text = fh.read()
-            # layout: jinja's tags go, its values become a number (no names of their own)
-            yield _JINJA_VALUE.sub("0", _JINJA_TAG.sub("", text))
+            # layout: jinja's tags go, its values become a number (no names of their own),
+            # but a function the shared macro lays out keeps its name (def phi(...))
+            defined = " ".join(f"def {name}(): pass\n" for name in _MACRO_NAME.findall(text))
+            yield _JINJA_VALUE.sub("0", _JINJA_TAG.sub("", text)) + "\n" + defined
 
 
 @functools.lru_cache(maxsize=1)
