@@ -12,7 +12,7 @@ import re
 MECHGEN_VERSION = "0.1.0"
 # the file of a module's sensitivity companion: <name>_sensitivities.py beside <name>.py
 SENSITIVITY_SUFFIX = "_sensitivities"
-SENSITIVITY_FORMAT = 1      # its layout, which the runtime reads (a stale one is rebuilt)
+SENSITIVITY_FORMAT = 2      # its layout, which the runtime reads (a stale one is rebuilt)
 FORMAT_VERSION = 4          # the layout of a generated module that this runtime reads (4:
                             # a design table's sweeps start per design, start_designs)
 

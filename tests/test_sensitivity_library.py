@@ -36,7 +36,8 @@ def test_chain_matches_the_closed_form(t):
     D = [np.zeros((3, 3)) for _ in range(3)]
     sel = np.arange(3, dtype=np.int64)
     status = S.sensitivities_point(q, qd, qdd, t, p, 2, BROW, BVAR, BSTART, sel, *D,
-                                   np.empty((3, 3)), np.empty((3, 3)), np.empty(21))
+                                   np.empty((3, 3)), np.empty((3, 3)), np.empty(21),
+                                   S.wanted(sel))
     assert status == S.SENS_OK
     for c in range(3):
         h = 1e-5
@@ -55,7 +56,7 @@ def test_only_the_selected_columns_are_written():
     D = [np.full((3, 3), 7.0) for _ in range(3)]
     sel = np.array([1], dtype=np.int64)
     S.sensitivities_point(q, qd, qdd, 0.4, p, 2, BROW, BVAR, BSTART, sel, *D,
-                          np.empty((3, 3)), np.empty((3, 3)), np.empty(21))
+                          np.empty((3, 3)), np.empty((3, 3)), np.empty(21), S.wanted(sel))
     for d in D:
         assert np.all(d[:, [0, 2]] == 7.0) and np.all(d[:, 1] != 7.0)
 
@@ -90,3 +91,22 @@ def test_one_dense_block_equals_the_sorted_blocks():
                     np.empty(21))
     assert np.allclose(X1, np.linalg.solve(J, B), rtol=1e-13, atol=1e-13)
     assert np.allclose(X2, X1, rtol=1e-13, atol=1e-13)
+
+
+def test_the_one_pass_position_derivatives_equal_the_block_solve_of_minus_phi_p():
+    """position_sensitivities (Φ_p and the blocks in one pass) against solve_sorted on −Φ_p,
+    column by column, the unwanted columns untouched."""
+    p = np.array([1.0, 2.0, 1.3])
+    for t in (0.1, 0.9, 2.2):
+        q, _, _ = closed(t, *p)
+        B = np.zeros((3, 3))
+        toy.phi_p(q, t, p, B)
+        ref = np.zeros((3, 3))
+        assert toy.solve_sorted(q, t, p, -B, np.arange(3, dtype=np.int64), ref) == 0
+        for c in range(3):
+            X = np.full((3, 3), 7.0)
+            want = np.zeros(3, dtype=np.bool_)
+            want[c] = True
+            assert toy.position_sensitivities(q, t, p, want, X) == 0
+            assert np.allclose(X[:, c], ref[:, c], rtol=1e-14, atol=1e-14)
+            assert np.all(np.delete(X, c, axis=1) == 7.0)

@@ -33,7 +33,8 @@ from .functions.equations_code import phi_q_body, point_list
 from .functions.profiles_code import profile_helpers
 from .functions.sensitivity_code import (acceleration_rhs_body, driver_factors_p_body,
                                          force_rhs_body, outputs_p_body, phi_p_body,
-                                         points_d_body, points_p_body, solve_sorted_body,
+                                         points_d_body, points_p_body,
+                                         position_sensitivities_body, solve_sorted_body,
                                          velocity_rhs_body)
 from .library import body as library_body
 from .solver.plan import CHUNK_STORES, make_plan
@@ -57,6 +58,9 @@ SIGNATURES = (
     ("solve_sorted", "q, t, p, B, sel, X",
      "Φ_q X = B on the columns sel, block by block in the module's solving order "
      "(0, or 2 where Φ_q has lost rank)."),
+    ("position_sensitivities", "q, t, p, want, X",
+     "Dq = −Φ_q⁻¹ Φ_p into X[:, j] for the parameters with want[j], in one pass (0; 2 "
+     "where Φ_q has lost rank; -1 where the module has no such pass: solve_sorted)."),
     ("force_rhs_p", "q, qd, qdd, t, p, lam, DQ, DQD, DQDD, sel, out",
      "Φ_qᵀ Dλ's right side (N_COORDS × N_PARAMS), λ held (a model with mass or loads)."),
     ("driver_factors_p", "q, t, p, DQ, sel, out",
@@ -124,6 +128,8 @@ def render_sensitivities(model, module_hash: str, sort=True) -> str:
         "points_p": points_p_body(model, eq, points),
         "points_d": points_d_body(eq, points),
         "solve_sorted": solve_sorted_body(solver, eq) if sorted_ else [Code("return -1")],
+        "position_sensitivities": position_sensitivities_body(model, solver, eq) if sorted_
+        else [Code("return -1")],
         "force_rhs_p": force_rhs_body(model, eq) if model.has_dynamics else [Code("pass")],
         "driver_factors_p": driver_factors_p_body(model, eq) if model.has_dynamics
         else [Code("pass")],

@@ -241,3 +241,68 @@ def driver_factors_p_body(model, eq):
     if not rows:
         return [Code("pass")]
     return _directional(model, rows, [(list(eq.q), "DQ")], labels, False, False, eq)
+
+
+def position_sensitivities_body(model, plan, eq):
+    """Dq = −Φ_q⁻¹ Φ_p in one pass for the parameters j with ``want[j]`` (into X[:, j]):
+    Φ_q's entries, Φ_p's and each block's singularity test once, common subexpressions
+    shared, then per parameter the block forward substitution of its own right side, whose
+    zeros are carried forward symbolically (a parameter that moves one loop touches only
+    that loop's unknowns). Returns 2 where a block's pivot is below SING_RTOL of its
+    scale; -1 in a model with a block of three or more unknowns (the library then solves
+    on solve_sorted)."""
+    from ..codegen.ir import Guard, If
+    from ..solver.linear import linear_code
+    if any(b.size > 2 for b in plan.blocks):
+        return [Code("return -1")]
+    m, params = eq.phi.rows, list(eq.params)
+    entries, derivs = {}, []
+    for i in range(m):
+        row = sp.sympify(eq.phi[i])
+        for j, pj in enumerate(params):
+            if pj in row.free_symbols:
+                d = _diff(row, pj)
+                if d != 0:
+                    entries[i, j] = (sym(f"_p{i}_{j}"), -d)
+                    derivs.append(d)
+    _refuse_unknown(model, derivs)
+    generic = linear_code(plan, eq, 1, known={i: sym(f"_b{i}") for i in range(m)})
+
+    def shared(st):
+        return isinstance(st, Guard) or (isinstance(st, Assign)
+                                         and str(st.target).startswith("_det"))
+    common = [st for piece in generic.blocks for st in piece[0] if shared(st)]
+    per = []
+    for j, pj in enumerate(params):
+        rhs = {i: entries[i, j][0] if (i, j) in entries else sp.S.Zero for i in range(m)}
+        code = linear_code(plan, eq, 1, known=rhs)
+        known, body = {}, []
+        for piece in code.blocks:
+            for st in piece[0]:
+                if shared(st) or not isinstance(st, Assign):
+                    continue
+                value = sp.sympify(st.expr).xreplace(known)
+                if value.is_number:
+                    known[st.target] = value
+                else:
+                    body.append(Assign(st.target, value))
+        stores = [Store(f"X[{k}, {j}]", known.get(x, x), f"∂{eq.q[k].name}/∂{pj.name}"
+                        if k == 0 else "") for k, x in enumerate(eq.qd)]
+        per.append((j, body, stores))
+    used = set()
+    for _, body, stores in per:
+        for st in body + stores:
+            used |= sp.sympify(st.expr).free_symbols
+    for st in common:
+        used |= set().union(*(sp.sympify(e).free_symbols for e in _exprs(st)))
+    head = [Assign(s, eq.nonzeros[i, j]) for (i, j), s in generic.jsym.items()
+            if isinstance(s, sp.Symbol) and s in used]
+    head += [Assign(s, d, eq.labels[i]) for (i, _), (s, d) in sorted(entries.items())
+             if s in used]
+    exprs = [a.expr for a in head] + [st.expr for _, b, s in per for st in b + s]
+    out = prologue(eq, exprs) + emit(head + common, TempNames("_s"), plan.cse)
+    temps = TempNames()
+    for j, body, stores in per:
+        out.append(If(Code(f"want[{j}]"), tuple(emit(body + stores, temps, plan.cse)),
+                      tail=f"  # ∂/∂{params[j].name}"))
+    return out + [Code("return 0")]

@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from .toy import (N_COORDS, N_EQS, N_PARAMS, SING_RTOL, SORTED, TINY, acceleration_rhs_p,
-                  njit, phi_p, phi_q, solve_sorted, velocity_rhs_p)
+                  njit, phi_p, phi_q, position_sensitivities, solve_sorted, velocity_rhs_p)
 
 # -- module body: below this line, the text as a generated module holds it --
 # ---------------------------------------------------------------------------------------
@@ -111,23 +111,29 @@ def solve_columns(J, B, X, brow, bvar, bstart, sel, work):
 
 @njit(cache=True, inline="always")
 def sensitivities_point(q, qd, qdd, t, p, level, brow, bvar, bstart, sel, DQ, DQD, DQDD,
-                        J, B, work):
+                        J, B, work, want):
     """The derivatives of q (and of q̇, q̈ up to ``level``) with respect to the parameters
     ``sel`` at a solved point into DQ, DQD, DQDD (N_COORDS × N_PARAMS; the columns not in
-    sel are left as they are). J, B and work are scratch (N_EQS × N_COORDS, N_EQS ×
-    N_PARAMS, solve_columns'). Φ_q X = B is solved on the module's blocks written out
-    (solve_sorted) where it is sorted, else by solve_columns; each call below passes few
-    arrays (a call between jitted functions costs about as much per array as the work).
-    Returns SENS_OK, or SENS_SINGULAR where Φ_q has lost rank."""
-    phi_p(q, t, p, B)
-    for i in range(B.shape[0]):
-        for k in range(sel.shape[0]):
-            B[i, sel[k]] = -B[i, sel[k]]
+    sel are left as they are; ``want``: sel as N_PARAMS flags). J, B and work are scratch
+    (N_EQS × N_COORDS, N_EQS × N_PARAMS, solve_columns'). Dq comes from the module's
+    one-pass position_sensitivities where it has one; else, and for the rates, Φ_q X = B
+    is solved on the module's blocks written out (solve_sorted) where it is sorted, else
+    by solve_columns; each call below passes few arrays (a call between jitted functions
+    costs about as much per array as the work). Returns SENS_OK, or SENS_SINGULAR where
+    Φ_q has lost rank."""
+    status = -1
     if SORTED:
-        status = solve_sorted(q, t, p, B, sel, DQ)
-    else:
-        phi_q(q, t, p, J)
-        status = solve_columns(J, B, DQ, brow, bvar, bstart, sel, work)
+        status = position_sensitivities(q, t, p, want, DQ)
+    if status == -1:
+        phi_p(q, t, p, B)
+        for i in range(B.shape[0]):
+            for k in range(sel.shape[0]):
+                B[i, sel[k]] = -B[i, sel[k]]
+        if SORTED:
+            status = solve_sorted(q, t, p, B, sel, DQ)
+        else:
+            phi_q(q, t, p, J)
+            status = solve_columns(J, B, DQ, brow, bvar, bstart, sel, work)
     if status != SENS_OK or level < 1:
         return status
     velocity_rhs_p(q, qd, t, p, DQ, sel, B)
@@ -160,7 +166,16 @@ def sensitivities_at(q, qd, qdd, t, p, level, sel, D, blocks, scratch):
             for j in range(N_PARAMS):
                 D[k, i, j] = math.nan
     return sensitivities_point(q, qd, qdd, t, p, level, brow, bvar, bstart, sel, D[0], D[1],
-                               D[2], J, B, work)
+                               D[2], J, B, work, wanted(sel))
+
+
+@njit(cache=True)
+def wanted(sel):
+    """The columns ``sel`` as N_PARAMS flags."""
+    want = np.zeros(N_PARAMS, dtype=np.bool_)
+    for k in range(sel.shape[0]):
+        want[sel[k]] = True
+    return want
 
 
 @njit(cache=True)
@@ -172,6 +187,7 @@ def sensitivities_rows(ts, Q, QD, QDD, p, level, brow, bvar, bstart, sel, DQ, DQ
     J = np.empty((N_EQS, N_COORDS))
     B = np.empty((N_EQS, N_PARAMS))
     work = np.empty((N_COORDS + 4) * N_COORDS)
+    want = wanted(sel)
     for k in range(ts.shape[0]):
         finite = True
         for j in range(Q.shape[1]):
@@ -180,9 +196,14 @@ def sensitivities_rows(ts, Q, QD, QDD, p, level, brow, bvar, bstart, sel, DQ, DQ
         kd = k if level >= 1 else 0     # (QD, DQD: one row where the level has none)
         ka = k if level >= 2 else 0
         status = SENS_SINGULAR
-        if finite:
+        if finite and SORTED and level == 0:
+            # the one pass alone (no scratch views: each array view made in this loop
+            # costs reference counting, as much as the pass itself)
+            status = position_sensitivities(Q[k], ts[k], p, want, DQ[k])
+        if finite and status == -1 or finite and not (SORTED and level == 0):
             status = sensitivities_point(Q[k], QD[kd], QDD[ka], ts[k], p, level, brow, bvar,
-                                         bstart, sel, DQ[k], DQD[kd], DQDD[ka], J, B, work)
+                                         bstart, sel, DQ[k], DQD[kd], DQDD[ka], J, B, work,
+                                         want)
         STATUS[k] = status
         if status != SENS_OK:
             for j in range(DQ.shape[1]):

@@ -62,7 +62,7 @@ __all__ += FORCE_NAMES
 # what a sensitivity module defines (library/sensitivity.py reads them with N_COORDS,
 # N_EQS, phi_q, SING_RTOL and TINY); not in __all__: a module does not define them
 SENSITIVITY_NAMES = ["N_PARAMS", "phi_p", "velocity_rhs_p", "acceleration_rhs_p",
-                     "solve_sorted"]
+                     "solve_sorted", "position_sensitivities"]
 
 
 def njit(*args, **options):
@@ -423,4 +423,26 @@ def solve_sorted(q, t, p, B, sel, X):
         X[0, c] = th
         X[1, c] = ph
         X[2, c] = -(B[0, c] - j00 * th - j01 * ph)
+    return 0
+
+
+@njit(cache=True)
+def position_sensitivities(q, t, p, want, X):
+    """Dq = −Φ_q⁻¹ Φ_p for the columns with want[j], in one pass (the module's is written
+    out from the plan): th, then ph, then x, as solve_sorted."""
+    a, b = p[0], p[1]
+    c0, s0, c1, s1 = math.cos(q[0]), math.sin(q[0]), math.cos(q[1]), math.sin(q[1])
+    j10, j11 = a * c0, b * c1
+    j00, j01 = -a * s0, -b * s1
+    if not abs(j11) > SING_RTOL * (abs(j10) + abs(j11)):
+        return 2
+    rhs = ((-c0, -s0, 0.0), (-c1, -s1, 0.0), (0.0, 0.0, t))    # −Φ_p's columns
+    for c in range(3):
+        if want[c]:
+            b0, b1, b2 = rhs[c]
+            th = b2
+            ph = (b1 - j10 * th) / j11
+            X[0, c] = th
+            X[1, c] = ph
+            X[2, c] = -(b0 - j00 * th - j01 * ph)
     return 0
