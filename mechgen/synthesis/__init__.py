@@ -1,0 +1,24 @@
+"""Synthesis from positions (API.md §9): the dyads that guide a body through 3, 4 or 5
+poses (Burmester), the four-bars they make with their defects, Grashof type and
+transmission angle, each handed over as a mechgen Model; and Freudenstein's function
+generation.
+
+A layer beside ``bridge``, above the model language and the runtime: numpy and scipy for
+the numbers, ``mechgen.model`` for the Model a FourBar builds (imported when built).
+
+    poses.py      poses checked; displacements, poles, the equal-distance rows
+    curves.py     3 poses: the family sampled; 4 poses: the centre-point curve sampled
+    burmester.py  5 poses: every real Burmester pair (a quartic)
+    sliders.py    PR / RP dyads: body points with collinear positions (and inverted)
+    dyads.py      Dyad, dyads()
+    defects.py    a four-bar's closed-form position analysis: modes, toggles, defects
+    fourbar.py    FourBar (.model()), fourbars()
+    function.py   function(): Freudenstein
+"""
+from .dyads import Dyad, dyads
+from .fourbar import FourBar, four_bar, fourbars, grashof
+from .function import function
+from .curves import cubic as centre_point_cubic
+
+__all__ = ["Dyad", "dyads", "FourBar", "four_bar", "fourbars", "function", "grashof",
+           "centre_point_cubic"]
