@@ -30,6 +30,7 @@ _LAZY = {"Model": "model.language", "T": "model.geometry", "Line": "model.geomet
          "Solution": "runtime.results", "Sweep": "runtime.results",
          "DesignTable": "runtime.tables.design", "Reduction": "runtime.tables.reduce",
          "OptimizeResult": "runtime.tables.synthesis", "Equations": "model.symbolic"}
+_SUBPACKAGES = ("synthesis",)          # mechgen.synthesis: dimensional synthesis (API.md §9)
 
 
 def __getattr__(name):
@@ -41,6 +42,8 @@ def __getattr__(name):
         value = getattr(importlib.import_module(".model.quantities", __name__), name)
     elif name in _LAZY:
         value = getattr(importlib.import_module("." + _LAZY[name], __name__), name)
+    elif name in _SUBPACKAGES:
+        value = importlib.import_module("." + name, __name__)
     else:
         raise AttributeError(f"module 'mechgen' has no attribute {name!r}")
     globals()[name] = value
@@ -48,7 +51,8 @@ def __getattr__(name):
 
 
 def __dir__():
-    return sorted(set(globals()) | set(_SYMPY_NAMES) | set(_QUANTITIES) | set(_LAZY))
+    return sorted(set(globals()) | set(_SYMPY_NAMES) | set(_QUANTITIES) | set(_LAZY)
+                  | set(_SUBPACKAGES))
 
 
 def load(path_or_module, **kwargs):

@@ -17,8 +17,11 @@ ALLOWED = {
     "plot": {"base", "runtime"},
     "bridge": {"base", "model", "compiler", "runtime"},
     "view": {"base", "runtime", "plot"},
-    "cli": {"base", "model", "compiler", "runtime", "plot", "bridge", "view", "api"},
-    "api": {"base", "model", "compiler", "runtime", "plot", "bridge", "view", "cli"},
+    "synthesis": {"base", "model", "runtime"},
+    "cli": {"base", "model", "compiler", "runtime", "plot", "bridge", "view", "synthesis",
+            "api"},
+    "api": {"base", "model", "compiler", "runtime", "plot", "bridge", "view", "synthesis",
+            "cli"},
 }
 NO_SYMPY = {"base", "runtime", "plot", "view"}
 
