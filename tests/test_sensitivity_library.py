@@ -29,6 +29,11 @@ def closed(t, a, b, w):
     return q, qd, np.linalg.solve(J, g)
 
 
+def pairs(q):
+    """sin and cos of the coordinates (rows 0 and 1), computed here."""
+    return np.array([np.sin(q), np.cos(q)])
+
+
 @pytest.mark.parametrize("t", [0.0, 0.4, 1.7, 2.9])
 def test_chain_matches_the_closed_form(t):
     p = np.array([1.0, 2.0, 1.3])
@@ -37,7 +42,7 @@ def test_chain_matches_the_closed_form(t):
     sel = np.arange(3, dtype=np.int64)
     status = S.sensitivities_point(q, qd, qdd, t, p, 2, BROW, BVAR, BSTART, sel, *D,
                                    np.empty((3, 3)), np.empty((3, 3)), np.empty(21),
-                                   S.wanted(sel))
+                                   S.wanted(sel), pairs(q))
     assert status == S.SENS_OK
     for c in range(3):
         h = 1e-5
@@ -56,7 +61,8 @@ def test_only_the_selected_columns_are_written():
     D = [np.full((3, 3), 7.0) for _ in range(3)]
     sel = np.array([1], dtype=np.int64)
     S.sensitivities_point(q, qd, qdd, 0.4, p, 2, BROW, BVAR, BSTART, sel, *D,
-                          np.empty((3, 3)), np.empty((3, 3)), np.empty(21), S.wanted(sel))
+                          np.empty((3, 3)), np.empty((3, 3)), np.empty(21), S.wanted(sel),
+                          pairs(q))
     for d in D:
         assert np.all(d[:, [0, 2]] == 7.0) and np.all(d[:, 1] != 7.0)
 
@@ -107,6 +113,23 @@ def test_the_one_pass_position_derivatives_equal_the_block_solve_of_minus_phi_p(
             X = np.full((3, 3), 7.0)
             want = np.zeros(3, dtype=np.bool_)
             want[c] = True
-            assert toy.position_sensitivities(q, t, p, want, X) == 0
+            assert toy.position_sensitivities(q, pairs(q), t, p, want, X) == 0
             assert np.allclose(X[:, c], ref[:, c], rtol=1e-14, atol=1e-14)
             assert np.all(np.delete(X, c, axis=1) == 7.0)
+
+
+def test_turned_pairs_stay_sin_and_cos_along_a_sweep():
+    """trig_pairs turns sin and cos from the last point by the step's series: against
+    numpy's sin and cos, steps small and large, over more than 8 points, a step back."""
+    rng = np.random.default_rng(3)
+    angles = np.cumsum(np.concatenate([rng.uniform(-0.05, 0.05, 40), [0.3, -0.049, 1e-9],
+                                       rng.uniform(-0.01, 0.01, 20)]))
+    Q = np.zeros((angles.size, 3))
+    Q[:, 0] = angles
+    Q[:, 1] = -0.5 * angles + 2.0
+    sc = np.zeros((2, 3))
+    for k in range(angles.size):
+        S.trig_pairs(Q[k], sc, Q[k - 1] if k else Q[k], k)
+        for i in (0, 1):
+            assert abs(sc[0, i] - math.sin(Q[k, i])) < 4e-16
+            assert abs(sc[1, i] - math.cos(Q[k, i])) < 4e-16

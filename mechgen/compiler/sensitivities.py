@@ -35,7 +35,7 @@ from .functions.sensitivity_code import (acceleration_rhs_body, driver_factors_p
                                          force_rhs_body, outputs_p_body, phi_p_body,
                                          points_d_body, points_p_body,
                                          position_sensitivities_body, solve_sorted_body,
-                                         velocity_rhs_body)
+                                         turned_coordinates, velocity_rhs_body)
 from .library import body as library_body
 from .solver.plan import CHUNK_STORES, make_plan
 from .render import environment
@@ -58,9 +58,10 @@ SIGNATURES = (
     ("solve_sorted", "q, t, p, B, sel, X",
      "Φ_q X = B on the columns sel, block by block in the module's solving order "
      "(0, or 2 where Φ_q has lost rank)."),
-    ("position_sensitivities", "q, t, p, want, X",
-     "Dq = −Φ_q⁻¹ Φ_p into X[:, j] for the parameters with want[j], in one pass (0; 2 "
-     "where Φ_q has lost rank; -1 where the module has no such pass: solve_sorted)."),
+    ("position_sensitivities", "q, sc, t, p, want, X",
+     "Dq = −Φ_q⁻¹ Φ_p into X[:, j] for the parameters with want[j], in one pass, the sin "
+     "and cos of the coordinates TURNED read from sc[0], sc[1] (0; 2 where Φ_q has lost "
+     "rank; -1 where the module has no such pass: solve_sorted)."),
     ("force_rhs_p", "q, qd, qdd, t, p, lam, DQ, DQD, DQDD, sel, out",
      "Φ_qᵀ Dλ's right side (N_COORDS × N_PARAMS), λ held (a model with mass or loads)."),
     ("driver_factors_p", "q, t, p, DQ, sel, out",
@@ -161,7 +162,9 @@ def render_sensitivities(model, module_hash: str, sort=True) -> str:
                  ("PARAMETERS", _tuple(s.name for s in eq.params)),
                  ("N_POINTS", str(len(points))), ("OUTPUTS", _tuple(outputs)),
                  ("SING_RTOL", repr(SING_RTOL)), ("TINY", repr(TINY)),
-                 ("SORTED", str(sorted_)), ("FORCES", str(bool(model.has_dynamics)))]
+                 ("SORTED", str(sorted_)), ("FORCES", str(bool(model.has_dynamics))),
+                 ("TURNED", "np.array(%s, dtype=np.int64)" % _tuple(
+                     turned_coordinates(bodies["position_sensitivities"])).replace('"', ""))]
     ctx = dict(name=model.name, module_name=model.name + SUFFIX, doc=DOC,
                mechgen_version=MECHGEN_VERSION, coordinates=[s.name for s in eq.q],
                parameters=[s.name for s in eq.params], constants=constants,

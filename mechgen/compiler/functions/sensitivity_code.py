@@ -20,8 +20,8 @@ import sympy as sp
 from ...errors import ModelError
 from ...model.rates import almost_everywhere
 from ...model.symbolic import total_derivative
-from ..codegen.inputs import prologue, sym
-from ..codegen.ir import Assign, Code, Loop, Store, expressions, walk
+from ..codegen.inputs import free, prologue, sym
+from ..codegen.ir import Assign, Code, Loop, Store, expressions, replaced, walk
 from ..codegen.schedule import TempNames, emit
 
 # the loop over the parameters' columns and the names the loop reads
@@ -243,6 +243,15 @@ def driver_factors_p_body(model, eq):
     return _directional(model, rows, [(list(eq.q), "DQ")], labels, False, False, eq)
 
 
+def turned_coordinates(body) -> tuple:
+    """The coordinates whose sin and cos position_sensitivities reads from ``sc``."""
+    found = set()
+    for st in walk(body):
+        if isinstance(st, Code) and st.text.startswith("{0} = sc["):
+            found.add(int(st.text.split(",")[1].strip(" ]")))
+    return tuple(sorted(found))
+
+
 def position_sensitivities_body(model, plan, eq):
     """Dq = −Φ_q⁻¹ Φ_p in one pass for the parameters j with ``want[j]`` (into X[:, j]):
     Φ_q's entries, Φ_p's and each block's singularity test once, common subexpressions
@@ -299,8 +308,28 @@ def position_sensitivities_body(model, plan, eq):
             if isinstance(s, sp.Symbol) and s in used]
     head += [Assign(s, d, eq.labels[i]) for (i, _), (s, d) in sorted(entries.items())
              if s in used]
+    # sin and cos of a coordinate read from ``sc`` (the caller turns them from the last
+    # point of a sweep, as the fast sweep does, instead of calling them again)
+    trig = {}
+    for k, x in enumerate(eq.q):
+        trig[sp.sin(x)] = sym(f"_sin_{x.name}")
+        trig[sp.cos(x)] = sym(f"_cos_{x.name}")
+
+    def turned(st):
+        return replaced(st, lambda e: sp.sympify(e).xreplace(trig))
+    head = [turned(st) for st in head]
+    common = [turned(st) for st in common]
+    per = [(j, [turned(st) for st in body], [turned(st) for st in stores])
+           for j, body, stores in per]
     exprs = [a.expr for a in head] + [st.expr for _, b, s in per for st in b + s]
-    out = prologue(eq, exprs) + emit(head + common, TempNames("_s"), plan.cse)
+    exprs += [e for st in common for e in _exprs(st)]
+    read = free(exprs)
+    loads = []
+    for k, x in enumerate(eq.q):
+        for row, fn in enumerate((sp.sin, sp.cos)):
+            if trig[fn(x)] in read:
+                loads.append(Code(f"{{0}} = sc[{row}, {k}]", (trig[fn(x)],)))
+    out = prologue(eq, exprs) + loads + emit(head + common, TempNames("_s"), plan.cse)
     temps = TempNames()
     for j, body, stores in per:
         out.append(If(Code(f"want[{j}]"), tuple(emit(body + stores, temps, plan.cse)),

@@ -11,8 +11,9 @@ import math
 
 import numpy as np
 
-from .toy import (N_COORDS, N_EQS, N_PARAMS, SING_RTOL, SORTED, TINY, acceleration_rhs_p,
-                  njit, phi_p, phi_q, position_sensitivities, solve_sorted, velocity_rhs_p)
+from .toy import (N_COORDS, N_EQS, N_PARAMS, SING_RTOL, SORTED, TINY, TURNED,
+                  acceleration_rhs_p, njit, phi_p, phi_q, position_sensitivities, solve_sorted,
+                  velocity_rhs_p)
 
 # -- module body: below this line, the text as a generated module holds it --
 # ---------------------------------------------------------------------------------------
@@ -111,11 +112,12 @@ def solve_columns(J, B, X, brow, bvar, bstart, sel, work):
 
 @njit(cache=True, inline="always")
 def sensitivities_point(q, qd, qdd, t, p, level, brow, bvar, bstart, sel, DQ, DQD, DQDD,
-                        J, B, work, want):
+                        J, B, work, want, sc):
     """The derivatives of q (and of q̇, q̈ up to ``level``) with respect to the parameters
     ``sel`` at a solved point into DQ, DQD, DQDD (N_COORDS × N_PARAMS; the columns not in
-    sel are left as they are; ``want``: sel as N_PARAMS flags). J, B and work are scratch
-    (N_EQS × N_COORDS, N_EQS × N_PARAMS, solve_columns'). Dq comes from the module's
+    sel are left as they are; ``want``: sel as N_PARAMS flags; ``sc``: trig_pairs' sin
+    and cos of the coordinates TURNED). J, B and work are scratch (N_EQS × N_COORDS,
+    N_EQS × N_PARAMS, solve_columns'). Dq comes from the module's
     one-pass position_sensitivities where it has one; else, and for the rates, Φ_q X = B
     is solved on the module's blocks written out (solve_sorted) where it is sorted, else
     by solve_columns; each call below passes few arrays (a call between jitted functions
@@ -123,7 +125,7 @@ def sensitivities_point(q, qd, qdd, t, p, level, brow, bvar, bstart, sel, DQ, DQ
     Φ_q has lost rank."""
     status = -1
     if SORTED:
-        status = position_sensitivities(q, t, p, want, DQ)
+        status = position_sensitivities(q, sc, t, p, want, DQ)
     if status == -1:
         phi_p(q, t, p, B)
         for i in range(B.shape[0]):
@@ -165,8 +167,33 @@ def sensitivities_at(q, qd, qdd, t, p, level, sel, D, blocks, scratch):
         for i in range(n):
             for j in range(N_PARAMS):
                 D[k, i, j] = math.nan
+    sc = np.empty((2, N_COORDS))
+    trig_pairs(q, sc, q, 0)
     return sensitivities_point(q, qd, qdd, t, p, level, brow, bvar, bstart, sel, D[0], D[1],
-                               D[2], J, B, work, wanted(sel))
+                               D[2], J, B, work, wanted(sel), sc)
+
+
+@njit(cache=True, inline="always")
+def trig_pairs(q, sc, last, k):
+    """sc[0, i], sc[1, i] = sin q[i], cos q[i] for the coordinates TURNED: called at point
+    k of a sweep whose previous point was ``last`` (sc holding its pairs), the pairs are
+    turned by the step q[i] − last[i] (its sin and cos by their series, exact to rounding
+    below 0.05 rad), as the fast sweep turns its own, and computed afresh every 8 points
+    and after a larger step."""
+    for m in range(TURNED.shape[0]):
+        i = TURNED[m]
+        d = q[i] - last[i]
+        if k % 8 == 0 or not abs(d) <= 0.05:
+            sc[0, i] = math.sin(q[i])
+            sc[1, i] = math.cos(q[i])
+        else:
+            d2 = d * d
+            sd = d * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))))
+            cd = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0
+                                                                         * (1.0 - d2 / 90.0))))
+            s, c = sc[0, i], sc[1, i]
+            sc[0, i] = s * cd + c * sd
+            sc[1, i] = c * cd - s * sd
 
 
 @njit(cache=True)
@@ -188,6 +215,8 @@ def sensitivities_rows(ts, Q, QD, QDD, p, level, brow, bvar, bstart, sel, DQ, DQ
     B = np.empty((N_EQS, N_PARAMS))
     work = np.empty((N_COORDS + 4) * N_COORDS)
     want = wanted(sel)
+    sc = np.zeros((2, N_COORDS))
+    turned = 0              # points since the pairs were last computed afresh
     for k in range(ts.shape[0]):
         finite = True
         for j in range(Q.shape[1]):
@@ -196,14 +225,19 @@ def sensitivities_rows(ts, Q, QD, QDD, p, level, brow, bvar, bstart, sel, DQ, DQ
         kd = k if level >= 1 else 0     # (QD, DQD: one row where the level has none)
         ka = k if level >= 2 else 0
         status = SENS_SINGULAR
+        if finite:
+            trig_pairs(Q[k], sc, Q[k - 1] if k > 0 else Q[k], turned)
+            turned += 1
+        else:
+            turned = 0
         if finite and SORTED and level == 0:
             # the one pass alone (no scratch views: each array view made in this loop
             # costs reference counting, as much as the pass itself)
-            status = position_sensitivities(Q[k], ts[k], p, want, DQ[k])
+            status = position_sensitivities(Q[k], sc, ts[k], p, want, DQ[k])
         if finite and status == -1 or finite and not (SORTED and level == 0):
             status = sensitivities_point(Q[k], QD[kd], QDD[ka], ts[k], p, level, brow, bvar,
                                          bstart, sel, DQ[k], DQD[kd], DQDD[ka], J, B, work,
-                                         want)
+                                         want, sc)
         STATUS[k] = status
         if status != SENS_OK:
             for j in range(DQ.shape[1]):

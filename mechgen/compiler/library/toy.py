@@ -62,7 +62,7 @@ __all__ += FORCE_NAMES
 # what a sensitivity module defines (library/sensitivity.py reads them with N_COORDS,
 # N_EQS, phi_q, SING_RTOL and TINY); not in __all__: a module does not define them
 SENSITIVITY_NAMES = ["N_PARAMS", "phi_p", "velocity_rhs_p", "acceleration_rhs_p",
-                     "solve_sorted", "position_sensitivities"]
+                     "solve_sorted", "position_sensitivities", "TURNED"]
 
 
 def njit(*args, **options):
@@ -426,12 +426,15 @@ def solve_sorted(q, t, p, B, sel, X):
     return 0
 
 
+TURNED = np.array((0, 1), dtype=np.int64)      # th, ph: their sin and cos read from sc
+
+
 @njit(cache=True)
-def position_sensitivities(q, t, p, want, X):
+def position_sensitivities(q, sc, t, p, want, X):
     """Dq = −Φ_q⁻¹ Φ_p for the columns with want[j], in one pass (the module's is written
-    out from the plan): th, then ph, then x, as solve_sorted."""
+    out from the plan): th, then ph, then x, as solve_sorted; sin and cos from sc."""
     a, b = p[0], p[1]
-    c0, s0, c1, s1 = math.cos(q[0]), math.sin(q[0]), math.cos(q[1]), math.sin(q[1])
+    c0, s0, c1, s1 = sc[1, 0], sc[0, 0], sc[1, 1], sc[0, 1]
     j10, j11 = a * c0, b * c1
     j00, j01 = -a * s0, -b * s1
     if not abs(j11) > SING_RTOL * (abs(j10) + abs(j11)):

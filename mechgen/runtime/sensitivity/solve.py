@@ -139,9 +139,13 @@ def of_sweep(mech, sw, which) -> Sensitivities:
     Q = np.ascontiguousarray(sw.Q, dtype=np.float64)
     QD = np.ascontiguousarray(sw.QD) if level >= 1 else np.zeros((1, n))
     QDD = np.ascontiguousarray(sw.QDD) if level >= 2 else np.zeros((1, n))
-    DQ = np.full((N, n, npar), np.nan)
-    DQD = np.full((N if level >= 1 else 1, n, npar), np.nan)
-    DQDD = np.full((N if level >= 2 else 1, n, npar), np.nan)
+    # every selected column of every point is written (a value, or NaN where singular):
+    # others are NaN; with all of them selected, the memory is touched once (it is several
+    # times the sweep's own: writing it is much of what the derivatives cost)
+    blank = np.empty if len(cols) == npar else (lambda shape: np.full(shape, np.nan))
+    DQ = blank((N, n, npar))
+    DQD = blank((N if level >= 1 else 1, n, npar))
+    DQDD = blank((N if level >= 2 else 1, n, npar))
     status = np.zeros(N, dtype=np.int64)
     ts = np.ascontiguousarray(sw.solved_t, dtype=np.float64)
     p = np.asarray(mech.p, dtype=np.float64)
