@@ -75,7 +75,8 @@ def test_the_four_bar_it_returns_reaches_the_pairs_in_order():
 @pytest.mark.parametrize("pairs, culprit", [
     ([(0.1, 0.2), (0.5, 0.6)], "at least 3"),
     ([(0.1, 0.2), (0.5, float("inf")), (0.9, 1.0)], "pair 2 has a non-finite output"),
-    ([(0.1, 0.2), (0.5, 0.6), (0.1 + 2 * math.pi, 0.9)], "pair 3 repeats the input angle of pair 1"),
+    ([(0.1, 0.2), (0.5, 0.6), (0.1 + 2 * math.pi, 0.9)],
+     "pair 3 repeats the input angle of pair 1"),
     ([(0.1, 0.2, 0.3), (0.5, 0.6, 0.7), (0.9, 1.0, 1.1)], "two numbers"),
 ])
 def test_bad_pairs_are_named(pairs, culprit):

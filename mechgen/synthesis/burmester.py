@@ -3,7 +3,8 @@
 In complex numbers, with the pose j placing body point w at d_j + e_j w (e_j = exp(i th_j)),
 the fixed pivot z and the radius R, the five equations |d_j + e_j w − z|² = R² read
 
-    |d_j|² + conj(d_j) e_j w + d_j conj(e_j) w̄ − conj(d_j) z − d_j z̄ + K − e_j m1 − conj(e_j) m2 = 0
+    |d_j|² + conj(d_j) e_j w + d_j conj(e_j) w̄ − conj(d_j) z − d_j z̄ + K
+        − e_j m1 − conj(e_j) m2 = 0
 
 with w̄, z̄ taken as unknowns of their own, K = w w̄ + z z̄ − R², m1 = w z̄ and m2 = w̄ z. They
 are linear in (w, w̄, z, z̄, K) once m1 and m2 are given: solved, x = x0 + m1 x1 + m2 x2, and
