@@ -137,6 +137,7 @@ def test_a_slider_cranks_coupler_asks_for_a_slider():
     assert len(pr) == 1
     assert np.allclose(pr[0].moving, (3, 0), atol=1e-9)
     assert abs(pr[0].fixed[1] - 0.3) < 1e-9 and abs(pr[0].direction[1]) < 1e-9
+    assert pr[0].residual < 1e-12
 
 
 # -- four and three poses ---------------------------------------------------------------------

@@ -8,7 +8,7 @@ import numpy as np
 
 from .burmester import five_poses
 from .curves import fixed_for, four_poses, moving_for, three_poses
-from .poses import as_poses, circle_residual, place
+from .poses import as_poses, circle_residual, local, place, positions
 from .sliders import slider_dyads
 
 
@@ -83,9 +83,22 @@ def dyads(poses, samples=40, *, fixed=None, moving=None, sliders=None):
     if sliders or (sliders is None and n == 5):
         for kind, f, m, d in slider_dyads(poses, max(4, samples // 4)):
             out.append(Dyad(tuple(float(v) for v in f), tuple(float(v) for v in m), kind,
-                            tuple(float(v) for v in d)))
+                            tuple(float(v) for v in d), _off_line(poses, kind, f, m, d)))
     return out
 
+
+
+def _off_line(poses, kind, fixed, moving, direction) -> float:
+    """The largest distance of a slider's pin from its line over the poses: the body
+    point's positions from the ground's guide (PR), the fixed pivot from the body's line,
+    in the body's frame (RP)."""
+    if kind == "PR":
+        pts, origin = positions(poses, moving), np.asarray(fixed, float)
+    else:
+        pts = np.array([local(p, fixed) for p in poses])
+        origin = np.asarray(moving, float)
+    rel = pts - origin
+    return float(np.max(np.abs(rel[:, 0] * direction[1] - rel[:, 1] * direction[0])))
 
 
 def _points(values, name):
