@@ -17,7 +17,7 @@ ALLOWED = {
     "plot": {"base", "runtime"},
     "bridge": {"base", "model", "compiler", "runtime"},
     "view": {"base", "runtime", "plot"},
-    "synthesis": {"base", "model", "runtime"},
+    "synthesis": {"base", "model", "runtime", "bridge"},
     "cli": {"base", "model", "compiler", "runtime", "plot", "bridge", "view", "synthesis",
             "api"},
     "api": {"base", "model", "compiler", "runtime", "plot", "bridge", "view", "synthesis",

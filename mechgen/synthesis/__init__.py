@@ -14,11 +14,13 @@ the numbers, ``mechgen.model`` for the Model a FourBar builds (imported when bui
     defects.py    a four-bar's closed-form position analysis: modes, toggles, defects
     fourbar.py    FourBar (.model()), fourbars()
     function.py   function(): Freudenstein
+    verify.py     a four-bar's defects decided by its compiled model swept (SolverCheck)
 """
 from .dyads import Dyad, dyads
 from .fourbar import FourBar, four_bar, fourbars, grashof
 from .function import function
 from .curves import cubic as centre_point_cubic
+from .verify import SolverCheck, Verdict, defects_by_solver
 
 __all__ = ["Dyad", "dyads", "FourBar", "four_bar", "fourbars", "function", "grashof",
-           "centre_point_cubic"]
+           "centre_point_cubic", "SolverCheck", "Verdict", "defects_by_solver"]
