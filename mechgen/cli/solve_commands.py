@@ -14,14 +14,41 @@ from .options import (number_type, output_file, parse_columns, parse_guess,
 from .tables import FORCE_LEVELS, format_table, needed_level, select, times, write_csv
 
 
-def _emit(args, header, data, keep, what):
-    """Print the table, or write it to the -o/--csv file and say so."""
+def _emit(args, header, data, keep, what, sweep=None):
+    """Print the table, or write it to the -o/--csv file and say so; with ``sweep`` and
+    --sensitivities, the columns d<name>/d<param> of each quantity printed after them."""
     header, data = select(header, data, parse_columns(args.columns), keep)
+    if sweep is not None and getattr(args, "sensitivities", None):
+        header, data = with_sensitivities(sweep, header, data, keep)
     if args.csv:
         write_csv(args.csv, header, data)
         print(f"wrote {what} to {args.csv}")
     else:
         print(format_table(header, data))
+
+
+def parse_sensitivities(text):
+    """--sensitivities: ``all`` (True) or comma-separated parameter names; None."""
+    if text is None:
+        return None
+    names = [n.strip() for n in text.split(",") if n.strip()]
+    if not names:
+        raise MechgenError("--sensitivities takes parameter names (a,b) or all")
+    return True if names == ["all"] else names
+
+
+def with_sensitivities(sw, header, data, keep=1):
+    """The table with d<name>/d<param> after it: for each quantity column (after the
+    first ``keep``), each parameter the sweep carries, ∂name/∂param (sw.sensitivity)."""
+    params = sw.sensitivity_params
+    cols, names = [], []
+    for name in header[keep:]:
+        for p in params:
+            cols.append(np.asarray(sw.sensitivity(name, p), dtype=float))
+            names.append(f"d{name}/d{p}")
+    if not cols:
+        return header, data
+    return list(header) + names, np.column_stack([data] + cols)
 
 
 def cmd_solve(args):
@@ -63,7 +90,18 @@ def cmd_sweep(args):
         output_file(args.csv)
     ts = times(args.t0, args.t1, args.n)
     params = parse_param_option(args.param)     # refused before anything is built
+    which = parse_sensitivities(args.sensitivities)
+    if which is not None and (args.level in FORCE_LEVELS or
+                              any(not isinstance(v, float) for v in params.values())):
+        raise MechgenError("--sensitivities goes with a kinematic sweep (not a design table, "
+                           "not --level static or dynamic)")
     mech = mechanism(args)
+    unknown = [p for p in (which if isinstance(which, list) else ()) if p not in
+               mech.parameter_names]
+    if unknown:
+        raise MechgenError(f"--sensitivities: {', '.join(unknown)}: not a parameter of "
+                           f"'{mech.name}' (its parameters: "
+                           f"{', '.join(mech.parameter_names) or 'none'})")
     reduce = parse_columns(args.reduce)
     # the level follows from the reduced quantities (a table of reductions has columns
     # X4_min, ...), else from the columns asked for
@@ -88,7 +126,7 @@ def cmd_sweep(args):
         mech = mech.with_params(**params)
     try:
         sw = mech.sweep(ts[0], ts[-1], len(ts), level=level, guess=parse_guess(args.guess),
-                        method=args.method, times=ts)
+                        method=args.method, times=ts, sensitivities=which)
     except MechgenError as exc:
         partial = getattr(exc, "sweep", None)
         if partial is not None and len(partial):
@@ -98,7 +136,7 @@ def cmd_sweep(args):
             sys.stdout.flush()
         raise
     header, data = sw.table()
-    _emit(args, header, data, 1, f"{len(sw)} rows")
+    _emit(args, header, data, 1, f"{len(sw)} rows", sweep=sw)
 
 
 @contextlib.contextmanager
@@ -192,6 +230,9 @@ def add_commands(sub, common, solve_options):
                         "local worker processes (default 2)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="--backend dask: the dask.distributed scheduler to use")
+    p.add_argument("--sensitivities", metavar="PARAMS",
+                   help="add the columns dX4/dPARAM (exact derivatives, API.md §8) of every "
+                        "quantity printed: comma-separated parameters, or all")
     p.add_argument("--reduce", action="append", metavar="NAMES",
                    help="a design table of reductions: per design the min, max and their "
                         "times of these quantities (comma-separated, e.g. X4,X4d; a "

@@ -40,10 +40,13 @@ timeplot       plot, unit (time T, no made-up units, twin y axes, paths at equal
 forceplots     effort (a driver's torque over a cycle, its mean and peak), polar (a pin
                force's polar diagram)
 arrows         force_arrows: the forces of a solution on a drawing (draw(forces=...))
+bands          band_plot: tolerance bands against time (mech.tolerance: worst case, RSS,
+               the Monte Carlo envelope; or each less the nominal)
 =============  =====================================================================
 """
 from .animation import Animation, animate, check_movie_path
 from .arrows import ForceArrows, force_arrows
+from .bands import band_plot
 from .drawing import Drawing, draw, draw_modes, motion
 from .forceplots import EffortPlot, PolarPlot, effort, polar
 from .glyphs.shapes import AUTO, Bar, Disk, Edge, Plate, Shape
@@ -56,4 +59,5 @@ from .style import BAR, INK, MARGIN, PALETTE  # noqa: F401
 
 __all__ = ["draw", "draw_modes", "animate", "plot", "motion", "unit", "Drawing", "Animation",
            "Shape", "Disk", "Bar", "Edge", "Plate", "AUTO", "check_movie_path",
-           "effort", "polar", "force_arrows", "EffortPlot", "PolarPlot", "ForceArrows"]
+           "effort", "polar", "force_arrows", "EffortPlot", "PolarPlot", "ForceArrows",
+           "band_plot"]
