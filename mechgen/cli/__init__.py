@@ -1,5 +1,5 @@
 """The command line: mechgen build | equations | check | solve | sweep | singularities | forces |
-draw | animate | plot | tolerance | view.
+draw | animate | plot | tolerance | view | synthesize.
 
 One meaning per option on every command: ``-o FILE`` is the file the command writes (a
 CSV table, a picture), except ``build -o DIR`` (the contract's); ``--outdir DIR`` is the
@@ -15,7 +15,7 @@ import warnings
 from ..errors import MechgenError
 from ..protocol import LEVELS
 from . import (forces_command, plot_commands, simulate_command, solve_commands,
-               tolerance_command, view_command)
+               synthesize_command, tolerance_command, view_command)
 from .loading import models
 from .options import module_folder, number_type
 from .tables import FORCE_LEVELS
@@ -152,6 +152,7 @@ def parser() -> argparse.ArgumentParser:
     simulate_command.add_command(sub, _add_common)
     tolerance_command.add_command(sub, _add_common)
     view_command.add_command(sub, _add_common)
+    synthesize_command.add_command(sub)
     return ap
 
 
