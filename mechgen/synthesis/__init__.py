@@ -15,12 +15,16 @@ the numbers, ``mechgen.model`` for the Model a FourBar builds (imported when bui
     fourbar.py    FourBar (.model()), fourbars()
     function.py   function(): Freudenstein
     verify.py     a four-bar's defects decided by its compiled model swept (SolverCheck)
+    export.py     a FourBar written out as a model file (model_source)
 """
 from .dyads import Dyad, dyads
 from .fourbar import FourBar, four_bar, fourbars, grashof
 from .function import function
+from .curves import circle_cubic as circle_point_cubic
 from .curves import cubic as centre_point_cubic
 from .verify import SolverCheck, Verdict, defects_by_solver
+from .export import identifier, model_source
 
 __all__ = ["Dyad", "dyads", "FourBar", "four_bar", "fourbars", "function", "grashof",
-           "centre_point_cubic", "SolverCheck", "Verdict", "defects_by_solver"]
+           "centre_point_cubic", "circle_point_cubic", "SolverCheck", "Verdict",
+           "defects_by_solver", "identifier", "model_source"]

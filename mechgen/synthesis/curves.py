@@ -36,6 +36,29 @@ def cubic(poses) -> np.ndarray:
     return C
 
 
+def inverted(poses) -> np.ndarray:
+    """The poses of the inverted motion seen from the body held in pose 1: pose j becomes
+    pose1 ∘ pose_j⁻¹ (the ground's frame placed, as the body moves from pose 1 to pose j,
+    relative to the body left in pose 1)."""
+    poses = np.asarray(poses, dtype=float)
+    x1, y1, t1 = poses[0]
+    out = []
+    for x, y, th in poses:
+        c, s = math.cos(th), math.sin(th)
+        inv = np.array([-(c * x + s * y), s * x - c * y])      # R(-th) (-(x, y))
+        c1, s1 = math.cos(t1), math.sin(t1)
+        xy = np.array([c1 * inv[0] - s1 * inv[1] + x1, s1 * inv[0] + c1 * inv[1] + y1])
+        out.append((xy[0], xy[1], t1 - th))
+    return np.array(out)
+
+
+def circle_cubic(poses) -> np.ndarray:
+    """The circle-point curve of four poses, drawn where the body is in pose 1: C (4×4)
+    with Σ C[i, k] x^i y^k = 0 at the pose-1 positions of the moving pivots (the
+    centre-point curve of the inverted motion)."""
+    return cubic(inverted(poses))
+
+
 def moving_for(poses, G):
     """The moving pivot about fixed pivot G, or None where the equal-distance rows leave
     it undetermined or G is off the centre-point curve (four or five poses)."""
