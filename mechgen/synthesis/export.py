@@ -35,6 +35,7 @@ def model_source(fourbar, name="fourbar", source=None) -> str:
     psi1 = math.atan2(B1[1] - O4[1], B1[0] - O4[0])
     phi1 = float(fourbar.phis[0])
     sign = "+" if fourbar.direction > 0 else "-"
+    turn = "counter-clockwise" if sign == "+" else "clockwise"
     flags = ", ".join(sorted(fourbar.defects)) or "no defects"
     lo, hi = fourbar.transmission
     rows = "\n".join(f"    {j + 1}  x = {x:.6g}, y = {y:.6g}, angle = {th:.6g} rad"
@@ -47,9 +48,9 @@ def model_source(fourbar, name="fourbar", source=None) -> str:
 {fourbar.grashof}, {flags}, transmission angle {lo:.1f}–{hi:.1f}°; links a = {a:.6g}
 (crank), b = {b:.6g} (coupler), c = {c:.6g} (output), d = {d:.6g} (ground).
 
-The crank turns {'counter-' if sign == '+' else ''}clockwise, one radian per unit of T. The coupler's
-frame is the poses' frame: coupler[3] (its origin) lies on a pose's (x, y) and coupler[3] ->
-coupler[4] along its angle, at these times:
+The crank turns {turn}, one radian per unit of T. The coupler's frame is the
+poses' frame: coupler[3] (its origin) lies on a pose's (x, y) and coupler[3] -> coupler[4]
+along its angle, at these times:
 {rows}
 """
 from mechgen import Model, T
