@@ -309,18 +309,27 @@ def compile_model(model, outdir=None, tier=None, name=None, **kwargs):
     ``model`` is a Model, or the path of a model file (``name=`` picks one of several):
     a file whose module was built before, unchanged (its text, the local files it
     imports, mechgen's and sympy's versions), loads without sympy (compile_file);
-    its symbolic side loads the model when first used. ``tier`` as for mechgen.load."""
+    its symbolic side loads the model when first used. ``tier`` as for mechgen.load.
+    ``sensitivities=True`` also builds (or finds up to date) the sensitivity module
+    beside it now, rather than at the first call that asks for derivatives."""
+    sensitivities = kwargs.pop("sensitivities", False)
     if outdir is None:
         outdir = cache_folder()
     if isinstance(model, (str, os.PathLike)):
-        return compile_file(os.fspath(model), outdir, name=name, tier=tier, **kwargs)
-    from .model.language import Model       # sympy: only for a Model itself
-    if not isinstance(model, Model):
-        raise TypeError(f"compile(model): model must be a mechgen.Model or the path of a "
-                        f"model file, got {type(model).__name__} {repr(model)[:60]}")
-    if name is not None:
-        raise TypeError("compile(): name= picks a model of a model file; pass the file's path")
-    return attach(load(build_if_changed(model, outdir, **kwargs), tier=tier), model)
+        mech = compile_file(os.fspath(model), outdir, name=name, tier=tier, **kwargs)
+    else:
+        from .model.language import Model       # sympy: only for a Model itself
+        if not isinstance(model, Model):
+            raise TypeError(f"compile(model): model must be a mechgen.Model or the path of a "
+                            f"model file, got {type(model).__name__} {repr(model)[:60]}")
+        if name is not None:
+            raise TypeError("compile(): name= picks a model of a model file; pass the "
+                            "file's path")
+        mech = attach(load(build_if_changed(model, outdir, **kwargs), tier=tier), model)
+    if sensitivities:
+        from .runtime.sensitivity.companion import companion
+        companion(mech)         # built where missing or stale, and loaded
+    return mech
 
 
 # -- a model file to a loaded mechanism, without sympy when its module is up to date -------

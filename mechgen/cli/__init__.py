@@ -33,17 +33,29 @@ def cmd_build(args):
     outputs = [o.strip() for o in args.outputs.split(",") if o.strip()] if args.outputs else None
     kwargs = dict(sort=not args.no_sort, level=args.level, outputs=outputs,
                   closed_forms=args.closed_forms)
+    if getattr(args, "sensitivities", False) and outputs:
+        raise MechgenError("--sensitivities needs every coordinate: build without --outputs")
     # every model rendered before any file is written: one that fails writes none
+    built = []
     if args.force:
-        texts = [(os.path.join(outdir, f"{model.name}.py"), render(model, **kwargs))
+        texts = [(model, os.path.join(outdir, f"{model.name}.py"), render(model, **kwargs))
                  for model in models(args)]
-        for path, text in texts:
-            print(f"wrote {write_module(text, path)}")
-        return
-    # an unchanged model keeps its module file (and numba's compiled cache of it)
-    for prepared in [prepare_module(model, outdir, **kwargs) for model in models(args)]:
-        path, written = commit_module(*prepared)
-        print(f"wrote {path}" if written else f"{path} is up to date (--force writes it again)")
+        for model, path, text in texts:
+            built.append((model, write_module(text, path)))
+            print(f"wrote {built[-1][1]}")
+    else:
+        # an unchanged model keeps its module file (and numba's compiled cache of it)
+        for model in models(args):
+            built.append((model, prepare_module(model, outdir, **kwargs)))
+        for k, (model, prepared) in enumerate(built):
+            path, written = commit_module(*prepared)
+            built[k] = (model, path)
+            print(f"wrote {path}" if written
+                  else f"{path} is up to date (--force writes it again)")
+    if getattr(args, "sensitivities", False):
+        from ..compiler.sensitivities import build_sensitivities
+        for model, path in built:
+            print(f"wrote {build_sensitivities(model, path)}")
 
 
 def cmd_equations(args):
@@ -121,6 +133,9 @@ def parser() -> argparse.ArgumentParser:
                    help="blocks of a standard form (a sin y + b cos y + c, a quadratic, an "
                         "RRR dyad) solved without iterating: all of them (cheap, the default, "
                         "is the same), or none (Newton on every block)")
+    p.add_argument("--sensitivities", action="store_true",
+                   help="also write DIR/NAME_sensitivities.py, the derivatives with respect "
+                        "to the parameters (otherwise built when a call first asks for them)")
     p.set_defaults(func=cmd_build, all_models=True)
 
     p = sub.add_parser("equations", help="print Phi, Phi_q, nu and gamma, labelled by "
