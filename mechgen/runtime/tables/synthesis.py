@@ -1,10 +1,14 @@
 """Dimensional synthesis on top of design tables (``mech.optimize``): scipy's
 differential evolution, vectorised, each generation one design table of listed designs
-on the chosen backend, then (polish=True) Nelder-Mead from the best design, each step a
-one-design table in this process (the same numbers as every CPU backend gives).
+on the chosen backend, then a polish from the best design: polish=True, Nelder-Mead, each
+step a one-design table in this process (the same numbers as every CPU backend gives);
+polish="gradient", Levenberg–Marquardt on the exact sensitivities (mechgen.runtime.tables.
+polish).
 
 The objective takes a DesignTable (``tab.extremes``, ``tab.reduced``, ``tab["X4"]``,
-``tab.design_params()``) and returns one number per design. A design that cannot be
+``tab.design_params()``) and returns one number per design; or it is a sum of squares,
+{quantity: targets at the table's n times}, Σ (value − target)², whose polish defaults to
+"gradient" (a callable's to Nelder-Mead). A design that cannot be
 solved at every time of the table, or that was solved through a branch jump or a singular
 configuration (status JUMP or THROUGH_SINGULAR: after it, it may move in another assembly
 mode, as a real one may jam or turn over there), is rejected: the objective never sees it
@@ -20,6 +24,7 @@ import numpy as np
 from ...errors import MechgenError
 from ...protocol import JUMP, THROUGH_SINGULAR
 from ..guards import sweep_times
+from .polish import SumOfSquares, gradient_polish, polish_choice
 from .starts import guess_reference
 
 
@@ -86,9 +91,19 @@ class _Scorer:
 
 def optimize(mech, objective, bounds, t0, t1, n, backend="cpu", level="position",
              workers=None, client=None, guess=None, times=None, popsize=15, maxiter=100,
-             tol=0.01, seed=None, polish=True, polish_tol=1e-15, **evolution):
-    """See Mechanism.optimize."""
+             tol=0.01, seed=None, polish=None, polish_tol=1e-15, polish_nfev=100,
+             **evolution):
+    """See Mechanism.optimize. ``polish``: None (the default: "gradient" for a sum of
+    squares, True for a callable), "gradient", True (Nelder-Mead) or False;
+    ``polish_nfev``: the gradient polish's evaluations at most."""
     from scipy.optimize import differential_evolution, minimize
+    polish = polish_choice(objective, polish)
+    squares = None
+    if isinstance(objective, dict):
+        squares = objective = SumOfSquares(mech, objective, len(sweep_times(t0, t1, n, times)))
+    elif not callable(objective):
+        raise TypeError("objective must be a function of a design table or {quantity: "
+                        f"targets}}, got {type(objective).__name__}")
     if not isinstance(bounds, dict) or not bounds:
         raise ValueError("bounds must be a dict of parameter names to (low, high)")
     names = list(bounds)
@@ -120,7 +135,16 @@ def optimize(mech, objective, bounds, t0, t1, n, backend="cpu", level="position"
     if not np.isfinite(fun):
         raise MechgenError(f"optimize: no design within the bounds could be solved at every "
                            f"time ({score.evaluated} designs evaluated)")
-    if polish:
+    origin = guess_reference(mech, sweep_times(t0, t1, n, times)[0], guess)
+    if polish == "gradient":
+        sweep_args = dict(t0=t0, t1=t1, n=n, level=level, times=times)
+        px, pfun, count, note = gradient_polish(origin, squares, names, x, lows, highs,
+                                                sweep_args, polish_nfev)
+        score.evaluated += count
+        if pfun <= fun:
+            x, fun = px, pfun
+        message.append(note)
+    elif polish:
         lo, hi = np.array(lows), np.array(highs)
 
         # one design a step: in this process (backend "cpu", one thread), whatever the
@@ -142,7 +166,6 @@ def optimize(mech, objective, bounds, t0, t1, n, backend="cpu", level="position"
         message.append(f"polish (Nelder-Mead): {res.message}")
     params = {n: float(v) for n, v in zip(names, x)}
     # the best design on the mode its tables gave it: from the guess they started from
-    origin = guess_reference(mech, sweep_times(t0, t1, n, times)[0], guess)
     return OptimizeResult(params=params, x=x, names=tuple(names), fun=fun,
                           mechanism=origin.with_params(**params), evaluated=score.evaluated,
                           rejected=score.rejected, generations=int(de.nit),
