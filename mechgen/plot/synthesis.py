@@ -19,12 +19,15 @@ from .style import INK, PALETTE
 POSE_COLOUR = "crimson"
 CENTRE_COLOUR = "#2e3fa8"
 CIRCLE_COLOUR = "#1e8449"
+PLOT_AREA = (0.07, 0.08, 0.6, 0.84)     # the axes in a figure of its own; the legend beside
 
 
 def _axes(ax):
     if ax is None:
         import matplotlib.pyplot as plt
-        _, ax = plt.subplots(figsize=(10, 7), layout="constrained")
+        fig = plt.figure(figsize=(11, 7.5))
+        ax = fig.add_axes(PLOT_AREA)
+        ax.mechgen_own_figure = True
     ax.set_aspect("equal", adjustable="box")
     return ax
 
@@ -190,7 +193,7 @@ def figure(poses_, link=None, centre=None, circle=None, fixed=None, moving=None,
                     + ", ".join(f"({x:.3g}, {y:.3g})" for x, y in far))
         fixed, moving = F[near], None if M is None else M[near]
         spots += list(fixed) + ([] if moving is None else list(moving))
-    box = around(poses_, 1.6, spots)
+    box = around(poses_, 1.6 if centre is None and circle is None else 2.5, spots)
     if centre is not None or circle is not None:
         curves(ax, poses_, centre, circle, box=box)
     if fixed is not None and len(fixed):
@@ -208,7 +211,12 @@ def figure(poses_, link=None, centre=None, circle=None, fixed=None, moving=None,
     if note:
         ax.annotate(note, (0.01, 0.01), xycoords="axes fraction", fontsize=8,
                     color="#555555")
-    ax.figure.legend(*ax.get_legend_handles_labels(), loc="outside right upper", fontsize=9)
+    if getattr(ax, "mechgen_own_figure", False):
+        ax.figure.legend(*ax.get_legend_handles_labels(), loc="upper left",
+                         bbox_to_anchor=(PLOT_AREA[0] + PLOT_AREA[2] + 0.02, 0.92),
+                         fontsize=9)
+    else:
+        ax.legend(loc="best", fontsize=8, framealpha=0.9)
     return ax
 
 
