@@ -116,7 +116,7 @@ class SolverCheck:
             defects.add("order")
         if full and down and not up:        # met in order turning clockwise
             times = np.where(seen, -behind, np.nan)
-        return Verdict(frozenset(defects), tuple(float(t) for t in times), modes,
+        return Verdict(frozenset(defects), tuple(float(t) + 0.0 for t in times), modes,
                        (stop_f, stop_b), bool(full))
 
 
