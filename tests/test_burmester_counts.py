@@ -51,7 +51,7 @@ def random_poses(rng, kind):
         return np.column_stack([rng.normal(size=5), rng.normal(size=5),
                                 rng.uniform(-1.5, 1.5, size=5)])
     # a four-bar's coupler: a = 1 crank, random b, c, d; its frame at a random place
-    a, (b, c, d) = 1.0, rng.uniform(2.0, 3.5, size=3)
+    b, c, d = rng.uniform(2.0, 3.5, size=3)
     phis = np.sort(rng.uniform(0, 2 * math.pi, size=5))
     uA = complex(*rng.normal(size=2))
     uB = uA + b * cmath.exp(1j * rng.uniform(-3, 3))

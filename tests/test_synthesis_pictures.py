@@ -2,7 +2,6 @@
 curves of four poses, Burmester points, the four-bar at every pose; and the circle-point
 curve itself: the pose-1 positions of sampled moving pivots lie on it, other points not."""
 import cmath
-import math
 
 import matplotlib
 import numpy as np
