@@ -23,7 +23,9 @@ pose-1 configuration (``set_guess``): the module is built once."""
 from __future__ import annotations
 
 import math
+import shutil
 import tempfile
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -69,7 +71,10 @@ class SolverCheck:
     def _built(self, fourbar):
         if self.mech is None:
             from ..bridge import compile_model
-            outdir = self.outdir or tempfile.mkdtemp(prefix="mechgen_synthesis_")
+            outdir = self.outdir
+            if outdir is None:          # ours: removed when this check is done with
+                outdir = tempfile.mkdtemp(prefix="mechgen_synthesis_")
+                weakref.finalize(self, shutil.rmtree, outdir, True)
             self.mech = compile_model(fourbar.model("fourbar_check", direction=1),
                                       outdir=outdir, tier=self.tier)
         return self.mech
