@@ -1,13 +1,8 @@
-"""The Mechanism: a loaded generated module, solved at one time or over many. numpy + numba
-only, never sympy.
-
-Mechanism checks what users pass (mechgen.runtime.guards), calls the generated module's
-compiled functions, and hands the rest to the modules below it: results (Solution,
-Sweep), singular and locks (rank analysis, lock positions, why a solve failed), assembly
-(assembly modes) and design (design tables). None of those imports this module. A
-symbolic quantity is evaluated by the symbolic side that ``mechgen.compile`` attaches
-(``mech.symbolic``); the runtime never imports it.
-"""
+"""The Mechanism: a loaded generated module, solved at one time or over many (numpy + numba,
+never sympy). It checks what users pass (guards), calls the module's compiled functions
+and hands the rest to the modules below it (results, analysis, tables, forces,
+sensitivity, fitting), none of which imports it. A symbolic quantity is evaluated by the
+symbolic side ``mechgen.compile`` attaches (``mech.symbolic``)."""
 from __future__ import annotations
 
 import threading
@@ -212,15 +207,14 @@ class Mechanism:
         adds the multipliers, the driver efforts and the reactions
         (mechgen.runtime.forces). ``sensitivities`` (True, or parameter names) adds
         the derivatives with respect to the parameters (mechgen.runtime.sensitivity)."""
-        if sensitivities:
-            from .sensitivity import attach
-            return attach(self, self.solve(t, guess, level, method, tol, maxit), sensitivities)
         # the usual arguments pass with a look-up each, anything else through guards' checks
         lev = self._levels.get(level) if level.__class__ is str else None
         with self._lock:
             if lev is None and is_force_level(level):
-                return _force_solve()(self, t, level, guess, method, tol, maxit)
-            return self._solve(t, guess, level, method, tol, maxit, None, lev)
+                result = _force_solve()(self, t, level, guess, method, tol, maxit)
+            else:
+                result = self._solve(t, guess, level, method, tol, maxit, None, lev)
+        return _attach()(self, result, sensitivities) if sensitivities else result
 
     def _solve(self, t, guess, level, method, tol, maxit, fused=None, lev=None) -> Solution:
         """solve() at a kinematic level; ``fused``: see entry.solve_point_derivatives;
@@ -387,16 +381,15 @@ class Mechanism:
         the caller owns instead of fresh ones: a dict ``{"q": Q, "qd": QD, "qdd": QDD,
         "status": S}`` (any of them; Q, QD, QDD float64 of shape (n, coordinates), S int16
         of shape (n, 3): status code, iterations, substeps, or its first 1 or 2 columns;
-        all C-contiguous), a tuple ``(Q,)``, ``(Q, QD)`` or
-        ``(Q, QD, QDD)``, or a Sweep of as many points and at least this level from an
-        earlier call, whose arrays are then overwritten. The result's arrays are views of
-        them. level="static" or "dynamic" sweeps the kinematics, then solves the
-        multipliers at every point (mechgen.runtime.forces). ``sensitivities``: as solve()."""
+        all C-contiguous), a tuple ``(Q,)``, ``(Q, QD)`` or ``(Q, QD, QDD)``, or a Sweep
+        of as many points and at least this level from an earlier call, overwritten (the
+        result's arrays are views of them). level="static" or "dynamic" sweeps the
+        kinematics, then solves the multipliers at every point (mechgen.runtime.forces).
+        ``sensitivities``: as solve()."""
         if sensitivities:
-            from .sensitivity import attach
-            return attach(self, self.sweep(t0, t1, n, level, guess, method, tol, maxit, times,
-                                           params, out, backend, workers, client, reduce,
-                                           **table_options), sensitivities)
+            result = self.sweep(t0, t1, n, level, guess, method, tol, maxit, times, params,
+                                out, backend, workers, client, reduce, **table_options)
+            return _attach()(self, result, sensitivities)
         if is_force_level(level) and params is None:
             if out is not None or backend != "cpu" or reduce is not None:
                 raise ValueError(f"level={level!r}: out=, backend= and reduce= are for a "
@@ -485,27 +478,14 @@ class Mechanism:
                      tol=None, maxit=None, times=None, progress=None, on_fail="warn",
                      backend="cpu", workers=None, client=None, reduce=None, grid=True):
         """A design table: a sweep over time for every combination of parameter values
-        (``params={"longitud": [1.5, 2.25, 3.0]}``; a number fixes a parameter), the loop
-        over designs compiled; arrays come back indexed by parameter(s) and time. Each
-        design starts from the same guess, as Mech's Table[SetGuess[]; SolveMech[{t0, t1},
-        n], {param, ...}] does, in the assembly mode the guess has where it was given (the
-        guess's parameters and time; ``guess=``: the table's first time and this
-        mechanism's parameters), carried to its own parameters (mechgen.runtime.tables.
-        starts: a design it cannot be carried to is flagged), and is swept on its own: the
-        numbers do not depend on the backend or the count of workers
-        (mechgen.runtime.tables.design, .backends).
-
-        backend: "cpu" (this machine's cores; ``workers=k`` uses k threads, 1 runs in this
-        thread, None every core), "dask" (chunks of designs over the dask.distributed
-        cluster of ``client``, or the current one) or "cuda" (a generated GPU kernel).
-        reduce: quantity names (``["X4", "X4d"]``): keep per design only their minimum,
-        maximum and the times of those (``tab.reduced("X4").max``), not every point.
-        grid: True crosses the varied parameters (a grid); False pairs them up (listed
-        designs: design i takes the i-th value of each sequence, all of one length).
-        progress: None (quiet), True (a progress bar on stderr) or a callable
-        ``progress(done, total)`` called as chunks of designs finish.
-        on_fail: "warn" (default), "raise" or "ignore" for designs that fail to solve.
-        """
+        (``params={"longitud": [1.5, 2.25, 3.0]}``; a number fixes a parameter; grid=False
+        pairs listed designs up), the loop over designs compiled, arrays indexed by
+        parameter(s) and time. Each design starts from the guess's assembly mode carried
+        to its own parameters and is swept on its own: the numbers do not depend on the
+        backend ("cpu" with ``workers``, "dask" with ``client``, "cuda"). ``reduce``:
+        quantity names whose min/max alone are kept; ``progress``: None, True or a
+        callable(done, total); ``on_fail``: "warn", "raise" or "ignore". The details:
+        mechgen.runtime.tables.design."""
         from .tables.design import design_table
         return design_table(self, t0, t1, n, params, level=level, guess=guess, method=method,
                             tol=tol, maxit=maxit, times=times, progress=progress,
@@ -515,27 +495,39 @@ class Mechanism:
     def optimize(self, objective, bounds, t0, t1, n, backend="cpu", level="position",
                  **options):
         """Dimensional synthesis: the parameter values within ``bounds`` ({name: (low,
-        high)}) that minimise ``objective``, a function of a design table (listed designs,
-        t0..t1 at n times, ``level``) returning one number per design. scipy's
-        differential evolution (vectorised: each generation one design table on
-        ``backend``), then a Nelder-Mead polish (polish=False skips it). Designs that
-        cannot be solved at every time are rejected (never passed to the objective's
-        numbers, scored +inf). Options: workers, client, guess, times, popsize, maxiter,
-        tol, seed, polish, polish_tol and differential_evolution's own keywords. Returns
-        an OptimizeResult (params, fun, mechanism, evaluated, seconds, ...;
-        mechgen.runtime.tables.synthesis)."""
+        high)}) that minimise ``objective`` (a function of a design table returning one
+        number per design, or {quantity: targets at the n times}, a sum of squares):
+        differential evolution, each generation one design table on ``backend``, then a
+        polish ("gradient": Levenberg-Marquardt on the exact sensitivities, the default
+        for a sum of squares; True: Nelder-Mead; False: none). Designs that cannot be
+        solved at every time are rejected. Returns an OptimizeResult
+        (mechgen.runtime.tables.synthesis, which lists the options)."""
         from .tables.synthesis import optimize
         return optimize(self, objective, bounds, t0, t1, n, backend=backend, level=level,
                         **options)
+
+    def tolerance(self, result, tolerances=None, clearance=None, method="worst", **options):
+        """Tolerance and clearance bands over a sweep or at a solution (API.md §8):
+        "worst", "rss" or "montecarlo"; mechgen.runtime.sensitivity.tolerance."""
+        from .sensitivity.tolerance import tolerance
+        return tolerance(self, result, tolerances, clearance=clearance, method=method,
+                         **options)
+
+    def fit(self, point, target, params, timing=None, **options):
+        """Path fitting (API.md §8): the parameters within ``params``' bounds that take
+        ``point`` through the (k, 2) ``target`` points, timing free (None) or the k times;
+        a design-table search, then Levenberg-Marquardt on the exact derivatives
+        (mechgen.runtime.fitting, which lists the options)."""
+        from .fitting import fit
+        return fit(self, point, target, params, timing=timing, **options)
 
     # -- assembly modes ---------------------------------------------------------------
     def assemblies(self, t, starts=256, guess=None, level="position", flips=False):
         """Every distinct real assembly mode at time t (angles equal modulo 2π count once,
         reported in (−π, π]), from the guess and from quasi-random starts; the mode the
-        guess reaches comes first. Follow one with ``sweep(..., guess=mode)`` (a Solution
-        is a configuration at its own time: a sweep from another time starts where its
-        mode goes). A body only
-        turned half a turn (a slider reversed on its guide) counts unless flips=True."""
+        guess reaches comes first. Follow one with ``sweep(..., guess=mode)`` (a Solution is
+        a configuration at its own time: a sweep from another time starts where its mode
+        goes). A body only turned half a turn (a slider reversed) counts if flips=True."""
         t = finite(t, "t")
         if isinstance(starts, bool) or int(starts) != starts or starts < 0:
             raise ValueError(f"starts must be a non-negative integer, got {starts!r}")
@@ -577,15 +569,23 @@ _FLOAT64 = np.float64
 _METHOD = METHOD            # (name -> index: a valid name looked up, an invalid one checked)
 _VELOCITY_LEVEL, _ACCELERATION_LEVEL = LEVEL["velocity"], LEVEL["acceleration"]
 _FORCE_SOLVE = []
+_ATTACH = []
 
 
 def _force_solve():
-    """mechgen.runtime.forces.solution.force_solve, imported at the first force solve
-    (and kept: an import statement costs a solve a microsecond)."""
+    """forces.solution.force_solve, imported once (an import statement costs a µs)."""
     if not _FORCE_SOLVE:
         from .forces.solution import force_solve
         _FORCE_SOLVE.append(force_solve)
     return _FORCE_SOLVE[0]
+
+
+def _attach():
+    """mechgen.runtime.sensitivity.attach, imported at the first solve that asks for it."""
+    if not _ATTACH:
+        from .sensitivity import attach
+        _ATTACH.append(attach)
+    return _ATTACH[0]
 
 
 def convergence_error(*args, **kwargs):
