@@ -298,6 +298,18 @@ def position_sensitivities_body(model, plan, eq):
         stores = [Store(f"X[{k}, {j}]", known.get(x, x), f"∂{eq.q[k].name}/∂{pj.name}"
                         if k == 0 else "") for k, x in enumerate(eq.qd)]
         per.append((j, body, stores))
+    # each pivot's reciprocal once, in place of a division per parameter
+    pivots = set(generic.jsym.values()) | {st.target for st in common if isinstance(st, Assign)}
+    inverse = {}
+    for _, body, stores in per:
+        for st in body + stores:
+            for pw in sp.sympify(st.expr).atoms(sp.Pow):
+                if pw.exp == -1 and pw.base in pivots and pw not in inverse:
+                    inverse[pw] = sym(f"_inv{str(pw.base).lstrip('_')}")
+    per = [(j, [replaced(st, lambda e: sp.sympify(e).xreplace(inverse)) for st in body],
+            [replaced(st, lambda e: sp.sympify(e).xreplace(inverse)) for st in stores])
+           for j, body, stores in per]
+    common += [Assign(s_, 1 / pw.base) for pw, s_ in sorted(inverse.items(), key=str)]
     used = set()
     for _, body, stores in per:
         for st in body + stores:

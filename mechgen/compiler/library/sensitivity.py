@@ -187,10 +187,11 @@ def trig_pairs(q, sc, last, k):
             sc[0, i] = math.sin(q[i])
             sc[1, i] = math.cos(q[i])
         else:
-            d2 = d * d
-            sd = d * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))))
-            cd = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0
-                                                                         * (1.0 - d2 / 90.0))))
+            d2 = d * d          # (Taylor's coefficients: products, not divisions)
+            sd = d + d * d2 * (-1.0 / 6 + d2 * (1.0 / 120 + d2 * (-1.0 / 5040
+                                                                  + d2 * (1.0 / 362880))))
+            cd = 1.0 + d2 * (-0.5 + d2 * (1.0 / 24 + d2 * (-1.0 / 720 + d2 * (
+                1.0 / 40320 - d2 * (1.0 / 3628800)))))
             s, c = sc[0, i], sc[1, i]
             sc[0, i] = s * cd + c * sd
             sc[1, i] = c * cd - s * sd
