@@ -4,9 +4,11 @@ four-bars carry the gate through all five, in order, on one assembly mode, witho
 Burmester's answer (mechgen.synthesis, API.md §9): every real pair of fixed and moving
 pivots (here four, found exactly from a quartic), every four-bar two of them make (twelve,
 each dyad once as the crank), screened for circuit, branch and order defects, ranked by the
-transmission angle. The best is ``m``, a model like any other (``mechgen build`` builds it);
-run this file to print the table and draw the linkage through the poses to
-docs/burmester_five_poses.png."""
+transmission angle. The best one's ``BEST.model(name)`` is a model like any other
+(``mechgen.compile`` builds it; ``mechgen synthesize examples/gate_poses.csv -o gate.py``
+writes it as a model file); run this file to print the table and draw the linkage through
+the poses to docs/burmester_five_poses.png. (It is not a model file itself: its model comes
+from a root-finder, whose last digits are the machine's.)"""
 import os
 
 from mechgen import synthesis
@@ -17,7 +19,6 @@ POSES = [(0.845, 0.606, 0.360), (0.689, 0.823, 0.180), (0.368, 0.818, 0.054),
 DYADS = synthesis.dyads(POSES)
 LINKS = synthesis.fourbars(POSES)          # defect-free first, then by transmission angle
 BEST = LINKS[0]
-m = BEST.model("burmester_gate")
 
 
 def table():
@@ -45,7 +46,8 @@ def picture(path):
     import mechgen
     from mechgen import plot
 
-    mech = mechgen.compile(m, outdir=tempfile.mkdtemp(), tier="python")
+    mech = mechgen.compile(BEST.model("burmester_gate"), outdir=tempfile.mkdtemp(),
+                           tier="python")
     t_end = BEST.times[-1]
     sweep = mech.sweep(0.0, t_end, 121)
     d = plot.draw(mech, mech.solve(BEST.times[2]), sweep=sweep, trace=("coupler[3]",),

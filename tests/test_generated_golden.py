@@ -17,8 +17,10 @@ import pytest
 
 import mechgen
 from conftest import EXAMPLES, GENERATED
+from mechgen.protocol import SENSITIVITY_SUFFIX
 
 EXAMPLE_FILES = sorted(glob.glob(os.path.join(EXAMPLES, "*.py")))
+COMPANION = SENSITIVITY_SUFFIX + ".py"     # a sensitivity module, built where asked (ignored)
 
 
 def _models_of(path):
@@ -85,7 +87,8 @@ def test_every_generated_module_has_a_model():
     """No stale module lingers in generated/ for a model that no longer exists."""
     names = {m.name for path in EXAMPLE_FILES for m in _models_of(path)}
     files = {os.path.splitext(os.path.basename(p))[0]
-             for p in glob.glob(os.path.join(GENERATED, "*.py")) if not p.endswith("__init__.py")}
+             for p in glob.glob(os.path.join(GENERATED, "*.py")) if not p.endswith("__init__.py")
+             and not p.endswith(COMPANION)}
     assert files <= names, f"modules without a model in examples/: {sorted(files - names)}"
 
 
@@ -157,7 +160,7 @@ def test_a_faithful_copy_loads(tmp_path):
 
 # -- the header and the library in a generated module --------------------------------------
 GENERATED_FILES = sorted(p for p in glob.glob(os.path.join(GENERATED, "*.py"))
-                         if not p.endswith("__init__.py"))
+                         if not p.endswith("__init__.py") and not p.endswith(COMPANION))
 
 
 def _read(path):

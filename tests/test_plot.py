@@ -408,7 +408,8 @@ def test_public_names():
     assert sorted(plot.__all__) == sorted(
         ["draw", "draw_modes", "animate", "plot", "motion", "unit", "Drawing", "Animation",
          "Shape", "Disk", "Bar", "Edge", "Plate", "AUTO", "check_movie_path",
-         "effort", "polar", "force_arrows", "EffortPlot", "PolarPlot", "ForceArrows"])
+         "effort", "polar", "force_arrows", "EffortPlot", "PolarPlot", "ForceArrows",
+         "band_plot"])
     for name in plot.__all__ + ["BAR", "MARGIN", "MOTION_POINTS", "PALETTE", "INK", "MOVIES"]:
         assert getattr(plot, name) is not None
     assert callable(plot.draw) and callable(plot.animate) and callable(plot.plot)
