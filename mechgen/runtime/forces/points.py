@@ -170,5 +170,11 @@ def driver_rows(module) -> dict:
 
 
 def efforts(LAM, FACTORS, rows, cols) -> np.ndarray:
-    """A driver's effort at every point from its rows' λ and factors: Σ λ_r ∂Φ_r/∂f."""
-    return np.sum(LAM[..., list(rows)] * FACTORS[..., list(cols)], axis=-1)
+    """A driver's effort at every point from its rows' λ and factors: Σ λ_r ∂Φ_r/∂f;
+    NaN, without numpy's warning, at a point where a λ or a factor is not finite (an
+    infinite λ times a zero factor is no effort: the point has no force balance)."""
+    lam, fac = LAM[..., list(rows)], FACTORS[..., list(cols)]
+    good = np.all(np.isfinite(lam), axis=-1) & np.all(np.isfinite(fac), axis=-1)
+    keep = good[..., None]
+    total = np.sum(np.where(keep, lam, 0.0) * np.where(keep, fac, 0.0), axis=-1)
+    return np.where(good, total, np.nan)
