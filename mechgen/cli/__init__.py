@@ -85,12 +85,18 @@ def _starts(text) -> int:
 
 
 def _add_common(p, outdir=True):
+    """The model file, --model and --outdir (accepted on every command, as the README
+    says: ``outdir=False`` for a command that builds no module, where it changes nothing)."""
     p.add_argument("model_file", metavar="MODEL.py", help="the model file")
     p.add_argument("--model", help="which model, when the file defines several")
     if outdir:
         p.add_argument("--outdir", metavar="DIR", default="generated",
                        help="folder of generated modules, built there when missing or out "
                             "of date (default: generated/)")
+    elif outdir is False:
+        p.add_argument("--outdir", metavar="DIR", default="generated",
+                       help="accepted as on every command; this one builds no module, so "
+                            "it changes nothing")
 
 
 def _add_solve_opts(p):
@@ -116,7 +122,7 @@ def parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("build", help="write the generated solver module(s)",
                        description="Write one module per model of the file, DIR/NAME.py.")
-    _add_common(p, outdir=False)
+    _add_common(p, outdir=None)
     p.add_argument("-o", "--outdir", metavar="DIR", default="generated",
                    help="folder of generated modules (default: generated/)")
     p.add_argument("--no-sort", action="store_true",

@@ -13,7 +13,7 @@ import math
 import os
 
 from ..errors import MechgenError
-from .options import number, output_file, written
+from .options import module_folder, number, output_file, written
 
 
 def read_poses(path, degrees=False):
@@ -92,7 +92,9 @@ def cmd_synthesize(args):
         links = synthesis.fourbars(poses, samples=args.samples)
     except ValueError as exc:
         raise MechgenError(f"{args.poses}: {exc}") from None
-    check = synthesis.SolverCheck(tier="python") if (args.verify or args.output) else None
+    outdir = module_folder(args.outdir) if args.outdir else None
+    check = (synthesis.SolverCheck(tier="python", outdir=outdir)
+             if (args.verify or args.output) else None)
     verdicts = {}
     if args.verify:
         verdicts = {id(f): check(f) for f in links}
@@ -209,6 +211,9 @@ def add_command(sub):
                    help="write the best defect-free four-bar (its defects confirmed by "
                         "its compiled model swept) as a model file for mechgen build")
     p.add_argument("--name", help="the model's name in -o's file (default: the file's)")
+    p.add_argument("--outdir", metavar="DIR", default=None,
+                   help="folder of the generated module that --verify and -o check the "
+                        "four-bars with (default: a temporary folder, removed after)")
     p.add_argument("--png", metavar="FILE",
                    help="draw the poses, the centre- and circle-point curves (4 poses) or "
                         "the Burmester points (5) and the best four-bar at every pose")
