@@ -18,8 +18,9 @@ def need_bokeh():
     import importlib.util
     if importlib.util.find_spec("bokeh") is None:
         from ..errors import MechgenError
-        raise MechgenError("the live view needs Bokeh: pip install 'mechgen[view]' "
-                           "(or pip install bokeh)")
+        raise MechgenError("the live view needs Bokeh, which the main install leaves "
+                           "out: from the top of mechgen's repository run "
+                           "python3 -m pip install -e \".[view]\" (or pip install bokeh)")
 
 
 def explore(mech, t0=0.0, t1=1.0, n=NOTEBOOK_TIMES, trace=None, plots=None, ranges=None,
