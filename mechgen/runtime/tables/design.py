@@ -96,8 +96,24 @@ class DesignTable:
     @property
     def status(self) -> np.ndarray:
         """Each design's status (mechgen.protocol codes): the status of the point it
-        failed at, else JUMP or THROUGH_SINGULAR when a point was reached so, else OK."""
+        failed at, else JUMP or THROUGH_SINGULAR when a point was reached so, else OK.
+        ``tab.status_text`` says them in words. The codes: 0 ok; 1 no convergence (Newton
+        used up its iterations: past a lock, or the loop cannot close); 2 singular (Φ_q
+        lost rank); 3 not finite (a value divided by zero); 4 sorted solver gave up (the
+        full Newton took over); 5 branch jump (a point reached by a jump the step control
+        could not avoid); 6 through a singular configuration (reached at or through one);
+        10 + a code: the velocity solve failed so, 20 + a code: the acceleration solve."""
         return self._status.reshape(self.shape)
+
+    @property
+    def status_text(self) -> np.ndarray:
+        """``tab.status`` in words, an array of str of the table's shape: "ok", "no
+        convergence", "singular", "not finite", "sorted solver gave up", "branch jump",
+        "through a singular configuration", or "velocity solve: ..." / "acceleration
+        solve: ..." for 10 + and 20 + a code (see ``status``)."""
+        codes = self._status.reshape(-1)
+        words = {int(c): status_name(c) for c in np.unique(codes)}
+        return np.array([words[int(c)] for c in codes], dtype=str).reshape(self.shape)
 
     @property
     def kept_points(self) -> bool:
