@@ -73,11 +73,13 @@ def pictures(mech, sw):
     save(e.figure, "quick_return_forces_torque.png")
 
     fig, axs = plt.subplots(2, 1, figsize=(7.2, 6.4))
-    plot.polar(sw, "slot", on="manivela", ax=axs[0], marks=12,
-               title="the crank pin: the slot's force on the crank")
-    plot.polar(sw, "O4", on="base", ax=axs[1], marks=12,
-               title="the lever's bearing O4: its load on the frame")
+    polars = [plot.polar(sw, "slot", on="manivela", ax=axs[0], marks=12,
+                         title="the crank pin: the slot's force on the crank"),
+              plot.polar(sw, "O4", on="base", ax=axs[1], marks=12,
+                         title="the lever's bearing O4: its load on the frame")]
     fig.tight_layout()
+    for p in polars:         # the angles' labels clear of the loci, as laid out
+        p.place_labels()
     save(fig, "quick_return_forces_polar.png")
 
     s = mech.solve(DRAWN_AT, level="dynamic")

@@ -86,7 +86,7 @@ def test_effort_of_a_distance_driver_against_its_travel():
     np.testing.assert_allclose(e.line.get_xdata(), amplitude * np.sin(2 * np.pi * sw.t),
                                atol=1e-12)
     assert np.all(e.line.get_ydata() == 0) and e.mean == 0
-    assert "since T = 0" in e.ax.get_xlabel() and "force" in e.ax.get_ylabel()
+    assert "since time 0 s" in e.ax.get_xlabel() and "force" in e.ax.get_ylabel()
 
 
 def test_effort_refuses_what_it_cannot_plot(sc, turn):

@@ -3,8 +3,9 @@ mechgen.runtime.forces): a driver's effort against the quantity it drives over a
 with its mean and peak (effort), and the polar diagram of a joint's force on a body, the
 locus of the force vector's tip over the sweep (polar), as Norton and Marghitu draw them.
 
-Forces carry no unit here: mechgen does not know the model's units, so the numbers are
-printed as they are (in the model's units of force, length and time).
+mechgen does not know the model's units: forces and moments are printed as they are and
+their axes say "model units" (the model's units of force and length); time is taken to be in
+seconds, as plot.unit takes it.
 """
 from __future__ import annotations
 
@@ -15,13 +16,16 @@ import numpy as np
 from ..errors import MechgenError
 from ..runtime.forces import ForceSweep, is_force_level
 from ..runtime.forces.lookup import _name_of, tables
+from .labels import Label, Obstacles, place, renderer_of, set_offset
 from .style import INK
 
 ANGLE_KINDS = ("rotation_lock", "relative_angle", "gen_revolute")
 LENGTH_KINDS = ("relative_x", "relative_y", "relative_distance", "gen_translate",
                 "directed_distance")
 MEAN_COLOR = "#555555"
-SHORT = 0.15         # a polar diagram's ray shorter than this share of the largest: no label
+MODEL_UNITS = "model units"     # what a force or moment is measured in: mechgen cannot know
+JUMP = 6.0           # a step of a polar locus this many times its neighbours' is a jump (a load
+JUMP_SHARE = 0.02    # switching on or off) where it is also this share of the largest force
 ABOVE, BELOW = "#f4b6b0", "#b5cdef"     # effort above its mean (work stored), below it
 
 
@@ -40,6 +44,43 @@ def number(x) -> str:
 def degree(x) -> str:
     """An angle in degrees for a label, to a tenth: 240°, 257.5°."""
     return f"{float(x):.1f}".rstrip("0").rstrip(".") + "°"
+
+
+def effort_unit(nature) -> str:
+    """The unit of a driver's effort for an axis: a torque is a force times a length."""
+    what = "force × length" if nature == "angle" else "force" if nature == "length" else ""
+    return f"{what}, {MODEL_UNITS}" if what else MODEL_UNITS
+
+
+def time_span(t0, t1) -> str:
+    """A sweep's time for a title: "time 0 .. 1 s" (T in seconds, as plot.unit takes it)."""
+    return f"time {float(t0):.4g} .. {float(t1):.4g} s"
+
+
+def _degree_ticks(v, _pos):
+    return f"{v:g}°"
+
+
+def broken(f, share=JUMP_SHARE, ratio=JUMP):
+    """The locus ``f`` (n, 2) with a NaN row between two consecutive points where it jumps
+    (a load switching on or off), so that no chord is drawn across the diagram: a step
+    ``ratio`` times larger than the largest of the three steps on either side of it and
+    larger than ``share`` of the largest force."""
+    f = np.asarray(f, dtype=float)
+    if len(f) < 3:
+        return f
+    step = np.hypot(*np.diff(f, axis=0).T)
+    size = np.hypot(f[:, 0], f[:, 1])
+    top = float(np.max(size[np.isfinite(size)], initial=0.0))
+    if top == 0:
+        return f
+    padded = np.concatenate([np.full(3, np.nan), step, np.full(3, np.nan)])
+    near = np.stack([padded[k:k + len(step)] for k in (0, 1, 2, 4, 5, 6)])
+    with np.errstate(invalid="ignore"):
+        around = np.nanmax(np.where(np.isfinite(near), near, -np.inf), axis=0)
+        jump = (step > share * top) & (step > ratio * np.maximum(around, 0.0))
+    cuts = np.flatnonzero(jump) + 1
+    return np.insert(f, cuts, np.nan, axis=0) if len(cuts) else f
 
 
 def _check(sweep, who):
@@ -182,7 +223,7 @@ def effort(sweep, driver=None, ax=None, *, degrees=True, mean=True, peak=True, f
     out.mean = cycle_mean(x, y)
     if mean and math.isfinite(out.mean):
         out.mean_line = ax.axhline(out.mean, color=MEAN_COLOR, linestyle="--", linewidth=1.1,
-                                   zorder=2, label=f"mean {number(out.mean)}")
+                                   zorder=2, label=f"mean {number(out.mean)} ({MODEL_UNITS})")
         if fill:
             out.fills = [ax.fill_between(x, y, out.mean, where=y >= out.mean, color=ABOVE,
                                          linewidth=0, zorder=1, interpolate=True),
@@ -204,26 +245,29 @@ def effort(sweep, driver=None, ax=None, *, degrees=True, mean=True, peak=True, f
                                     va="top" if y[k] > 0 else "bottom",
                                     fontsize=9, color=INK, zorder=5)
     what = "torque" if nature == "angle" else "force" if nature == "length" else "effort"
-    unit = (" [°]" if degrees else " [rad]") if nature == "angle" else ""
+    unit = (" [°]" if degrees else " [rad]") if nature == "angle" else \
+        f" [length, {MODEL_UNITS}]" if nature == "length" else f" [{MODEL_UNITS}]"
     quantity = {"angle": "angle", "length": "length"}.get(nature, "driven quantity")
     if absolute:
         ax.set_xlabel(f"{name}: driven {quantity}{unit}")
     else:
-        ax.set_xlabel(f"{name}: change of the driven {quantity} since T = "
-                      f"{sweep.t[0]:.4g}{unit}")
-    ax.set_ylabel(f"{name} {what}")
+        ax.set_xlabel(f"{name}: change of the driven {quantity} since time "
+                      f"{sweep.t[0]:.4g} s{unit}")
+    ax.set_ylabel(f"{name} {what} [{effort_unit(nature)}]")
     if nature == "angle" and degrees and np.all(np.isfinite(x)):
         span = abs(x[-1] - x[0])
         if 90 <= span <= 1440:
             step = 45 if span <= 360 else 90
             first = math.ceil(min(x[0], x[-1]) / step) * step
             ax.set_xticks(np.arange(first, max(x[0], x[-1]) + 1e-9, step))
+        from matplotlib.ticker import FuncFormatter
+        ax.xaxis.set_major_formatter(FuncFormatter(_degree_ticks))
     ax.set_xlim(min(x[0], x[-1]), max(x[0], x[-1]))
     ax.axhline(0.0, color="#999999", linewidth=0.7, zorder=1.5)
     ax.grid(True, color="#dddddd", linewidth=0.7)
     ax.legend(loc="best", fontsize="small", framealpha=0.9)
     if title is None:
-        title = f"{mech.name}: {name} {what} over T = {sweep.t[0]:.4g} .. {sweep.t[-1]:.4g} " \
+        title = f"{mech.name}: {name} {what} over {time_span(sweep.t[0], sweep.t[-1])} " \
                 f"({sweep.force_level})"
     if title:
         ax.set_title(title, fontsize=10)
@@ -242,10 +286,38 @@ class PolarPlot:
         self.ax = ax
         self.line = self.peak_marker = None
         self.rays, self.texts = [], []
+        self.tips = np.zeros((0, 2))
 
     @property
     def figure(self):
         return self.ax.figure
+
+    def place_labels(self):
+        """Place the rays' labels, each beside its tip where it crosses neither the locus,
+        nor a ray, nor another label (plot.labels' placement); again after a change of
+        the figure's layout (``fig.tight_layout()``)."""
+        if not self.texts:
+            return
+        ax, fig = self.ax, self.ax.figure
+        ax.apply_aspect()
+        renderer = renderer_of(fig)
+        to_px = ax.transData.transform
+        origin = to_px((0.0, 0.0))
+        labels = []
+        for art, tip in zip(self.texts, self.tips):
+            set_offset(art, (0.0, 0.0))
+            bb = art.get_window_extent(renderer)
+            at = to_px(tip)
+            d = at - origin
+            norm = math.hypot(*d)
+            prefer = d / norm if norm > 1e-9 else np.array([0.0, 1.0])
+            labels.append(Label(art, at, (bb.width, bb.height), prefer, 2.0))
+        obstacles = Obstacles(ax, renderer, skip=self.texts)
+        frame = ax.get_window_extent(renderer)
+        px_per_pt = fig.dpi / 72.0
+        place(labels, obstacles, (frame.x0, frame.y0, frame.x1, frame.y1), px_per_pt)
+        for lb in labels:
+            set_offset(lb.artist, lb.offset / px_per_pt)
 
 
 def polar(sweep, constraint, on, ax=None, *, local=False, marks=8, title=None,
@@ -257,9 +329,10 @@ def polar(sweep, constraint, on, ax=None, *, local=False, marks=8, title=None,
 
     ``local=True`` resolves the force in the body's own frame (the load a journal fixed
     in the body sees turning round it). ``marks`` rays from the origin at evenly spaced
-    driven angles (or times) of the sweep, each labelled with the driven angle (an angle driver) or T
-    (those shorter than SHORT × the largest force without a label); the force of largest
-    size is marked with its value."""
+    driven angles (or times) of the sweep, each labelled with the driven angle (an angle
+    driver) or the time, placed clear of the locus (``place_labels()`` again after a change
+    of layout); the force of largest size is marked with its value. Where the force jumps
+    (a load switching on or off) the locus is broken, not joined by a chord (``broken``)."""
     _check(sweep, "polar")
     mech = sweep.mechanism
     tab = tables(mech)
@@ -283,7 +356,7 @@ def polar(sweep, constraint, on, ax=None, *, local=False, marks=8, title=None,
     name = short_name(mech, label)
     style = dict(color="C3", linewidth=1.5)
     style.update(line_kwargs)
-    out.line = ax.plot(f[:, 0], f[:, 1], zorder=3, **style)[0]
+    out.line = ax.plot(*broken(f).T, zorder=3, **style)[0]
     ax.plot([0], [0], "+", color=INK, markersize=9, zorder=4)
     ax.axhline(0.0, color="#999999", linewidth=0.7, zorder=1)
     ax.axvline(0.0, color="#999999", linewidth=0.7, zorder=1)
@@ -299,29 +372,29 @@ def polar(sweep, constraint, on, ax=None, *, local=False, marks=8, title=None,
         pass
     along = angle if angle is not None else np.asarray(sweep.t, dtype=float)
     out.at, tips = rays_at(along, f, int(marks), top)
+    shown = []
     for a, tip in zip(out.at, tips):
         if not np.all(np.isfinite(tip)):
             continue
         out.rays += ax.plot([0, tip[0]], [0, tip[1]], color="#8c8c8c", linewidth=0.8,
                             zorder=2)
         ax.plot([tip[0]], [tip[1]], ".", color=style["color"], markersize=5, zorder=4)
-        length = math.hypot(tip[0], tip[1])
-        if length < SHORT * top:      # near the origin the labels would pile up
-            continue
-        text = degree(a) if angle is not None else f"T={a:.3g}"
-        d = tip / length
-        out.texts.append(ax.annotate(text, xy=(tip[0], tip[1]), xytext=(9 * d[0], 9 * d[1]),
+        text = degree(a) if angle is not None else f"t = {a:.3g} s"
+        out.texts.append(ax.annotate(text, xy=(tip[0], tip[1]), xytext=(0.0, 0.0),
                                      textcoords="offset points", ha="center", va="center",
-                                     fontsize=8, color="#444444", zorder=5))
+                                     fontsize=8, color="#444444", zorder=5,
+                                     annotation_clip=False))
+        shown.append(tip)
+    out.tips = np.array(shown).reshape(-1, 2)
     if top > 0:
         k = int(np.nanargmax(np.where(finite, size, -np.inf)))
-        where = degree(angle[k]) if angle is not None else f"T = {sweep.t[k]:.4g}"
+        where = degree(angle[k]) if angle is not None else f"t = {sweep.t[k]:.4g} s"
         out.peak_marker = ax.plot([f[k, 0]], [f[k, 1]], "o", color=INK, markersize=5,
                                   zorder=5, label=f"largest {number(top)} at {where}")[0]
         ax.legend(loc="best", fontsize="small", framealpha=0.9)
     frame = f"{on}'s frame" if local and body is not None else "global axes"
-    ax.set_xlabel(f"fx ({frame})")
-    ax.set_ylabel(f"fy ({frame})")
+    ax.set_xlabel(f"fx [force, {MODEL_UNITS}] ({frame})")
+    ax.set_ylabel(f"fy [force, {MODEL_UNITS}] ({frame})")
     ax.set_aspect("equal", adjustable="box")
     ax.grid(True, color="#dddddd", linewidth=0.7)
     if top > 0:   # room for the ray labels around the locus
@@ -330,12 +403,13 @@ def polar(sweep, constraint, on, ax=None, *, local=False, marks=8, title=None,
         ax.set_xlim(min(lo[0], 0) - pad, max(hi[0], 0) + pad)
         ax.set_ylim(min(lo[1], 0) - pad, max(hi[1], 0) + pad)
     if title is None:
-        title = f"{mech.name}: force of {name} on {on} over T = {sweep.t[0]:.4g} .. " \
-                f"{sweep.t[-1]:.4g}"
+        title = f"{mech.name}: force of {name} on {on} over " \
+                f"{time_span(sweep.t[0], sweep.t[-1])}"
     if title:
         ax.set_title(title, fontsize=10)
     if own:
         ax.figure.tight_layout()
+    out.place_labels()
     return out
 
 
