@@ -150,3 +150,32 @@ def test_polar_axes_say_their_units(turn):
     for label in (p.ax.get_xlabel(), p.ax.get_ylabel()):
         assert "model units" in label, label
     assert "T = " not in p.ax.get_title() and "time 0 .. 1 s" in p.ax.get_title()
+
+
+# -- the drawing -------------------------------------------------------------------------
+def _outline(d, body):
+    return max((a for a in d.artists[body] if isinstance(a, Polygon)),
+               key=lambda a: len(a.get_xy()))
+
+
+def test_the_crank_is_drawn_over_the_lever_and_its_slot(qr):
+    d = plot.draw(qr, qr.solve(0.7, level="dynamic"), forces=True)
+    crank = _outline(d, "manivela")
+    lever = [a.get_zorder() for a in d.artists["colisa"] if isinstance(a, Polygon)]
+    assert crank.get_zorder() > max(lever)          # the lever and its white slot below
+    block = [a.get_zorder() for a in d.artists["joints"] if isinstance(a, Polygon)]
+    assert max(block) > crank.get_zorder()          # the crank pin's block still on top
+
+
+def test_forces_drawing_labels_name_body_and_point(qr):
+    d = plot.draw(qr, qr.solve(0.7, level="dynamic"), forces=True, labels=True)
+    texts = [t for t, _ in d.labels]
+    assert len(set(texts)) == len(texts), texts
+    assert "manivela.P2·colisa.P3" in texts or any("manivela.P2" in t for t in texts), texts
+    assert all("." in t for t in texts), texts
+    # the artist shows the same names
+    d.figure.canvas.draw()
+    assert not [t for t in texts if t.startswith("P")]
+    plain = plot.draw(qr, qr.solve(0.7), labels=True)
+    assert any(t.startswith("P") for t, _ in plain.labels)     # plain drawings unchanged
+    assert math.isfinite(d.forces.scale)

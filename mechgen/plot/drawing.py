@@ -11,7 +11,7 @@ import warnings
 
 import numpy as np
 from matplotlib.lines import Line2D
-from matplotlib.patches import Patch
+from matplotlib.patches import Patch, Polygon
 
 from ..errors import MechgenError
 from ..runtime.results import Solution
@@ -300,6 +300,8 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
         if keep_auto and not bld.boxed.get(b.name, False):
             bld.body_shape(b)
 
+    stack_bodies(bld.d, P0)
+
     def chosen(option):
         if option is True:
             return st.bodies
@@ -333,7 +335,7 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
     if outside:
         width += 1.4
     _set_frame(ax, d.frame, width if own else None, 1.5 if outside else 0.0)
-    bld.labels(chosen(labels), fontsize)
+    bld.labels(chosen(labels), fontsize, named=arrows is not None)
     if arrows is not None:      # their labels placed last, clear of the points' labels
         arrows.place_labels()
         points_again = d._place_labels
@@ -370,6 +372,36 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
             ax.legend(handles=handles, loc=legend if isinstance(legend, str) else "best",
                       fontsize=fontsize, framealpha=0.85)
     return d
+
+
+def stack_bodies(d, P0):
+    """Stack the moving bodies so that none hides another: the smaller (shorter) a body,
+    the higher its layer, so that a crank is drawn over the lever it drives and over the
+    lever's slot. A layer holds a body's outline (zorder 2 + 0.01 × its number, as drawn),
+    its slider box (2.5) and its slot (3), in that order, all within [2, 2.09]: under
+    the pins, blocks and rods as before, and under a cam's hub and the pivots over it."""
+    st = d.structure
+    moving = [b for b in st.bodies if not b.ground and b.every]
+    n = len(moving)
+    if n < 2:
+        return
+
+    def size(b):
+        xy = np.asarray(P0)[list(b.every)]
+        return float(np.max(np.hypot(*(xy[:, None] - xy[None]).reshape(-1, 2).T)))
+
+    order = sorted(moving, key=lambda b: (-size(b), b.number))
+    step = 0.09 / n
+    for r, b in enumerate(order):
+        layer = {2 + 0.01 * b.number: 0.0, 2.5: 0.3 * step, 3.0: 0.6 * step}
+        for art in d.artists.get(b.name, ()):
+            if not isinstance(art, Polygon):
+                continue
+            z = art.get_zorder()
+            for old, offset in layer.items():
+                if abs(z - old) < 1e-12:
+                    art.set_zorder(2 + r * step + offset)
+                    break
 
 
 def add_forces(d, solution, on, fontsize):

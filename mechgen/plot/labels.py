@@ -262,11 +262,12 @@ def set_offset(artist, offset_pt):
         artist.xyann = tuple(offset_pt)
 
 
-def put_labels(bld, bodies, fontsize):
+def put_labels(bld, bodies, fontsize, named=False):
     """Label the points of ``bodies`` in the drawing a glyphs.Builder ``bld`` is making
     (its configuration P0, motion P, bar size w) and place them; returns a function
     that places them again where the figure's layout or the configuration has changed
-    (``Drawing.place_labels``)."""
+    (``Drawing.place_labels``). ``named``: each point as ``body.P2`` (a forces drawing,
+    where the labels are read beside the arrows' names), not P2 alone."""
     if not bodies:
         return lambda: None
     ax, d = bld.ax, bld.d
@@ -284,10 +285,10 @@ def put_labels(bld, bodies, fontsize):
     made = []            # (artist, POINTS index, the bodies' points around it)
     for g in groups:
         host, _, k = next((m for m in g if not m[0].ground), g[0])   # moves with it
-        art = label_artist(ax, [(f"P{n}", b.edge) for b, n, _ in g], bld.local(host, k),
-                           bld.trans(host), fontsize)
+        pieces = [(f"{b.name}.P{n}" if named else f"P{n}", b.edge) for b, n, _ in g]
+        art = label_artist(ax, pieces, bld.local(host, k), bld.trans(host), fontsize)
         d.artists[host.name].append(art)
-        d.labels.append((JOIN.join(f"P{n}" for _, n, _ in g), art))
+        d.labels.append((JOIN.join(text for text, _ in pieces), art))
         made.append((art, k, [b.pts for b, _, _ in g]))
     pin = 0.85 * bld.w
 

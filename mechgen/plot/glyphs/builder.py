@@ -360,10 +360,11 @@ class Builder:
         move(self.P0, self.q0, 0.0)
         self.d.on_move(move)
 
-    def labels(self, bodies, fontsize):
+    def labels(self, bodies, fontsize, named=False):
         """P1, P2, ... next to the points of the bodies, where they collide with nothing
-        (mechgen.plot.labels); one label for a point several of them share."""
-        self.d._place_labels = put_labels(self, bodies, fontsize)
+        (mechgen.plot.labels); one label for a point several of them share; ``named``:
+        body.P1, body.P2, ..."""
+        self.d._place_labels = put_labels(self, bodies, fontsize, named=named)
 
     def local_axes(self, bodies, fontsize):
         for b in bodies:
