@@ -19,6 +19,7 @@ import numpy as np
 
 from ...protocol import SING_RTOL
 from ..entry import module_attr
+from .directions import mark
 
 CONSISTENT_RTOL = 1e-8     # a residual of Φ_qᵀλ = Q above this share of its size: no solution
 MISSING = object()         # (a name the module does not have)
@@ -137,6 +138,7 @@ def solve_points(module, ts, Q, QD, QDD, p, level, extras=True) -> PointForces:
         else:
             out.LAM[k] = np.nan
             out.singular[k] = True
+    mark(module, ts, Q, p, out.LAM, out.singular)   # a spring or damper without direction
     return out
 
 

@@ -13,6 +13,7 @@ from ..entry import module_attr
 from ..guards import all_finite
 from ..results import Solution
 from .contact import contact_labels, contact_values
+from .directions import singular_error
 from .lookup import _constraints_of, loads_guarded, tables
 from .points import MISSING, by_blocks, svd_solve, written_out
 
@@ -351,6 +352,9 @@ def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -
             scratch = mech._force_scratch = (np.zeros(3), np.empty(len(mod.DRIVER_ROWS)))
         fused = (scratch[0], np.empty(mech.m), scratch[1])
     s = mech._solve(t, guess, kin, method, tol, maxit, fused)
+    pointless = singular_error(mech, s)     # a spring or damper without direction
+    if pointless is not None:
+        raise pointless
     terms, dependent = None, ()
     if fused is not None and fused[0][2] >= SING_RTOL:   # (0.0 where a λ is not finite)
         lam = fused[1]

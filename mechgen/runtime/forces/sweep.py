@@ -11,6 +11,7 @@ from ...protocol import SING_RTOL, STATUS_COLUMNS
 from ..results import Sweep
 from .contact import CAM_KINDS, contact_labels, contact_values
 from .contact_loss import contact_loss, pulling
+from .directions import load_ends, mark
 from .lookup import _constraints_of, column_name, effort_column, loads_guarded, tables
 from .points import PointForces, solve_points
 from .solution import ForceSolution, _effort, _point_xy, _reaction, warn_shared
@@ -210,6 +211,7 @@ class ForceSweep(Sweep):
             raise ValueError(f"flywheel: driver {label!r} has a mean rate of {omega:.3g} over "
                              "the sweep (it goes back and forth): a flywheel needs a driver "
                              "turning one way at constant speed")
+        _one_period(mech, label, omega * (t[-1] - t[0]), omega)
         return {"energy": energy, "inertia": energy / (cs * omega ** 2), "mean_power": mean}
 
     def shaking(self) -> np.ndarray:
@@ -247,6 +249,24 @@ class ForceSweep(Sweep):
         return out
 
 
+def _one_period(mech, label, travel, omega):
+    """A ValueError where an angle driver (rotation_lock) turns less than a whole turn
+    over the sweep, a warning where it turns other than a whole number of turns: the
+    flywheel's ΔE is the fluctuation over one period of the cycle, a turn of the crank."""
+    kind = next((c[1] for c in mech.module.CONSTRAINTS if c[2] == label), None)
+    if kind != "rotation_lock":
+        return
+    turns = abs(travel) / (2 * np.pi)
+    period = 2 * np.pi / abs(omega)
+    said = (f"flywheel: driver {label!r} turns {turns:.4g} of a turn over the sweep "
+            f"({abs(travel):.4g} rad), but the flywheel's energy is the fluctuation over one "
+            f"period of the cycle, a whole turn (2π rad, {period:.6g} in T at its mean rate)")
+    if turns < 1 - 1e-6:
+        raise ValueError(f"{said}: sweep over a whole period")
+    if abs(turns - round(turns)) > 1e-6:
+        warnings.warn(f"{said}: the sweep is not a whole number of periods", stacklevel=3)
+
+
 def attach(sw, level, fused=None) -> "ForceSweep":
     """The kinematic sweep ``sw`` (at acceleration for "dynamic", position for "static")
     with λ at every point, as a ForceSweep; warns where the force balance has no
@@ -270,8 +290,11 @@ def attach(sw, level, fused=None) -> "ForceSweep":
     out.indeterminate = _constraints_of(mech, {labels[i] for i in pts.dependent})
     if out.force_singular.any():
         times = out.t[out.force_singular]
+        ends = [f"{kind} '{name}'" for name, kind, _, _ in load_ends(mech.module)]
+        why = (f", or a spring or damper whose two ends meet there (no direction: "
+               f"{', '.join(ends)})") if ends else ""
         warnings.warn(f"model '{mech.name}': no force balance at {times.size} point(s) "
-                      f"(first t={times[0]:.6g}): a lock or toggle position; their "
+                      f"(first t={times[0]:.6g}): a lock or toggle position{why}; their "
                       "multipliers are NaN (sw.force_singular)", stacklevel=4)
     if tables(mech).forces:
         _warn_pulling(out)
@@ -313,6 +336,7 @@ def _completed(mech, sw, level, fused) -> PointForces:
                             None if still else sw.QDD[k], mech.p, level, extras=False)
         pts.LAM[k], pts.FACTORS[k], pts.singular[k] = rest.LAM, rest.FACTORS, rest.singular
         pts.dependent = rest.dependent
+    mark(mech.module, sw.solved_t, sw.Q, mech.p, pts.LAM, pts.singular)
     return pts
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...protocol import JUMP, OK, SING_RTOL, STATUS_CODE, STATUS_NAMES, THROUGH_SINGULAR
+from ..forces.directions import load_ends, mark
 from ..forces.lookup import FORCE_LEVELS, tables
 from ..forces.points import (by_blocks, driver_rows, efforts, has_forces, solve_points,
                             svd_point)
@@ -182,6 +183,8 @@ def repaired(module, ts, P, Q, QD, QDD, done, LAM, FACTORS, PIV):
             lam, _, consistent = svd_point(module, Q[d, k], QD[d, k], QDD[d, k], ts[k],
                                            P[d], J, terms)
             LAM[d, k] = lam if consistent else np.nan
+    for d in np.flatnonzero(done) if load_ends(module) else ():   # springs without direction
+        mark(module, ts[:done[d]], Q[d, :done[d]], P[d], LAM[d, :done[d]])
     return LAM, FACTORS
 
 
