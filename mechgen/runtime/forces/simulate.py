@@ -314,6 +314,9 @@ def _stalled(mech, t, t_a, t_b):
         "say) chatters; smooth it, or change the loads", t=t)
 
 
+SCIPY_METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")   # solve_ivp's by name
+
+
 def _scipy_span(system, y, t_a, t_b, method, rtol, atol, max_step):
     """(y at t_b, steps, evaluations) by scipy's solve_ivp."""
     from scipy.integrate import solve_ivp
@@ -365,6 +368,10 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
     """See Mechanism.simulate."""
     ts = sweep_times(t0, t1, n)
     _check_accuracy(rtol, atol, max_step)
+    if not (method == COMPILED or method in SCIPY_METHODS or isinstance(method, type)):
+        raise ValueError(f"simulate: no integration method {method!r}: give {COMPILED!r} "
+                         f"(compiled Dormand–Prince) or one of scipy's solve_ivp methods "
+                         f"({', '.join(SCIPY_METHODS)})")
     system = _System(mech, free)
     # an integration makes thousands of calls: in the python tier of "auto", compiled first
     mech._tiers.expect(mech, SIMULATE_POINTS, "simulate")
