@@ -70,7 +70,8 @@ def cmd_check(args):
     from ..compiler.check import check_report
     ok = True
     for model in models(args):
-        text, good = check_report(model, t=args.t, starts=args.starts)
+        text, good = check_report(model, t=args.t, starts=args.starts,
+                                  cycle=not args.no_cycle)
         sys.stdout.write(text)
         ok = ok and good
     return 0 if ok else 1
@@ -157,7 +158,8 @@ def parser() -> argparse.ArgumentParser:
                                      "redundant, missing or contradictory constraints",
                        description="Check a model before building it; exits non-zero when "
                                    "a constraint is missing, a coordinate is left free, the "
-                                   "model cannot be assembled at the time given, or its "
+                                   "model cannot be assembled at the time given or locks "
+                                   "within one period of its turning drivers, or its "
                                    "redundant equations hold there but cannot keep holding "
                                    "(a driver fighting a constraint or another driver).")
     _add_common(p, outdir=False)
@@ -165,6 +167,9 @@ def parser() -> argparse.ArgumentParser:
                    help="time at which to check (default 0); a number or an expression")
     p.add_argument("--starts", type=_starts, default=128,
                    help="quasi-random starts of the search for assembly modes (default 128)")
+    p.add_argument("--no-cycle", action="store_true",
+                   help="check at -t only (by default the assembly is followed through one "
+                        "period of the drivers that turn, and a driver that locks fails)")
     p.set_defaults(func=cmd_check)
 
     solve_commands.add_commands(sub, _add_common, _add_solve_opts)

@@ -16,6 +16,7 @@ from ..model.forces.holds import held
 from ..model.geometry import T
 from ..model.symbolic import rank_analysis
 from ..turns import meshed_alike, turn_coefficients
+from .cycle_check import whole_cycle
 from .functions.equations_code import mesh_counts
 from .solver.blocks import CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, NEWTON
 from .solver.dyads import signed
@@ -348,8 +349,8 @@ class _Check:
     """One model checked at one time: the counts, the first assembly from the guess, and
     the lines of the report (``run`` says whether the model passes)."""
 
-    def __init__(self, model, t, starts):
-        self.model, self.t, self.starts = model, float(t), starts
+    def __init__(self, model, t, starts, cycle=True):
+        self.model, self.t, self.starts, self.cycle = model, float(t), starts, cycle
         self.eq = eq = model.equations()
         self.names = [str(c) for c in eq.q]
         self.n, self.m = len(eq.q), eq.phi.rows
@@ -425,6 +426,9 @@ class _Check:
                     f"{s} = {_num(v)}" for s, v in zip(self.names, wrap(q, self.shown))))
         if not free and m >= n:
             ok = self.modes() and ok
+        if ok and converged and self.cycle:     # a driver that cannot turn locks later
+            more, ok = whole_cycle(self.system, self.model, eq, q, t, self.shown)
+            lines += more
         lines.append(_structure(eq, self.model))
         lines.append("  check: " + ("True" if ok else "False"))
         return ok
@@ -516,7 +520,7 @@ class _Check:
         return False
 
 
-def check_report(model, t=0.0, starts=STARTS) -> tuple[str, bool]:
+def check_report(model, t=0.0, starts=STARTS, cycle=True) -> tuple[str, bool]:
     """Mech's CheckSystem and more. Returns (text, ok).
 
     ok is False when equations are missing, the Jacobian is rank-deficient at the
@@ -524,10 +528,13 @@ def check_report(model, t=0.0, starts=STARTS) -> tuple[str, bool]:
     at t (constraints that contradict each other, or a guess from which no mode is
     reached), or redundant equations that hold at t disagree in their velocities or
     accelerations (they cannot keep holding: the motion stops at t); redundant but
-    consistent equations are reported, not failed.
+    consistent equations are reported, not failed. ``cycle``: the assembly followed from
+    t through one period of the drivers that turn at a constant rate (cycle_check); ok is
+    False where it locks (a driver that cannot turn), and the report says when a model
+    was checked at t only.
     """
     holding = held(model)
-    check = _Check(holding, t, starts)
+    check = _Check(holding, t, starts, cycle)
     ok = check.run()
     if holding is not model:
         held_rows = [c.args_text.split(",")[0] for c in holding.constraints[
