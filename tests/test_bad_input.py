@@ -260,7 +260,8 @@ def test_failed_write_leaves_no_half_module(tmp_path, monkeypatch):
 
 def test_cli_runtime_errors(tmp_path, capsys, monkeypatch):
     """Solving through the command line: a time without assembly, a NaN time, an unknown
-    guess name: exit 1 and one line saying why. (On the plain-Python tier: the messages
+    guess name: exit 1 and one message saying why (a headline, any details indented
+    below it). (On the plain-Python tier: the messages
     come from the runtime, the statuses from the module's text; no compile of a fresh
     build.)"""
     from mechgen.cli import main
@@ -279,7 +280,8 @@ def test_cli_runtime_errors(tmp_path, capsys, monkeypatch):
     for argv, words in cases:
         assert main(argv) == 1, argv
         err = capsys.readouterr().err
-        assert err.count("\n") == 1, err
+        first, *details = err.splitlines()      # a headline, the details indented below
+        assert first.startswith("mechgen: ") and all(d.startswith("  ") for d in details), err
         for word in words:
             assert word in err, (argv, word, err)
 

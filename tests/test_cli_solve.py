@@ -72,9 +72,10 @@ def close(a, b, digits=6):
 
 
 def one_message(err):
-    """A failure prints one line, no traceback, naming itself as mechgen's."""
+    """A failure prints one message, no traceback, naming itself as mechgen's: a headline
+    line, and under it, indented, the details where it has some (a lock's)."""
     lines = [ln for ln in err.splitlines() if ln.strip()]
-    assert len(lines) == 1, err
+    assert len(lines) >= 1 and all(ln.startswith("  ") for ln in lines[1:]), err
     assert "Traceback" not in err
     return lines[0]
 

@@ -337,7 +337,8 @@ def find_locks_near(mech, q, t, spans=(1e-6, 1e-5, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2,
 def explain_failure(mech, t, q, t_good=None, q_good=None):
     """Why no configuration was found at t, from the point Newton stopped at (q) and,
     after a sweep, the last configuration reached (q_good at t_good). Returns
-    (text, constraints involved, lock positions found)."""
+    (headline, details, constraints involved, lock positions found): the headline a
+    short clause (empty when nothing is known), the details whole sentences."""
     drivers = _drivers(mech)
     ask = f" ({'; '.join(drivers)})" if drivers else ""
     lock = None
@@ -346,12 +347,13 @@ def explain_failure(mech, t, q, t_good=None, q_good=None):
     q_ls, res, root = least_squares(mech, q, t)
     if lock is not None:
         # a sweep ran into a lock: its assembly mode ends there
-        text = [f"The assembly mode the sweep follows ends at a lock (toggle) position at "
-                f"t≈{lock.t:.10g}, where {lock.null.describe()}: the mechanism cannot move on"]
+        head = f"the assembly mode followed ends at a lock (toggle) position at t≈{lock.t:.10g}"
+        details = [f"At the lock, {lock.null.describe()}: the mechanism cannot move on"]
         locks = [lock]
         if root:
-            text.append(f"A configuration does exist at t={t:.10g}, but not one the mechanism "
-                        "reaches by moving from the start (a new sweep from there follows it)")
+            details.append(f"A configuration does exist at t={t:.10g}, but not one the "
+                           "mechanism reaches by moving from the start (a new sweep from "
+                           "there follows it)")
         else:
             gap = ""
             far = [s for s in find_locks_near(mech, q_ls, t)
@@ -361,39 +363,46 @@ def explain_failure(mech, t, q, t_good=None, q_good=None):
                 locks.append(other)
                 a, b = sorted((lock.t, other.t))
                 gap = f": the mechanism has no assembly between t≈{a:.10g} and t≈{b:.10g}"
-            text.append(f"The drivers{ask} ask for a configuration that cannot assemble{gap}")
-        return ". ".join(text), tuple(lock.lock or lock.grouped), sorted(locks, key=float)
+            details.append(f"The drivers{ask} ask for a configuration that cannot "
+                           f"assemble{gap}")
+        return head, details, tuple(lock.lock or lock.grouped), sorted(locks, key=float)
     if root:
-        return ("A configuration does exist near the guess (least squares reaches it): "
-                "start from a closer guess", (), [])
+        return ("a configuration does exist near the guess (least squares reaches it): "
+                "start from a closer guess", [], (), [])
     if not np.isfinite(res):
-        return ("The constraint equations are not finite there (NaN or infinite values: "
-                "check parameters and drivers)", (), [])
+        return ("the constraint equations are not finite there",
+                ["NaN or infinite values: check parameters and drivers"], (), [])
     null = null_space(mech, q_ls, t, force=True)
     r = residual_vector(mech, q_ls, t)
     worst = [mech.constraint_labels[i] for i in np.argsort(-np.abs(r), kind="stable")[:3]
              if np.isfinite(r[i]) and abs(r[i]) > mech.tol]
     singular = null.ratio < 1e-4
     if mech.m > mech.n and not singular:
-        return (f"The constraints disagree: the {mech.m} equations for {mech.n} coordinates "
-                f"hold no configuration near the guess (the closest leaves a residual of "
-                f"{res:.3g} in {'; '.join(worst)}): the redundant constraints are inconsistent "
-                "here", tuple(worst), [])
+        return ("the redundant constraints are inconsistent here",
+                [f"The constraints disagree: the {mech.m} equations for {mech.n} "
+                 f"coordinates hold no configuration near the guess (the closest leaves a "
+                 f"residual of {res:.3g} in {'; '.join(worst)})"], tuple(worst), [])
     if not singular:
-        return (f"The closest configuration near the guess leaves a residual of {res:.3g} in "
-                f"{'; '.join(worst)}; try another guess", tuple(worst), [])
-    text = [f"The drivers{ask} ask for a configuration that cannot assemble: near the guess "
-            f"the constraints come no closer than a residual of {res:.3g}, where the Jacobian "
-            f"loses rank ({null.describe()})"]
+        return (f"the closest configuration near the guess leaves a residual of {res:.3g}: "
+                "try another guess", [f"The residual is in {'; '.join(worst)}"],
+                tuple(worst), [])
+    details = [f"The drivers{ask} ask for a configuration that cannot assemble: near the "
+               f"guess the constraints come no closer than a residual of {res:.3g}, where "
+               f"the Jacobian loses rank ({null.describe()})"]
+    head = "the drivers ask for a configuration that cannot assemble"
     locks = find_locks_near(mech, q_ls, t)
     before = [s for s in locks if s.t <= t]
     after = [s for s in locks if s.t > t]
     if before and after:
-        text.append(f"The mechanism reaches lock (toggle) positions at t≈{before[-1].t:.10g} and "
-                    f"t≈{after[0].t:.10g} and has no assembly between them")
+        head += (f": no assembly between the lock (toggle) positions at "
+                 f"t≈{before[-1].t:.10g} and t≈{after[0].t:.10g}")
+        details.append(f"The mechanism reaches lock (toggle) positions at "
+                       f"t≈{before[-1].t:.10g} and t≈{after[0].t:.10g} and has no assembly "
+                       "between them")
     elif locks:
-        text.append(f"It is beyond a lock (toggle) position at t≈{locks[0].t:.10g}")
-    return ". ".join(text), tuple(null.lock or null.grouped), locks
+        head += f": it is beyond a lock (toggle) position at t≈{locks[0].t:.10g}"
+        details.append(f"It is beyond a lock (toggle) position at t≈{locks[0].t:.10g}")
+    return head, details, tuple(null.lock or null.grouped), locks
 
 
 # -- the exceptions Mechanism raises -------------------------------------------------------
@@ -425,15 +434,24 @@ def convergence_error(mech, status, t, q, info, t_good=None, q_good=None,
     iters, res = int(info[INFO_ITERATIONS]), float(info[INFO_RESIDUAL])
     why = "Newton's method did not converge" if status in (NO_CONVERGENCE, GAVE_UP) else \
         "the solve produced non-finite values" if status == NOT_FINITE else f"status {status}"
-    msg = (f"no configuration found at t={t:.10g}{where}: {why} in {iters} iterations "
-           f"(residual {res:.3g})")
+    newton = f"{why} in {iters} iterations (residual {res:.3g})"
+    where = where.strip()
+    if where.startswith("(") and where.endswith(")"):
+        where = where[1:-1]
     try:
-        text, names, locks = explain_failure(mech, t, np.array(q, dtype=np.float64),
-                                             t_good=t_good, q_good=q_good)
+        head, details, names, locks = explain_failure(
+            mech, t, np.array(q, dtype=np.float64), t_good=t_good, q_good=q_good)
     except (ArithmeticError, ValueError, np.linalg.LinAlgError):
-        text, names, locks = "", (), []
-    if text:
-        msg += ". " + text
-    exc = ConvergenceError(msg, t=t, iterations=iters, residual=res, constraints=names)
+        head, details, names, locks = "", [], (), []
+    exc = ConvergenceError(headline(f"no configuration found at t={t:.10g}: {head or why}",
+                                    [newton + (f"; {where}" if where else "")] + details),
+                           t=t, iterations=iters, residual=res, constraints=names)
     exc.locks = locks
     return exc
+
+
+def headline(head, details) -> str:
+    """An error's text: a short first line, then each detail on a line of its own,
+    indented (so that a command's one-line summary stays short and the rest is read below
+    it)."""
+    return head + "".join(f"\n  {d}" for d in details if d)
