@@ -443,9 +443,10 @@ def convergence_error(mech, status, t, q, info, t_good=None, q_good=None,
             mech, t, np.array(q, dtype=np.float64), t_good=t_good, q_good=q_good)
     except (ArithmeticError, ValueError, np.linalg.LinAlgError):
         head, details, names, locks = "", [], (), []
-    exc = ConvergenceError(headline(f"no configuration found at t={t:.10g}: {head or why}",
-                                    [newton + (f"; {where}" if where else "")] + details),
-                           t=t, iterations=iters, residual=res, constraints=names)
+    newton += f"; {where}" if where else ""
+    msg = headline(f"no configuration found at t={t:.10g}: {head}", [newton] + details) \
+        if head else f"no configuration found at t={t:.10g}: {newton}"   # nothing more known
+    exc = ConvergenceError(msg, t=t, iterations=iters, residual=res, constraints=names)
     exc.locks = locks
     return exc
 
