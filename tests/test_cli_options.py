@@ -73,9 +73,10 @@ def model_file(tmp_path, source, extra="", name="model.py", replace=()):
 
 
 def culprits(out):
-    """The constraint lines listed after "contradict each other"."""
+    """The constraint lines listed after "contradict each other" (numbered; not the line
+    that names a loop's lengths)."""
     part = out.split("contradict each other")[1].split("  structure")[0]
-    return [ln.strip() for ln in part.splitlines()[1:] if ln.strip()]
+    return [ln.strip() for ln in part.splitlines()[1:] if ln.strip()[:1].isdigit()]
 
 
 # -- check: wrong or misleading verdicts -----------------------------------------------------
@@ -106,6 +107,8 @@ def test_check_fails_a_loop_that_cannot_close(capsys, tmp_path):
     code, out, _ = run(capsys, "check", path)
     assert code == 1
     assert [c.split()[0] for c in culprits(out)] == ["1", "2", "3", "4", "5"]
+    assert "the loop cannot close: crank[2]–ground[2] = 2.69072 > c (rocker) + b (coupler)" \
+        in out
 
 
 def test_check_says_a_joint_is_missing_not_a_driver(capsys, tmp_path):

@@ -18,6 +18,7 @@ from ..model.symbolic import rank_analysis
 from ..turns import meshed_alike, turn_coefficients
 from .cycle_check import whole_cycle
 from .functions.equations_code import mesh_counts
+from .loop_lengths import loop_dimensions
 from .solver.blocks import CLOSED_FORM_QUADRATIC, CLOSED_FORM_TRIG, DYAD_RRR, EXPLICIT, NEWTON
 from .solver.dyads import signed
 from .solver.plan import make_plan
@@ -517,6 +518,7 @@ class _Check:
             "of them:"]
         by_number = {c.number: c for c in self.model.constraints}
         self.lines += [f"    {c} {by_number[c].label}" for c in culprits]
+        self.lines += loop_dimensions(self.model, [by_number[c] for c in culprits], self.t)
         return False
 
 

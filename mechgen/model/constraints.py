@@ -114,6 +114,7 @@ class Revolute(Constraint):
     def build(self, p1, p2):
         p1 = _point(self.model, p1, self.kind, 1)
         p2 = _point(self.model, p2, self.kind, 2)
+        self.points = (p1, p2)          # mechgen check names a loop's lengths from them
         d = p1.r - p2.r
         self.exprs = [d[0], d[1]]
         return f"{p1}, {p2}"
