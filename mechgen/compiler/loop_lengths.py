@@ -85,7 +85,15 @@ def _crank_angle(driver, body, values, t):
 
 def loop_dimensions(model, culprits, t) -> list:
     """Report lines naming the lengths that keep the loop of ``culprits`` (constraints)
-    from closing at t; [] where the culprits are not such a loop or the lengths allow it."""
+    from closing at t; [] where the culprits are not such a loop or the lengths allow it
+    (or a length is not a number at the parameters' defaults: the report goes without)."""
+    try:
+        return _dimensions(model, culprits, t)
+    except (TypeError, ValueError, ZeroDivisionError, NotImplementedError):
+        return []
+
+
+def _dimensions(model, culprits, t) -> list:
     values = {sym: val for sym, val in model.params.values()}
     revolutes = [c for c in culprits if c.kind == "revolute" and hasattr(c, "points")]
     others = [c for c in culprits if c not in revolutes]
