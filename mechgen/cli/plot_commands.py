@@ -2,12 +2,14 @@
 from __future__ import annotations
 
 import math
+import os
 import re
 
 from ..errors import MechgenError
 from ..protocol import LEVELS
 from .loading import mechanism
 from .options import number_type, output_file, parse_guess, positive_type, written
+from .progress import RenderProgress
 
 
 def _pictures():
@@ -98,7 +100,7 @@ def cmd_animate(args):
                      labels=_bodies(args.labels), axes=_bodies(args.axes), legend=args.legend,
                      width=args.width)
     with written(path) as tmp:
-        a.save(tmp, dpi=args.dpi)
+        a.save(tmp, dpi=args.dpi, progress=RenderProgress(os.path.basename(path)))
     plt.close(a.figure)
     last = sw.t[len(a) - 1]
     same = "" if len(a) == len(sw) else f"; T = {sw.t[-1]:g} repeats T = {sw.t[0]:g}, left out"

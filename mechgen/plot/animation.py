@@ -73,13 +73,19 @@ class Animation:
             if dpi is not None:
                 fig.set_dpi(old_dpi)
 
-    def save(self, path, fps=None, dpi=80):
-        """Write a GIF (pillow) or, with ffmpeg on the PATH, an MP4 (.mp4, .mov, .mkv)."""
+    def save(self, path, fps=None, dpi=80, progress=None):
+        """Write a GIF (pillow) or, with ffmpeg on the PATH, an MP4 (.mp4, .mov, .mkv).
+        ``progress(done, total)``, where given, is called after each frame rendered (a
+        long film's progress and estimate: mechgen animate prints them)."""
         fps = self.fps if fps is None else fps
         ext = check_movie_path(path)
+        tell = progress if progress is not None else (lambda done, total: None)
         if ext == ".gif":
             from PIL import Image
-            images = [Image.fromarray(f) for f in self.frames(dpi)]
+            images = []
+            for f in self.frames(dpi):
+                images.append(Image.fromarray(f))
+                tell(len(images), self._n)
             # one palette for the whole film: from a few frames side by side
             picks = images[:: max(1, len(images) // 4)][:4]
             sheet = Image.new("RGB", (sum(i.width for i in picks), picks[0].height))
@@ -101,6 +107,7 @@ class Animation:
                 for f in range(self._n):
                     self._step(f)
                     writer.grab_frame()
+                    tell(f + 1, self._n)
         self._step(0)
         self.path = path
         return path
