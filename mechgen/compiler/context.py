@@ -9,6 +9,7 @@ every name the module uses (mechgen.compiler.codegen.names) and prints the bodie
 from __future__ import annotations
 
 import hashlib
+import json
 import re
 import unicodedata
 
@@ -27,7 +28,7 @@ from .functions.dynamics_code import FUSED, dynamics_sorted_body, written_forces
 from .functions.equations_code import (gamma_body, mesh_turns_body, nu_body, outputs_bodies,
                                        phi_body, phi_q_body, point_list, points_body)
 from .functions.forces_code import (force_blocks, force_functions, forces_bodies,
-                                    multipliers_point_body)
+                                    load_constant_table, multipliers_point_body)
 from .functions.profiles_code import profile_helpers
 from .solver.blocks import EXPLICIT
 from .solver.dyads import reach_body
@@ -187,7 +188,8 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
                     frame=text("frame_loads") is not None,
                     fused=text("sweep_fast_forces") is not None,
                     static=text("sweep_fast_statics") is not None,
-                    blocks=force_blocks(plan, eq))
+                    blocks=force_blocks(plan, eq),
+                    **load_constants_context(model, eq))
         if force_parts else None,
         pivot_rtol=repr(PIVOT_RTOL),
         sing_rtol=repr(SING_RTOL),
@@ -198,6 +200,25 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     ctx.update(drawing_context(model, points))
     ctx["hash"] = model_hash(ctx)
     return ctx
+
+
+def load_constants_context(model, eq) -> dict:
+    """{"constants": the lines of the module's LOAD_CONSTANTS} (the template writes them
+    as they are), or {} where the model has none (its module and its hash are then what
+    they were)."""
+    table = load_constant_table(model, eq)
+    if not table:
+        return {}
+    lines = ["# the loads' constants that load_constants(p, out) writes, in order: (the "
+             "load's kind, its",
+             "# name, the quantity, its expression in the parameters, what it must be); "
+             "the runtime refuses",
+             "# parameters that break one", "LOAD_CONSTANTS = ("]
+    for kind, name, what, expr, rule in table:
+        text = ", ".join(json.dumps(x, ensure_ascii=False) for x in
+                         (kind, name, what, sp.sstr(expr, full_prec=False), rule))
+        lines.append(f"    ({text}),")
+    return dict(constants="\n".join(lines + [")"]) + "\n")
 
 
 def docstring_text(doc) -> str:

@@ -8,7 +8,12 @@ straight-line code like Φ and Φ_q:
   quantity: the driver's effort is λ·factor;
 - ``frame_loads(q, qd, t, p, out)``: Q_f, the part of Q_a + Q_c of the loads anchored on
   the frame (FRAME_LOADS; a stub writing zeros where there are none): the frame takes
-  their opposite, which the shaking force adds to what the constraints pass it.
+  their opposite, which the shaking force adds to what the constraints pass it;
+- ``load_constants(p, out)``: the springs' stiffnesses and free lengths, the dampers'
+  coefficients and gravity's g and direction's length, those of them that are functions
+  of the parameters (LOAD_CONSTANTS names them; only where there are some): the runtime
+  refuses parameters that make one negative (the direction's length: zero), as the model
+  refuses them at its defaults.
 
 A model without mass or loads gets none of them (its module is what it was).
 """
@@ -28,7 +33,39 @@ TITLES.update(force_terms="Q_a, Q_c and I, their nonzero entries",
               mass_matrix="M of I = M q̈ + h, its nonzero entries",
               energies="Kinetic energy, potential energy, ∂V/∂t",
               driver_factors="∂Φ/∂f per driver row",
-              frame_loads="Q_f, the loads anchored on the frame")
+              frame_loads="Q_f, the loads anchored on the frame",
+              load_constants="The loads' constants of LOAD_CONSTANTS")
+
+
+def load_constant_table(model, eq) -> list:
+    """[(the load's kind, its name, the quantity, its expression, "not negative" or
+    "positive"), ...]: the
+    springs' k and free length, the dampers' c, gravity's g and the length of its
+    direction, those that read parameters and nothing else (a plain number the model
+    checked already; one that reads coordinates, velocities or T is not a constant)."""
+    params = set(eq.params)
+    out = []
+
+    def add(kind, name, what, expr, rule):
+        used = sp.sympify(expr).free_symbols
+        if used and used <= params:
+            out.append((kind, name, what, expr, rule))
+
+    parts = getattr(model, "gravity_parts", None)
+    if parts is not None:
+        add("gravity", "", "g", parts[0], "not negative")
+        add("gravity", "", "the length of its direction", parts[1], "positive")
+    for ld in getattr(model, "loads", ()):
+        if ld.kind not in ("spring", "damper"):
+            continue
+        a, b = ld.points
+        name = ld.name or f"{a.label}-{b.label}"
+        if ld.kind == "spring":
+            add("spring", name, "the stiffness k", ld.k, "not negative")
+            add("spring", name, "the free length", ld.length, "not negative")
+        else:
+            add("damper", name, "the coefficient c", ld.c, "not negative")
+    return out
 
 
 def forces_bodies(plan, eq, model):
@@ -64,6 +101,12 @@ def forces_bodies(plan, eq, model):
     if frame:
         bodies["frame_loads"] = straight_line(plan, eq, frame, "frame_loads",
                                               "q, qd, t, p, out", with_qd=True)
+    constants = [Store(f"out[{k}]", expr, f"{kind} {name}".strip() + f": {what}")
+                 for k, (kind, name, what, expr, _) in
+                 enumerate(load_constant_table(model, eq))]
+    if constants:
+        bodies["load_constants"] = straight_line(plan, eq, constants, "load_constants",
+                                                 "p, out")
     return bodies, [i for i, _ in dyn.drivers]
 
 
@@ -262,6 +305,9 @@ FUNCTIONS = (
       "pivoting, as multipliers_sorted): below SING_RTOL it is returned at once (the caller",
       "solves Φ_q's rank instead: lam is then not to be used). Returns the smallest pivot."),
      ()),
+    ("load_constants", "p, out",
+     ("out[k] = the value of LOAD_CONSTANTS[k] at the parameters p (the runtime refuses",
+      "parameters that make one negative, or a direction's length zero)."), ()),
 )
 FUSED_STUB = ("Not written for this model (its multipliers are not written out, or its",
               "derivative pass is too long for one function): FORCE_FUSED is False and a",
@@ -285,6 +331,8 @@ def force_functions(text, fused=()) -> list:
     out = []
     for name, args, doc, zero in FUNCTIONS:
         lines = text(name)
+        if lines is None and name == "load_constants":
+            continue                                # (only with constants to check)
         if lines is None and name == "frame_loads":
             doc, lines = FRAME_STUB, []             # (zeroed: Q_f = 0)
         elif lines is None:

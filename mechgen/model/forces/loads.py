@@ -62,6 +62,11 @@ class LoadsMixin:
         """(g_x, g_y): the acceleration of gravity, or None without m.gravity."""
         return self.__dict__.get("_gravity")
 
+    @property
+    def gravity_parts(self):
+        """(g, the length of the direction given) of m.gravity, or None without it."""
+        return self.__dict__.get("_gravity_parts")
+
     # -- mass properties (read by Model.body) ------------------------------------------
     def _mass_properties(self, name, mass, inertia, centroid):
         """(mass, inertia, centroid) of body ``name`` as sympy values, checked."""
@@ -110,6 +115,7 @@ class LoadsMixin:
         if size.is_number and abs(float(size) - 1.0) == 0:
             size = sp.Integer(1)
         self.__dict__["_gravity"] = (g * d[0] / size, g * d[1] / size)
+        self.__dict__["_gravity_parts"] = (g, size)    # (read by the module's load_constants)
         self._equations = None
 
     def force(self, point, f, along=None, name=None):
