@@ -36,8 +36,16 @@ def loads_guarded(span: bool):
 
 
 def division_error(mech, when, t=float("nan")):
-    """The SingularError of loads_guarded: the force terms divide by zero ``when``."""
+    """The SingularError of loads_guarded: the force terms divide by zero ``when``. Where
+    the mechanism's parameters break a load constant (gravity's direction of zero length:
+    limits.refused_constant), that is the cause it names; else the springs and dampers
+    whose ends may meet."""
     from ...errors import SingularError
+    from .limits import refused_constant
+    cause = refused_constant(mech.module, mech.p)
+    if cause:
+        return SingularError(f"model '{mech.name}': the force terms divide by zero (or are "
+                             f"not finite) {when}: {cause}", t=t)
     ends = [f"{name or kind} ({kind})" for name, kind, _ in
             getattr(mech.module, "LOADS", ()) if kind in ("spring", "damper")]
     said = (f"a spring or damper whose two ends meet has no direction (this model's: "
