@@ -63,16 +63,18 @@ class _Exact:
 
 
 def _integrated(sw, k, t):
-    """The state of a simulated sweep at t, integrated from its output k as it was."""
+    """The state of a simulated sweep at t, integrated from its output k as it was (back
+    in time where t is before it: the simulation's own ``integrate``, which the public
+    mech.simulate refuses to run backwards)."""
     if t == sw.t[k]:
         return sw[k]
     run = sw.simulation
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")     # its outputs lie on the constraints already
-        part = sw.mechanism.simulate(float(sw.t[k]), float(t), 2, free=run["free"],
-                                     q0=sw.Q[k], qd0=sw.QD[k], rtol=run["rtol"],
-                                     atol=run["atol"], method=run["method"],
-                                     max_step=run["max_step"])
+        part = run["integrate"](sw.mechanism, float(sw.t[k]), float(t), 2, free=run["free"],
+                                q0=sw.Q[k], qd0=sw.QD[k], rtol=run["rtol"],
+                                atol=run["atol"], method=run["method"],
+                                max_step=run["max_step"])
     return part[1]
 
 

@@ -362,10 +362,24 @@ def _compiled_span(system, rtol, atol, max_step):
     return span
 
 
-@loads_guarded(span=True)
 def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
              method=COMPILED, max_step=np.inf, progress=None) -> ForceSweep:
-    """See Mechanism.simulate."""
+    """See Mechanism.simulate: the public call, forward in time (t1 before t0 is a
+    ValueError); ``integrate`` does the work, in either direction."""
+    ts = sweep_times(t0, t1, n)
+    if ts[-1] < ts[0]:
+        raise ValueError(f"simulate: t1 = {ts[-1]:g} is before t0 = {ts[0]:g}: the motion "
+                         "is integrated forward in time from the state at t0; give t0 < t1")
+    return integrate(mech, t0, t1, n, free=free, q0=q0, qd0=qd0, rtol=rtol, atol=atol,
+                     method=method, max_step=max_step, progress=progress)
+
+
+@loads_guarded(span=True)
+def integrate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
+              method=COMPILED, max_step=np.inf, progress=None) -> ForceSweep:
+    """simulate's integration, forward or backward in time (t1 before t0: the refinement
+    of a simulated sweep's extremes integrates back from an output, through the result's
+    ``simulation["integrate"]``, runtime.analysis.events)."""
     ts = sweep_times(t0, t1, n)
     _check_accuracy(rtol, atol, max_step)
     if not (method == COMPILED or method in SCIPY_METHODS or isinstance(method, type)):
@@ -404,7 +418,7 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
         if moved > 1e-9 * size or dv > 1e-9 * (1.0 + float(np.max(np.abs(qd_in)))):
             warnings.warn(f"simulate: the initial state was made consistent with the "
                           f"constraints still acting (positions moved by up to {moved:.3g}, "
-                          f"velocities by up to {dv:.3g})", stacklevel=3)
+                          f"velocities by up to {dv:.3g})", stacklevel=5)
     N = ts.shape[0]
     Q, QD, QDD = np.empty((N, mech.n)), np.empty((N, mech.n)), np.empty((N, mech.n))
     LAM = np.empty((N, mech.m))
@@ -464,5 +478,6 @@ def simulate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
     out.free = tuple(mech.constraint_labels[i] for i in np.flatnonzero(~system.keep))
     out.steps, out.evaluations = steps, evaluations
     out.simulation = dict(free=tuple(free) if not isinstance(free, str) else (free,),
-                          rtol=rtol, atol=atol, method=method, max_step=max_step)
+                          rtol=rtol, atol=atol, method=method, max_step=max_step,
+                          integrate=integrate)
     return out
