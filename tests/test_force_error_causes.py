@@ -47,3 +47,28 @@ def test_a_zero_direction_at_the_defaults_is_named_not_the_springs(outdir):
         said = str(info.value)
         assert "gravity: the length of its direction" in said and "is zero" in said
         assert "ends meet" not in said and "'spr'" not in said
+
+
+# -- a runaway motor -------------------------------------------------------------------------
+def test_a_runaway_motor_is_said_to_run_away_not_to_chatter():
+    """The press of examples/press_motor.py with its motor's sign turned (−T0 (1 + ω/ω0)
+    with T0 < 0: a torque that grows with the speed) speeds up without bound: the error
+    says so, with the time, the body and its speed, not "a load that switches on and
+    off"."""
+    from conftest import GENERATED
+    mech = mechgen.load(f"{GENERATED}/press_motor.py").with_params(T0=-400.0)
+    with pytest.raises(mechgen.ConvergenceError) as info:
+        mech.simulate(0.0, 1.0, 11, free=["crank driver"])
+    said = str(info.value)
+    assert "runs away" in said and "without bound" in said and "switches" not in said
+    assert "body 'crank'" in said and "rad/s" in said and "near t=0.5" in said
+    assert info.value.t is not None and 0.5 < info.value.t < 0.6
+
+
+def test_a_load_that_chatters_is_still_said_to_chatter():
+    """A press whose work (300 kN) stops the motor at once: the work switches on and off."""
+    from conftest import GENERATED
+    mech = mechgen.load(f"{GENERATED}/press_motor.py").with_params(press=300000.0)
+    with pytest.raises(mechgen.ConvergenceError, match="switches on and off") as info:
+        mech.simulate(0.0, 0.1, 2, free=["crank driver"])
+    assert "runs away" not in str(info.value)

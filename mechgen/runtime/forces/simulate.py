@@ -51,11 +51,13 @@ COMPILED = "dopri5"              # the module's own integrator (integrate_span)
 
 
 class _Stalled(Exception):
-    """The integrator spends its steps at one time (a load switching on and off)."""
+    """The integrator spent its evaluations before the next output (a load switching on
+    and off, or a motion running away); ``y`` the state it had reached."""
 
-    def __init__(self, t):
+    def __init__(self, t, y=None):
         super().__init__(t)
         self.t = float(t)
+        self.y = y
 
 
 class _System:
@@ -182,7 +184,7 @@ class _System:
         n = self.n
         self.calls += 1
         if self.calls > INTERVAL_EVALUATIONS:
-            raise _Stalled(t)
+            raise _Stalled(t, np.array(y, dtype=np.float64))
         qdd, _ = self.accelerations(y[:n], y[n:], t)
         return np.concatenate([y[n:], qdd])
 
@@ -306,7 +308,43 @@ def _named_rates(mech, rates, qd):
     return qd, named
 
 
-def _stalled(mech, t, t_a, t_b):
+RUNAWAY_TURNS = 100     # a body turned this often between two outputs, faster at the end
+
+
+def _runaway(mech, t, t_a, y_a, y):
+    """The sentence of a motion that runs away, or None: between the output at t_a (state
+    y_a) and the stall at t (state y) a body turned RUNAWAY_TURNS times or more and turns
+    faster at t than at t_a (the integrator spent its steps on ever faster turns, not on
+    a load switching at one time); the fastest such body is named."""
+    if y_a is None or y is None or not np.all(np.isfinite(y)):
+        return None
+    n, best = mech.n, None
+    for name, idx in tables(mech).bodies.items():
+        if idx is None:
+            continue
+        th = idx[2]
+        turns = abs(float(y[th] - y_a[th])) / (2.0 * np.pi)
+        w, w_a = float(y[n + th]), float(y_a[n + th])
+        if turns >= RUNAWAY_TURNS and abs(w) > abs(w_a) and \
+                (best is None or abs(w) > abs(best[1])):
+            best = (name, w, w_a, turns)
+    if best is None:
+        return None
+    name, w, w_a, turns = best
+    return (f"simulate: model '{mech.name}': the motion runs away near t={t:.9g}: body "
+            f"'{name}' turns at {w:.4g} rad/s there ({w_a:.4g} rad/s at t={t_a:.6g}, "
+            f"{turns:,.0f} turns since), its speed growing without bound: a load feeds "
+            "energy in as the mechanism speeds up (a motor whose torque grows with its "
+            "speed: T = Tm (1 − ω/wm) with Tm < 0, say); check the loads' signs")
+
+
+def _stalled(mech, t, t_a, t_b, y_a=None, y=None):
+    """The ConvergenceError of an integration that spent INTERVAL_EVALUATIONS between two
+    outputs: a motion running away (_runaway, from the states at t_a and at t), else a
+    load that chatters."""
+    away = _runaway(mech, t, t_a, y_a, y)
+    if away:
+        return ConvergenceError(away, t=t)
     return ConvergenceError(
         f"simulate: model '{mech.name}': the integration stalled near t={t:.9g} "
         f"({INTERVAL_EVALUATIONS:,} evaluations between the outputs at {t_a:.6g} and "
@@ -325,7 +363,7 @@ def _scipy_span(system, y, t_a, t_b, method, rtol, atol, max_step):
         sol = solve_ivp(system.rhs, (t_a, t_b), y, method=method, rtol=rtol, atol=atol,
                         max_step=max_step)
     except _Stalled as stall:
-        raise _stalled(system.mech, stall.t, t_a, t_b) from None
+        raise _stalled(system.mech, stall.t, t_a, t_b, y, stall.y) from None
     if sol.status != 0:
         raise ConvergenceError(f"simulate: model '{system.mech.name}': the integration "
                                f"stopped at t={sol.t[-1]:.9g}: {sol.message}",
@@ -344,7 +382,8 @@ def _compiled_span(system, rtol, atol, max_step):
     stats = np.zeros(4)
 
     def span(y, t_a, t_b):
-        y = np.array(y, dtype=np.float64)
+        y_a = np.array(y, dtype=np.float64)
+        y = y_a.copy()
         code = mod.integrate_span(y, t_a, t_b, system.p, system.keep, float(rtol),
                                   float(atol), float(max_step), INTERVAL_EVALUATIONS, stats)
         t = float(stats[3])
@@ -354,7 +393,7 @@ def _compiled_span(system, rtol, atol, max_step):
         if code == 1:
             raise system.singular(y[:system.n], t)
         if code == 2:
-            raise _stalled(system.mech, t, t_a, t_b)
+            raise _stalled(system.mech, t, t_a, t_b, y_a, y)
         if code == 3:
             raise ConvergenceError(f"simulate: model '{system.mech.name}': the step fell "
                                    f"below round-off at t={t:.9g}", t=t)
