@@ -383,8 +383,9 @@ def _breaks(model, profile, ss, v, closed):
                     nxt[1] - v[1] - (v[3] + nxt[3]) * step / 2)
     moved = miss > np.hypot(nxt[2] - v[2], nxt[3] - v[3]) * step + 1e-9 * size
     turn = np.arctan2(v[2] * nxt[3] - v[3] * nxt[2], v[2] * nxt[2] + v[3] * nxt[3])
-    bend = [(w[2] * w[5] - w[3] * w[4]) / np.maximum(np.hypot(w[2], w[3]), 1e-300) ** 2
-            for w in (v, nxt)]                                  # κ · speed, signed
+    with np.errstate(divide="ignore", invalid="ignore"):     # a cusp: NaN, no corner here
+        bend = [(w[2] * w[5] - w[3] * w[4]) / np.maximum(np.hypot(w[2], w[3]), 1e-300) ** 2
+                for w in (v, nxt)]                              # κ · speed, signed
     turned = np.abs(turn - (bend[0] + bend[1]) * step / 2) > \
         np.abs(bend[1] - bend[0]) * step + 1e-6
     if not closed:
