@@ -14,7 +14,7 @@ import os as _os
 _os.environ.setdefault("SYMPY_CACHE_SIZE", "100000")
 
 from .errors import (BranchJumpWarning, ConvergenceError, MechgenError, ModelError,
-                     RedundancyWarning, SingularError, SolveError)
+                     ModelWarning, RedundancyWarning, SingularError, SolveError)
 
 from .protocol import MECHGEN_VERSION as __version__
 
@@ -73,5 +73,6 @@ def compile(model, **kwargs):  # noqa: A001 - the API name
 
 
 __all__ = ["ModelError", "ConvergenceError", "SingularError", "MechgenError", "SolveError",
-           "BranchJumpWarning", "RedundancyWarning", "load", "compile", "__version__",
+           "BranchJumpWarning", "RedundancyWarning", "ModelWarning", "load", "compile",
+           "__version__",
            *_SYMPY_NAMES, *_QUANTITIES, *_LAZY]

@@ -74,5 +74,10 @@ class RedundancyWarning(UserWarning):
     """The model holds redundant (but consistent) constraints."""
 
 
+class ModelWarning(UserWarning):
+    """A model that builds but says something other than its author likely meant (gravity
+    on bodies without mass: it exerts no force)."""
+
+
 __all__ = ["MechgenError", "ModelError", "SolveError", "ConvergenceError", "SingularError",
-           "BranchJumpWarning", "RedundancyWarning"]
+           "BranchJumpWarning", "RedundancyWarning", "ModelWarning"]

@@ -538,6 +538,7 @@ def check_report(model, t=0.0, starts=STARTS, cycle=True) -> tuple[str, bool]:
     holding = held(model)
     check = _Check(holding, t, starts, cycle)
     ok = check.run()
+    check.lines += [f"  note: {doubt}" for doubt in model.load_doubts()]
     if holding is not model:
         held_rows = [c.args_text.split(",")[0] for c in holding.constraints[
             len(model.constraints):]]

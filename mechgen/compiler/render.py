@@ -5,11 +5,12 @@ options give the same bytes."""
 from __future__ import annotations
 
 import os
+import warnings
 
 import jinja2
 import sympy
 
-from ..errors import MechgenError
+from ..errors import MechgenError, ModelWarning
 from ..protocol import STAMP, content_digest, header_constants
 from .codegen.names import template_dir
 from .context import module_context as solver_context
@@ -58,7 +59,10 @@ def build_command(source, *, sort=True, level="acceleration", outputs=None,
 
 def render(model, *, sort=True, level="acceleration", outputs=None, cse=True,
            closed_forms="cheap", command=None) -> str:
-    """The text of the generated module for ``model``."""
+    """The text of the generated module for ``model`` (a ModelWarning for what its loads
+    do not do: Model.load_doubts)."""
+    for doubt in model.load_doubts():
+        warnings.warn(doubt, ModelWarning, stacklevel=2)
     ctx = module_context(model, sort=sort, level=level, outputs=outputs, cse=cse,
                          closed_forms=closed_forms)
     body = environment().get_template("module.py.j2").render(**ctx)

@@ -27,7 +27,7 @@ from .stages import StageMixin
 # compiler writes a model's symbols under other identifiers where they collide.
 API_NAMES = frozenset({
     "ModelError", "ConvergenceError", "SingularError", "MechgenError", "SolveError",
-    "BranchJumpWarning", "RedundancyWarning", "load", "compile", "__version__",
+    "BranchJumpWarning", "RedundancyWarning", "ModelWarning", "load", "compile", "__version__",
     "sin", "cos", "tan", "sqrt", "atan2", "atan", "asin", "acos", "exp", "log", "pi",
     "Abs", "sign", "sinh", "cosh", "tanh", "Rational", "Piecewise", "Symbol", "Matrix",
     "location", "distance", "point_to_line_distance", "angle", "rotation", "intersection",

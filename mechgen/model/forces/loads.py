@@ -95,6 +95,16 @@ class LoadsMixin:
                       for b in self.bodies.values() if not b.is_ground)
         return massive or bool(self.loads) or self.gravity_vector is not None
 
+    def load_doubts(self) -> list:
+        """What the loads do not do that their author likely meant: gravity on a model
+        whose moving bodies have no mass acts on nothing (its forces are all zero)."""
+        if self.gravity_vector is None:
+            return []
+        if any(getattr(b, "mass", 0) != 0 for b in self.bodies.values() if not b.is_ground):
+            return []
+        return [f"model '{self.name}' sets gravity, but none of its moving bodies has a "
+                "mass: gravity exerts no force on it (give the bodies mass=...)"]
+
     # -- loads ------------------------------------------------------------------------
     def gravity(self, g, direction=(0, -1)):
         """Mech's Gravity: m·g on every body at its centroid along ``direction`` (a
