@@ -35,7 +35,7 @@ from .functions.sensitivity_code import (acceleration_rhs_body, driver_factors_p
                                          force_rhs_body, outputs_p_body, phi_p_body,
                                          points_d_body, points_p_body,
                                          position_sensitivities_body, solve_sorted_body,
-                                         turned_coordinates, velocity_rhs_body)
+                                         velocity_rhs_body)
 from .library import body as library_body
 from .solver.plan import CHUNK_STORES, make_plan
 from .render import environment
@@ -119,6 +119,8 @@ def render_sensitivities(model, module_hash: str, sort=True) -> str:
     points = point_list(model)
     outputs = list(model.outputs)
     jq, helpers = phi_q_body(plan, eq)
+    one_pass, turned = position_sensitivities_body(model, solver, eq) if sorted_ \
+        else ([Code("return -1")], ())
     zero = Loop(Code("for _i in range(out.shape[0])"),
                 (Loop(Code("for _j in range(out.shape[1])"), (Code("out[_i, _j] = 0.0"),)),))
     bodies = {
@@ -129,8 +131,7 @@ def render_sensitivities(model, module_hash: str, sort=True) -> str:
         "points_p": points_p_body(model, eq, points),
         "points_d": points_d_body(eq, points),
         "solve_sorted": solve_sorted_body(solver, eq) if sorted_ else [Code("return -1")],
-        "position_sensitivities": position_sensitivities_body(model, solver, eq) if sorted_
-        else [Code("return -1")],
+        "position_sensitivities": one_pass,
         "force_rhs_p": force_rhs_body(model, eq) if model.has_dynamics else [Code("pass")],
         "driver_factors_p": driver_factors_p_body(model, eq) if model.has_dynamics
         else [Code("pass")],
@@ -166,8 +167,7 @@ def render_sensitivities(model, module_hash: str, sort=True) -> str:
                  ("N_POINTS", str(len(points))), ("OUTPUTS", _tuple(outputs)),
                  ("SING_RTOL", repr(SING_RTOL)), ("TINY", repr(TINY)),
                  ("SORTED", str(sorted_)), ("FORCES", str(bool(model.has_dynamics))),
-                 ("TURNED", "np.array(%s, dtype=np.int64)" % _tuple(
-                     turned_coordinates(bodies["position_sensitivities"])).replace('"', ""))]
+                 ("TURNED", "np.array(%s, dtype=np.int64)" % _tuple(turned).replace('"', ""))]
     ctx = dict(name=model.name, module_name=model.name + SUFFIX, doc=DOC,
                mechgen_version=MECHGEN_VERSION, coordinates=[s.name for s in eq.q],
                parameters=[s.name for s in eq.params], constants=constants,

@@ -243,27 +243,19 @@ def driver_factors_p_body(model, eq):
     return _directional(model, rows, [(list(eq.q), "DQ")], labels, False, False, eq)
 
 
-def turned_coordinates(body) -> tuple:
-    """The coordinates whose sin and cos position_sensitivities reads from ``sc``."""
-    found = set()
-    for st in walk(body):
-        if isinstance(st, Code) and st.text.startswith("{0} = sc["):
-            found.add(int(st.text.split(",")[1].strip(" ]")))
-    return tuple(sorted(found))
-
-
-def position_sensitivities_body(model, plan, eq):
+def position_sensitivities_body(model, plan, eq) -> tuple:
     """Dq = −Φ_q⁻¹ Φ_p in one pass for the parameters j with ``want[j]`` (into X[:, j]):
     Φ_q's entries, Φ_p's and each block's singularity test once, common subexpressions
     shared, then per parameter the block forward substitution of its own right side, whose
     zeros are carried forward symbolically (a parameter that moves one loop touches only
     that loop's unknowns). Returns 2 where a block's pivot is below SING_RTOL of its
     scale; -1 in a model with a block of three or more unknowns (the library then solves
-    on solve_sorted)."""
+    on solve_sorted). Returns (statements, the indices of the coordinates whose sin and
+    cos it reads from ``sc``: the module's TURNED)."""
     from ..codegen.ir import Guard, If
     from ..solver.linear import linear_code
     if any(b.size > 2 for b in plan.blocks):
-        return [Code("return -1")]
+        return [Code("return -1")], ()
     m, params = eq.phi.rows, list(eq.params)
     entries, derivs = {}, []
     for i in range(m):
@@ -336,14 +328,16 @@ def position_sensitivities_body(model, plan, eq):
     exprs = [a.expr for a in head] + [st.expr for _, b, s in per for st in b + s]
     exprs += [e for st in common for e in _exprs(st)]
     read = free(exprs)
-    loads = []
+    loads, turned = [], []
     for k, x in enumerate(eq.q):
         for row, fn in enumerate((sp.sin, sp.cos)):
             if trig[fn(x)] in read:
                 loads.append(Code(f"{{0}} = sc[{row}, {k}]", (trig[fn(x)],)))
+        if trig[sp.sin(x)] in read or trig[sp.cos(x)] in read:
+            turned.append(k)
     out = prologue(eq, exprs) + loads + emit(head + common, TempNames("_s"), plan.cse)
     temps = TempNames()
     for j, body, stores in per:
         out.append(If(Code(f"want[{j}]"), tuple(emit(body + stores, temps, plan.cse)),
                       tail=f"  # ∂/∂{params[j].name}"))
-    return out + [Code("return 0")]
+    return out + [Code("return 0")], tuple(turned)
