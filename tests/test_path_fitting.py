@@ -22,14 +22,21 @@ BOUNDS = dict(a=(0.2, 3.0), b=(0.5, 8.0), c=(0.5, 8.0), d=(0.5, 8.0), u=(-5.0, 5
               v=(-5.0, 5.0))        # the answers: a 0.6..1.4, b, c, d 2..4, |u|, |v| <= 2.5
 
 
-def fourbar_model():
-    m = Model("fit_fourbar")
-    a, b, c, d, u, v = (m.param(k, val) for k, val in
-                        dict(a=1.0, b=3.0, c=2.5, d=3.0, u=1.5, v=1.0).items())
-    ground = m.ground("ground", points=[(0, 0), (d, 0)])
-    crank = m.body("crank", points=[(0, 0), (a, 0)], guess=(0, 0, 0.0))
-    coupler = m.body("coupler", points=[(0, 0), (b, 0), (u, v)], guess=(1.0, 0.0, 1.0))
-    rocker = m.body("rocker", points=[(0, 0), (c, 0)], guess=(3, 0, 1.8))
+def fourbar_model(free_pivots=False):
+    """The test's four-bar: crank a from the origin, rocker c from (d, 0), coupler b with
+    the tracing point (u, v) in its frame; ``free_pivots``: the pivots (x2, y2), (x4, y4)
+    parameters too (nine of them, the model 'fit_fourbar9')."""
+    m = Model("fit_fourbar9" if free_pivots else "fit_fourbar")
+    values = (dict(x2=0.0, y2=0.0, x4=3.0, y4=0.0, a=1.0, b=3.0, c=2.5, u=1.5, v=1.0)
+              if free_pivots else dict(a=1.0, b=3.0, c=2.5, d=3.0, u=1.5, v=1.0))
+    P = {k: m.param(k, val) for k, val in values.items()}
+    pivots = ([(P["x2"], P["y2"]), (P["x4"], P["y4"])] if free_pivots
+              else [(0, 0), (P["d"], 0)])
+    ground = m.ground("ground", points=pivots)
+    crank = m.body("crank", points=[(0, 0), (P["a"], 0)], guess=(0, 0, 0.0))
+    coupler = m.body("coupler", points=[(0, 0), (P["b"], 0), (P["u"], P["v"])],
+                     guess=(1.0, 0.0, 1.0))
+    rocker = m.body("rocker", points=[(0, 0), (P["c"], 0)], guess=(3, 0, 1.8))
     m.revolute(ground[1], crank[1])
     m.revolute(crank[2], coupler[1])
     m.revolute(ground[2], rocker[1])
@@ -224,30 +231,10 @@ def test_fit_checks_its_arguments(fourbar):
 
 
 # -- mech.optimize(..., polish="gradient") ----------------------------------------------------
-def pivots_model():
-    """The four-bar with its pivots free too: nine parameters."""
-    m = Model("fit_fourbar9")
-    P = {k: m.param(k, val) for k, val in dict(x2=0.0, y2=0.0, x4=3.0, y4=0.0, a=1.0, b=3.0,
-                                              c=2.5, u=1.5, v=1.0).items()}
-    ground = m.ground("ground", points=[(P["x2"], P["y2"]), (P["x4"], P["y4"])])
-    crank = m.body("crank", points=[(0, 0), (P["a"], 0)], guess=(0, 0, 0.0))
-    coupler = m.body("coupler", points=[(0, 0), (P["b"], 0), (P["u"], P["v"])],
-                     guess=(1.0, 0.0, 1.0))
-    rocker = m.body("rocker", points=[(0, 0), (P["c"], 0)], guess=(3, 0, 1.8))
-    m.revolute(ground[1], crank[1])
-    m.revolute(crank[2], coupler[1])
-    m.revolute(ground[2], rocker[1])
-    m.revolute(coupler[2], rocker[2])
-    m.rotation_lock(crank, 2 * math.pi * T, name="crank driver")
-    m.output("px", location(coupler[3])[0])
-    m.output("py", location(coupler[3])[1])
-    return m
-
-
 @pytest.fixture(scope="module")
 def pivots(tmp_path_factory):
-    return mechgen.compile(pivots_model(), outdir=str(tmp_path_factory.mktemp("fit9")),
-                           tier="compiled")
+    model, _ = fourbar_model(free_pivots=True)
+    return mechgen.compile(model, outdir=str(tmp_path_factory.mktemp("fit9")), tier="compiled")
 
 
 @pytest.mark.parametrize("seed", [2, 3])
