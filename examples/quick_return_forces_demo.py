@@ -67,7 +67,7 @@ def pictures(mech, sw):
     e = plot.effort(sw, "crank driver", title="quick-return with a cutting force: the crank's "
                     "torque over one turn")
     fly = sw.flywheel(CS)
-    e.ax.text(0.02, 0.04, f"flywheel for ±{100 * CS / 2:g} % speed: ΔE = {fly['energy']:.0f}, "
+    e.ax.text(0.02, 0.25, f"flywheel for ±{100 * CS / 2:g} % speed: ΔE = {fly['energy']:.0f}, "
               f"I = {fly['inertia']:.0f}", transform=e.ax.transAxes, fontsize=9,
               bbox=dict(facecolor="white", edgecolor="#cccccc", alpha=0.9))
     save(e.figure, "quick_return_forces_torque.png")
