@@ -104,13 +104,13 @@ def judge(fam, p, ts, Q, QD=None, QDD=None, status=None, sigma=None, raised=Fals
             break
         arrs.append(np.asarray(a))
     upto = len(arrs) - 1
-    refs = {s: fam.exact(p, s, ts, upto) for s in fam.modes()}
+    refs = {s: fam.exact(p, s, ts, upto) for s in fam.judged_modes()}
     scales = _scales(refs, upto)
     errs = _errors(fam, refs, arrs, upto, scales)
     match = {s: errs[s] <= 1.0 for s in refs}
     locks = {}
     status = np.zeros(N, dtype=int) if status is None else np.asarray(status, dtype=int)
-    anchor, blocked = sigma, False
+    anchor, blocked = (None if sigma is None else fam.judged(sigma)), False
 
     def which(k):
         hits = [s for s in refs if match[s][k]]
@@ -250,10 +250,9 @@ def single_solves(fam, spec, rng, count=4, mech=None, kinds=SOLVES):
         here = fam.exact(p, spec.sigma, np.array([t]), 0)[0][0]
         if not np.isfinite(here).all():
             continue
-        others = [fam.exact(p, s, np.array([t]), 0)[0][0] for s in fam.modes()
-                  if s != spec.sigma]
-        gap = min([np.max(np.abs(wrap(o - here, fam.angle_mask))) for o in others
-                   if np.isfinite(o).all()] + [1.0])
+        others = [fam.exact(p, s, np.array([t]), 0)[0][0] for s in fam.judged_modes()]
+        gap = min([d for d in (np.max(np.abs(wrap(o - here, fam.angle_mask))) for o in others
+                               if np.isfinite(o).all()) if d > 1e-9] + [1.0])
         nudge = 0.02 * min(gap, 0.5) * rng.uniform(-1, 1, here.shape)
         for kind in kinds:
             if kind == "none" and not connected:
@@ -315,7 +314,7 @@ def run_table(fam, spec, rng, designs=4, backend="cpu", client=None, mech=None):
 def mode_of(fam, p, t, q):
     """The mode whose exact configuration at t is q (angles modulo 2 pi), or None."""
     ts = np.array([t])
-    refs = {s: fam.exact(p, s, ts, 0) for s in fam.modes()}
+    refs = {s: fam.exact(p, s, ts, 0) for s in fam.judged_modes()}
     errs = _errors(fam, refs, [np.asarray(q)[None]], 0, _scales(refs, 0))
     hits = [s for s in refs if errs[s][0] <= 1.0]
     return hits[0] if hits else None
@@ -340,9 +339,9 @@ def run_carried_table(fam, spec, rng, designs=4, mech=None):
     values[0] = p[dim]
     t0 = np.array([spec.t0])
     q0 = fam.exact(p, spec.sigma, t0, 0)[0][0]
-    others = [fam.exact(p, s, t0, 0)[0][0] for s in fam.modes() if s != spec.sigma]
-    gap = min([np.max(np.abs(wrap(o - q0, fam.angle_mask))) for o in others
-               if np.isfinite(o).all()] + [1.0])
+    others = [fam.exact(p, s, t0, 0)[0][0] for s in fam.judged_modes()]
+    gap = min([d for d in (np.max(np.abs(wrap(o - q0, fam.angle_mask))) for o in others
+                           if np.isfinite(o).all()) if d > 1e-9] + [1.0])
     try:
         m.set_guess(q0 + 0.4 * min(gap, 1.0) * rng.uniform(-1, 1, q0.shape), t=spec.t0)
         sigma = mode_of(fam, p, spec.t0, m.solve(spec.t0, method=spec.method).q)

@@ -79,6 +79,16 @@ class Family:
     def modes(self):
         return list(itertools.product((1.0, -1.0), repeat=self.nsigma))
 
+    def judged_modes(self):
+        """The modes a solution is judged against: ``modes()``, and for a family whose
+        assemblies at one time include poses that are not modes (gears meshed whole turns
+        of a gear further on), those too; a draw picks among ``modes()`` only."""
+        return self.modes()
+
+    def judged(self, sigma):
+        """The key of ``judged_modes()`` that mode sigma (of ``modes()``) is."""
+        return tuple(sigma)
+
     def exact(self, p, sigma, ts, upto=2):
         """[Q, QD, QDD] (arrays (len(ts), coordinates), up to level ``upto``) of mode
         sigma at times ts; NaN where the mode does not exist."""
@@ -404,10 +414,24 @@ class GearedFiveBar(Family):
         m.revolute(c1[2], c2[2], name="P")
         return m
 
+    def judged_modes(self):
+        # the rolling row holds modulo whole turns of gear 1 (it is wrapped, turns.py): with
+        # gear 1 where its driver puts it, gear 2 may stand 2 pi r1/r2 k further on, a pose
+        # the driver reaches a turn of gear 1 later or earlier; r2/r1 in {0.5, 1, 1.5, 2, 3}
+        # gives at most 3 distinct ones modulo 2 pi (k = 0, 1, 2)
+        return [s + (float(k),) for s in self.modes() for k in (0, 1, 2)]
+
+    def judged(self, sigma):
+        sigma = tuple(sigma)
+        return sigma + (0.0,) if len(sigma) == self.nsigma else sigma
+
     def exprs(self, P, S, t):
         th1 = P["th0"] + P["w"] * t
-        # rolling without slip: r1 (th1 - be) + r2 (th2 - be) = cph
-        th2 = (P["cph"] + (P["r1"] + P["r2"]) * P["be"] - P["r1"] * th1) / P["r2"]
+        # rolling without slip: r1 (th1 - be) + r2 (th2 - be) = cph (+ 2 pi r1 k: a meshing
+        # k turns of gear 1 on)
+        mesh = S[1] if len(S) > 1 else 0.0
+        th2 = (P["cph"] + (P["r1"] + P["r2"]) * P["be"] - P["r1"] * th1
+               + TWO_PI * P["r1"] * mesh) / P["r2"]
         O2 = ((P["r1"] + P["r2"]) * sp.cos(P["be"]), (P["r1"] + P["r2"]) * sp.sin(P["be"]))
         A1 = (P["a1"] * sp.cos(th1), P["a1"] * sp.sin(th1))
         A2 = (O2[0] + P["a2"] * sp.cos(th2), O2[1] + P["a2"] * sp.sin(th2))
