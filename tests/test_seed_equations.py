@@ -336,3 +336,14 @@ def test_loop_closure_fourbar_gives_seed_000_equations():
     loop = sp.expand_complex(loop)
     assert sp.simplify(eq.phi[0] - sp.re(loop)) == 0
     assert sp.simplify(eq.phi[1] - sp.im(loop)) == 0
+
+
+def test_mathematica_notation_of_sign():
+    """`mechgen equations --mathematica` printed the rate of Abs(T - 1) as "sign[T - 1]",
+    which is no Mathematica (its function is Sign)."""
+    import sympy as sp
+    from mechgen.model.printing import mathematica
+    t = sp.Symbol("T")
+    assert mathematica(sp.sign(t - 1)) == "Sign[T - 1]"
+    assert mathematica(sp.Abs(t - 1)) == "Abs[T - 1]"
+    assert mathematica(sp.atan2(t, 1 + t ** 2)) == "ArcTan[T^2 + 1, T]"

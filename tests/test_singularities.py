@@ -1,15 +1,23 @@
-"""Audit of API.md section 4 against closed forms written here: the exact extremes and
-roots of a coarse sweep (sw.extrema, sw.roots) and of a design table (tab.extremes) stay
-on the sweep's assembly mode and reach the true extreme.
+"""Singular configurations and toggles (API.md section 4) against closed forms written
+here: mech.singularities, and the extremes, roots and design tables that pass near or
+through a toggle.
 
-The four-bar of generated/fourbar.py with a = 1, b = 2, c = 2, d = 2.9999 (a Grashof
-crank-rocker a hair from its change point a + d = b + c), θ = 0.3 + 2πT: near θ = π the
-coupler and the rocker nearly line up and the two assembly modes lie close. The rocker's
-extremes are where crank and coupler line up: B, at c from O4 = (d, 0), is b + a
-(extended) or b − a (folded) from O2 = (0, 0).
+A change-point four-bar (a + b = c + d: crank a = 1, coupler b = 3, rocker c = 2, ground
+d = 2), crank driven by θ = π/3 + 2πT, is singular at exactly one configuration per turn:
+crank along the ground towards the rocker's pivot (θ = 2π), all four links on one line,
+at T = 5/6.
+
+Near a toggle: the four-bar of generated/fourbar.py with a = 1, b = 2, c = 2, d = 2.9999
+(a Grashof crank-rocker a hair from its change point a + d = b + c), θ = 0.3 + 2πT: near
+θ = π the coupler and the rocker nearly line up and the two assembly modes lie close. The
+rocker's extremes are where crank and coupler line up: B, at c from O4 = (d, 0), is b + a
+(extended) or b − a (folded) from O2 = (0, 0); the exact extremes and roots of a coarse
+sweep (sw.extrema, sw.roots) and of a design table (tab.extremes) stay on the sweep's
+assembly mode and reach them.
 """
 import math
 import os
+import warnings
 
 import pytest
 
@@ -17,6 +25,29 @@ import mechgen
 
 GENERATED = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
                          "generated")
+
+
+@pytest.fixture(scope="module")
+def change_point():
+    mech = mechgen.load(os.path.join(GENERATED, "fourbar.py"), tier="python")
+    return mech.with_params(a=1.0, b=3.0, c=2.0, d=2.0)
+
+
+@pytest.mark.parametrize("t0, t1, n", [(0.0, 1.0, 201), (0.5, 0.9, 201), (0.0, 1.0, 11),
+                                       (0.0, 1.0, 50), (0.9, 0.5, 201)])
+def test_one_singular_configuration_is_reported_once(change_point, t0, t1, n):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        found = change_point.singularities(t0, t1, n=n)
+    assert [s.t for s in found] == pytest.approx([5 / 6], abs=1e-8)
+
+
+def test_crank_rocker_driven_by_its_crank_never_loses_rank():
+    mech = mechgen.load(os.path.join(GENERATED, "fourbar.py"), tier="python")
+    assert mech.singularities(0.0, 1.0) == []
+    assert mech.singularities(0.0, 3.0) == []
+
+
 A, B, C, D, PHASE = 1.0, 2.0, 2.0, 2.9999, 0.3
 
 
