@@ -1,5 +1,5 @@
-"""Force columns and the forces command, found wrong by an acceptance audit of API.md §5
-(`mechgen sweep --level dynamic|static` writes driver efforts and reactions as CSV
+"""Force columns and the forces command (API.md §5:
+`mechgen sweep --level dynamic|static` writes driver efforts and reactions as CSV
 columns; `mechgen forces` prints every driver effort and joint reaction)."""
 import csv
 
@@ -152,7 +152,7 @@ def _arm_file(tmp_path):
 
 
 def _arm_torque(t, mass):
-    th, w, a = 0.3 + t + 0.2 * np.sin(2 * t), 1 + 0.4 * np.cos(2 * t), -0.8 * np.sin(2 * t)
+    th, a = 0.3 + t + 0.2 * np.sin(2 * t), -0.8 * np.sin(2 * t)
     return (0.1 + mass * 0.25) * a + mass * 10 * 0.5 * np.cos(th)
 
 

@@ -1,7 +1,9 @@
-"""Audit of mech.simulate (API.md §6): tolerances a user can get wrong, a start velocity
-given by name, and a prescribed motion that reaches a toggle while another driver is free.
-Each reference is written here: a flywheel under a motor M = a − bω (closed form), a
-slider-crank's kinematics (the crank angle from the law of cosines)."""
+"""mech.simulate (API.md §6) with drivers freed and drivers still prescribed: tolerances a
+user can get wrong, a start velocity given by name, a prescribed motion that reaches a
+toggle while another driver is free, a prescribed driver that switches stage, redundant
+meshes. Each reference is written here: a flywheel under a motor M = a − bω (closed form),
+a slider-crank's kinematics (the crank angle from the law of cosines), a planetary set
+(Willis), a cart-pendulum integrated by scipy with the switch's impulse."""
 import math
 import warnings
 
@@ -12,6 +14,7 @@ import mechgen
 from mechgen import Model, T, dt, rotation, sin
 
 J, A_M, B_M, W0, TH0 = 0.4, 6.0, 0.5, 3.0, 0.2
+G = 9.81
 
 
 def flywheel():
@@ -133,3 +136,96 @@ def test_a_prescribed_motion_through_a_toggle_is_not_bounced_silently(tmp_path, 
     theta = np.arccos((x ** 2 + R_C ** 2 - L_C ** 2) / (2 * R_C * x))
     theta = np.where(sw.t < math.pi / 2, theta, -theta)
     assert np.abs(sw["Th2"] - theta).max() < 1e-6
+
+
+def test_simulate_a_planetary_set_with_two_planets_redundant_meshes(tmp_path):
+    # two planets on the arm, each meshing with the sun and the fixed ring: one mesh is
+    # redundant (13 rows, 12 coordinates). The force solves give the driver's torque
+    # (minimum-norm multipliers); simulate refused the motion, which is determined:
+    # "SingularError: the equations of motion lose rank (23 of 24)"
+    import warnings
+    rs, rq = 1.0, 0.75
+    rr = rs + 2 * rq
+    j_sun, j_arm, m_planet, j_planet = 0.3, 0.25, 0.5, 0.05
+    p = Model("audit_two_planets")
+    frame = p.ground("frame", points=[(0, 0)])
+    sun = p.body("sun", points=[(0, 0), (rs, 0)], guess=(0, 0, 0), mass=1, inertia=j_sun)
+    arm = p.body("arm", points=[(0, 0), (rs + rq, 0), (-(rs + rq), 0)], guess=(0, 0, 0),
+                 mass=0.8, inertia=j_arm)
+    p1 = p.body("p1", points=[(0, 0), (rq, 0)], guess=(rs + rq, 0, 0), mass=m_planet,
+                inertia=j_planet)
+    p2 = p.body("p2", points=[(0, 0), (rq, 0)], guess=(-(rs + rq), 0, 0), mass=m_planet,
+                inertia=j_planet)
+    p.revolute(frame[1], sun[1], name="sun shaft")
+    p.revolute(frame[1], arm[1], name="arm shaft")
+    p.revolute(arm[2], p1[1], name="pin1")
+    p.revolute(arm[3], p2[1], name="pin2")
+    p.gear_ratio(sun[1], rs, p1[1], rq, name="sun-p1")
+    p.gear_ratio(p1[1], rq, frame[1], -rr, name="p1-ring")
+    p.gear_ratio(sun[1], rs, p2[1], rq, name="sun-p2")
+    p.gear_ratio(p2[1], rq, frame[1], -rr, name="p2-ring")
+    p.rotation_lock(sun, 3.5 * T, name="input")
+    p.moment(arm, -1.0, name="load")
+    mech = _compile(p, tmp_path)
+    ka = rs / (rs + rr)                          # arm / sun, Willis
+    kp = ka - (rs / rq) * (1 - ka)               # planet / sun
+    inertia = j_sun + (j_arm + 2 * m_planet * (rs + rq) ** 2) * ka ** 2 + 2 * j_planet * kp ** 2
+    alpha = -1.0 * ka / inertia                  # the sun's angular acceleration, released
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        s = mech.solve(0.3, level="dynamic")
+        assert s.indeterminate and abs(s.driver("input") - 1.0 * ka) < 1e-12
+        sw = mech.simulate(0.0, 1.0, 11, free=["input"])
+    assert "sun-p2: gear_ratio(sun[1], 1.0, p2[1], 0.75)" in sw.indeterminate
+    np.testing.assert_allclose(sw["Th2"], 3.5 * sw.t + 0.5 * alpha * sw.t ** 2, atol=1e-7)
+    np.testing.assert_allclose(sw["Th2dd"], alpha, rtol=1e-9)
+    np.testing.assert_allclose(sw["Th3"], ka * sw["Th2"], atol=1e-9)
+    energy = sw.energy()["total"]
+    np.testing.assert_allclose(energy - energy[0], -1.0 * (sw["Th3"] - sw["Th3"][0]), atol=1e-7)
+    assert np.abs(sw.power()["residual"]).max() < 1e-9
+    r = np.empty(mech.m)
+    keep = [i for i, label in enumerate(mech.constraint_labels) if "input" not in label]
+    for k in range(len(sw)):
+        mech.module.phi(sw.Q[k], float(sw.t[k]), mech.p, r)
+        assert np.abs(r[keep]).max() < 1e-10
+
+
+@pytest.mark.parametrize("method", ["dopri5", "RK45"])
+def test_simulate_across_a_switch_of_a_driver_still_prescribed(tmp_path, method):
+    # a cart pushed x = 0.3 sin 2T up to t = 0.5, then x = 0.3 sin 1 + 0.1 (T - 0.5) (its
+    # speed jumps from 0.324 to 0.1), a pendulum hinged on it released. Its momentum about
+    # the hinge, (J + m lc²) θ' + m lc cos θ x', is kept through the jump; simulate
+    # integrated across the switch as if nothing happened and put the cart's speed right
+    # by a least-norm projection that left θ' = -1.375 (it is -0.972 after the switch):
+    # θ off by 0.09 rad at t = 0.8, no error
+    from scipy.integrate import solve_ivp
+    cart_m, mass, inertia, lc = 2.0, 0.8, 0.05, 0.4
+    m = Model("audit_cart_stage")
+    base = m.ground("base", points=[(0, 0), (1, 0)])
+    cart = m.body("cart", points=[(0, 0), (1, 0)], guess=(0, 0, 0), mass=cart_m, inertia=0.1)
+    pend = m.body("pend", points=[(0, 0), (0, -0.7)], guess=(0, 0, 0.4), mass=mass,
+                  inertia=inertia, centroid=(0, -lc))
+    m.translate(base.line(1, 2), cart.line(1, 2), name="rail")
+    with m.stage("swing", until=0.5):
+        m.relative_x(cart[1], 0.3 * sin(2 * T), name="push a")
+    with m.stage("glide"):
+        m.relative_x(cart[1], 0.3 * sin(1) + 0.1 * (T - 0.5), name="push b")
+    m.revolute(cart[1], pend[1], name="hinge")
+    m.rotation_lock(pend, cart, 0.4 + 0.5 * T, name="hold")
+    m.gravity(G)
+    mech = _compile(m, tmp_path)
+    sw = mech.simulate(0.0, 1.0, 11, free=["hold"], method=method, rtol=1e-10, atol=1e-12)
+    i0 = inertia + mass * lc ** 2
+
+    def rhs(t, y):
+        xdd = -1.2 * np.sin(2 * t) if t < 0.5 else 0.0
+        return [y[1], (-mass * G * lc * np.sin(y[0]) - mass * lc * np.cos(y[0]) * xdd) / i0]
+    a = solve_ivp(rhs, (0, 0.5), [0.4, 0.5], method="DOP853", rtol=1e-12, atol=1e-12,
+                  t_eval=np.linspace(0, 0.5, 6))
+    th, w = a.y[:, -1]
+    w = w - mass * lc * np.cos(th) * (0.1 - 0.6 * np.cos(1.0)) / i0       # the impulse
+    b = solve_ivp(rhs, (0.5, 1.0), [th, w], method="DOP853", rtol=1e-12, atol=1e-12,
+                  t_eval=np.linspace(0.5, 1.0, 6))
+    np.testing.assert_allclose(sw["Th3"], np.r_[a.y[0], b.y[0][1:]], atol=1e-7)
+    np.testing.assert_allclose(sw["Th3d"], np.r_[a.y[1][:-1], b.y[1]], atol=1e-7)
+    np.testing.assert_allclose(sw["X2d"][5:], 0.1, atol=1e-12)
