@@ -1,0 +1,205 @@
+"""What numba compiles after an edit, and what it costs: per model, in fresh processes with
+an empty numba cache and a fresh build folder (CPU time, the child's own and its children's):
+
+- ``build``: load the model file and write its module (sympy and mechgen imported first,
+  not counted; the best of --builds fresh processes);
+- ``sweep``: edit -> the first compiled 10^5-point acceleration sweep: import, build, load
+  with the compiled tier, ``mech.sweep(0, 1, 10**5, level="acceleration")`` (the whole
+  child: what a user waits for);
+- ``whole``: the warm-up worker's work, every entry point compiled
+  (mechgen.runtime.loading.warm, all stages) after the build;
+- per emitted function: numba's compile CPU (its own, the functions it compiled on its way
+  subtracted; numba's "numba:compile" events) and its size in lines, in the ``sweep``
+  child (what the sweep needs) and the ``whole`` child.
+
+    python benchmarks/bench_compile.py                          # all five models
+    python benchmarks/bench_compile.py --models quick_return    # one, quickly
+    python benchmarks/bench_compile.py --root /tmp/base         # another checkout's mechgen
+    python benchmarks/bench_compile.py --functions 12 --json out.json
+
+Models: quick_return, quick_return_forces, strandbeest (examples/strandbeest.py),
+andrews_squeezer and chain50 (benchmarks/chain_model.py, 50 four-bars).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+MODELS = {"quick_return": "examples/quick_return.py",
+          "quick_return_forces": "examples/quick_return_forces.py",
+          "strandbeest": "examples/strandbeest.py",
+          "andrews_squeezer": "examples/andrews_squeezer.py",
+          "chain50": "chain50"}
+
+CHILD = r'''
+import inspect, json, os, resource, sys, time
+MODE, MODEL, OUT, CHAIN = sys.argv[1], sys.argv[2], sys.argv[3], sys.argv[4]
+
+
+def cpu():
+    s, c = resource.getrusage(resource.RUSAGE_SELF), resource.getrusage(resource.RUSAGE_CHILDREN)
+    return s.ru_utime + s.ru_stime + c.ru_utime + c.ru_stime
+
+
+def model():
+    if MODEL == "chain50":
+        sys.path.insert(0, CHAIN)
+        from chain_model import chain
+        return chain(50)
+    return mechgen.load_model(MODEL)
+
+
+res = {}
+compiles = {}
+if MODE != "build":
+    import numba.core.event as ev
+
+    class Own(ev.Listener):
+        """numba's compile events: each function's own CPU (nested compiles subtracted)."""
+        stack = []
+
+        def on_start(self, event):
+            self.stack.append([time.process_time(), 0.0])
+
+        def on_end(self, event):
+            t0, inner = self.stack.pop()
+            spent = time.process_time() - t0
+            if self.stack:
+                self.stack[-1][1] += spent
+            fn = event.data["dispatcher"].py_func
+            name = fn.__name__
+            try:
+                lines = len(inspect.getsourcelines(fn)[0])
+            except (OSError, TypeError):
+                lines = 0
+            row = compiles.setdefault(name, [0.0, lines, 0])
+            row[0] += spent - inner
+            row[2] += 1
+
+    ev.register("numba:compile", Own())
+t0 = cpu()
+import mechgen
+if MODE == "build":
+    import sympy  # noqa: F401 - the floor, not counted
+    from mechgen.compiler.build import build
+    t0 = cpu()
+    m = model()
+    res["load_model"] = cpu() - t0
+    build(m, OUT)
+    res["build"] = cpu() - t0
+else:
+    m = model()
+    mech = mechgen.compile(m, outdir=OUT, tier="auto" if MODE == "auto" else "compiled")
+    res["build+load"] = cpu() - t0
+    path = os.path.join(OUT, mech.name + ".py")
+    res["module_lines"] = sum(1 for _ in open(path))
+    if MODE in ("sweep", "auto"):
+        t1 = cpu()
+        sw = mech.sweep(0.0, 1.0, 10**5, level="acceleration")
+        res[MODE] = cpu() - t1
+        res["check"] = float(abs(sw.QDD).sum())
+        if MODE == "auto":      # this process's own CPU: the worker it started is not ours
+            own = resource.getrusage(resource.RUSAGE_SELF)
+            res["total"] = own.ru_utime + own.ru_stime
+            res["tier"] = mech.tier
+            mech._tiers.stop_worker() if hasattr(mech, "_tiers") else None
+    else:
+        from mechgen.runtime.loading.warm import STAGES, warm
+        t1 = cpu()
+        done = warm(mech, STAGES)
+        res["whole"] = cpu() - t1
+        res["stages"] = done
+res.setdefault("total", cpu())
+res["functions"] = compiles
+print("BENCH " + json.dumps(res))
+'''
+
+
+def child(root, mode, name, tmp):
+    """Run one fresh process: its JSON result."""
+    out, cache = os.path.join(tmp, f"gen-{mode}"), os.path.join(tmp, f"nc-{mode}")
+    for d in (out, cache):
+        shutil.rmtree(d, ignore_errors=True)
+    src = MODELS[name]
+    model = src if src == "chain50" else os.path.join(root, src)
+    env = dict(os.environ, PYTHONPATH=root, NUMBA_CACHE_DIR=cache,
+               MECHGEN_CACHE=os.path.join(tmp, f"mg-{mode}"))
+    env.pop("MECHGEN_TIER", None)
+    res = subprocess.run([sys.executable, "-c", CHILD, mode, model, out, HERE],
+                         capture_output=True, text=True, env=env, cwd=tmp)
+    line = [x for x in res.stdout.splitlines() if x.startswith("BENCH ")]
+    if res.returncode or not line:
+        raise SystemExit(f"{name} {mode} failed:\n{res.stderr[-3000:]}")
+    return json.loads(line[-1][6:])
+
+
+def table(funcs, top):
+    rows = sorted(funcs.items(), key=lambda kv: -kv[1][0])
+    out = [f"      {'function':<28} {'CPU s':>7} {'lines':>6} {'sigs':>5}"]
+    for name, (spent, lines, n) in rows[:top]:
+        out.append(f"      {name:<28} {spent:7.2f} {lines:6d} {n:5d}")
+    rest = rows[top:]
+    if rest:
+        out.append(f"      {f'({len(rest)} more)':<28} {sum(r[1][0] for r in rest):7.2f} "
+                   f"{sum(r[1][1] for r in rest):6d}")
+    return "\n".join(out)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--models", default=",".join(MODELS))
+    ap.add_argument("--root", default=ROOT, help="the checkout whose mechgen runs")
+    ap.add_argument("--modes", default="build,sweep,whole",
+                    help="of build, sweep, auto, whole")
+    ap.add_argument("--builds", type=int, default=3, help="fresh build processes (best of)")
+    ap.add_argument("--functions", type=int, default=10, help="rows of the per-function tables")
+    ap.add_argument("--json", help="write every result here")
+    args = ap.parse_args()
+    root = os.path.abspath(args.root)
+    commit = subprocess.run(["git", "-C", root, "rev-parse", "--short", "HEAD"],
+                            capture_output=True, text=True).stdout.strip() or "(no git)"
+    dirty = subprocess.run(["git", "-C", root, "status", "--porcelain", "--", "mechgen",
+                            "templates"], capture_output=True, text=True).stdout.strip()
+    print(f"mechgen at {root} ({commit}{', modified' if dirty else ''}); CPU seconds")
+    results = {}
+    modes = args.modes.split(",")
+    for name in args.models.split(","):
+        tmp = tempfile.mkdtemp(prefix=f"bench-compile-{name}-")
+        try:
+            r = results[name] = {}
+            if "build" in modes:
+                builds = [child(root, "build", name, tmp) for _ in range(args.builds)]
+                r["build"] = min(b["build"] for b in builds)
+                r["load_model"] = min(b["load_model"] for b in builds)
+                print(f"{name}: build {r['build']:.2f} s (load_model {r['load_model']:.2f}; "
+                      f"best of {args.builds})", flush=True)
+            for mode in ("sweep", "auto", "whole"):
+                if mode not in modes:
+                    continue
+                got = r[mode] = child(root, mode, name, tmp)
+                spent = sum(v[0] for v in got["functions"].values())
+                what = {"sweep": "edit -> first 10^5-point acceleration sweep (compiled tier)",
+                        "auto": "the same in the auto tier (this process only)",
+                        "whole": "whole module (warm-up worker)"}[mode]
+                print(f"{name}: {what}: {got[mode]:.2f} s for that call, "
+                      f"{got['total']:.2f} s the whole process (build+load "
+                      f"{got['build+load']:.2f}); numba compiled {len(got['functions'])} "
+                      f"functions, {spent:.2f} s; module {got['module_lines']} lines",
+                      flush=True)
+                print(table(got["functions"], args.functions), flush=True)
+        finally:
+            shutil.rmtree(tmp, ignore_errors=True)
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump({"root": root, "commit": commit, "results": results}, fh, indent=1)
+
+
+if __name__ == "__main__":
+    main()
