@@ -305,3 +305,71 @@ def test_a_gear_train_has_one_meshing_at_a_time():
             break
         rows.append(line.split())
     assert sum(1 for r in rows if abs(float(r[1]) - 8.0) < 1e-6) == 1, text
+
+
+# -- an internal pair and a planetary arm meshing at phase c, whichever gear comes first --
+def _compile(m, tmp_path):
+    return mechgen.compile(m, outdir=str(tmp_path), tier="python")
+
+
+def _same_angle(a, b, tol=1e-9):
+    return abs(math.remainder(a - b, 2 * math.pi)) < tol
+
+
+# -- internal gears declared ring first ---------------------------------------------------
+def _internal_pair(ring_first):
+    """A pinion (radius 1) at (1.5, 0) inside a ring (radius 2.5) at the origin, both on
+    fixed shafts, the pinion driven: with c = 0 every x axis along +x (from the ring's
+    centre through the pinion's to the pitch point (2.5, 0)) is a meshing position
+    (docs/constraints.md: e1 = e2 = 0), so the ring turns at rp/rr from 0."""
+    m = Model("ring_first" if ring_first else "pinion_first")
+    b = m.ground("b", points=[(0, 0), (1.5, 0)])
+    ring = m.body("ring", points=[(0, 0)], guess=(0, 0, 0))
+    pin = m.body("pin", points=[(0, 0)], guess=(1.5, 0, 0))
+    m.revolute(b[1], ring[1])
+    m.revolute(b[2], pin[1])
+    if ring_first:
+        m.gear_ratio(ring[1], -2.5, pin[1], 1.0)
+    else:
+        m.gear_ratio(pin[1], 1.0, ring[1], -2.5)
+    m.rotation_lock(pin, 2 * T)
+    return m
+
+
+@pytest.mark.parametrize("ring_first", [False, True])
+def test_an_internal_pair_meshes_at_phase_c_whichever_gear_comes_first(ring_first, tmp_path):
+    mech = _compile(_internal_pair(ring_first), tmp_path)
+    for t in (0.0, 0.1, 1.0):
+        s = mech.solve(t, level="velocity")
+        assert _same_angle(s["Th2"], 2 * t / 2.5), (t, s["Th2"])
+        assert s["Th2d"] == pytest.approx(0.8, abs=1e-12)
+
+
+def _planetary(ring_first):
+    """Sun (1) driven, planet (0.6) on an arm, fixed ring (2.2) = the ground; the all-zero
+    pose meshes both pairs at c = 0, so the arm turns at ω rs/(rs + rr) from 0 (Willis)."""
+    p = Model("planet_ring_first" if ring_first else "planet_first")
+    frame = p.ground("frame", points=[(0, 0)])
+    sun = p.body("sun", points=[(0, 0)], guess=(0, 0, 0))
+    planet = p.body("planet", points=[(0, 0)], guess=(1.6, 0, 0))
+    arm = p.body("arm", points=[(0, 0), (1.6, 0)], guess=(0, 0, 0))
+    p.revolute(frame[1], sun[1])
+    p.revolute(frame[1], arm[1])
+    p.revolute(arm[2], planet[1])
+    p.gear_ratio(sun[1], 1.0, planet[1], 0.6)
+    if ring_first:
+        p.gear_ratio(frame[1], -2.2, planet[1], 0.6)
+    else:
+        p.gear_ratio(planet[1], 0.6, frame[1], -2.2)
+    p.rotation_lock(sun, 2 * T)
+    return p
+
+
+@pytest.mark.parametrize("ring_first", [False, True])
+def test_a_planetary_arm_starts_where_its_gears_mesh_at_phase_c(ring_first, tmp_path):
+    mech = _compile(_planetary(ring_first), tmp_path)
+    w_arm = 2 * 1.0 / 3.2
+    for t in (0.0, 0.3, 2.0):
+        s = mech.solve(t, level="velocity")
+        assert _same_angle(s["Th4"], w_arm * t), (t, s["Th4"])
+        assert s["Th4d"] == pytest.approx(w_arm, abs=1e-12)

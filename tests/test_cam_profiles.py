@@ -1,9 +1,12 @@
-"""Audit of cam profiles (m.profile with cam_to_point, cam_to_line, cam_to_cam): a profile
+"""Cam profiles (m.profile with cam_to_point, cam_to_line, cam_to_cam): a profile
 that jumps (a periodic law whose end misses its start, or two pieces that miss each other)
 or has a corner under a roller, refused where it is declared instead of a follower that
 jumps silently or a sweep that fails half-way blaming a lock; a polar law written over one
-lobe (period=2π/k, periodic=True) makes the whole cam. Expected values come from the
+lobe (period=2π/k, periodic=True) makes the whole cam; an open track keeps its roller on
+one side and has no join to be a cusp. Expected values come from the
 geometry (closed forms, the envelope of the roller), never from mechgen."""
+import math
+
 import numpy as np
 import pytest
 
@@ -173,3 +176,68 @@ def test_with_params_says_when_the_profile_turns_the_other_way(tmp_path):
     # cam 0.5 above its lowest point (the same ellipse: physically Y3 = 2.0)
     with pytest.warns(RuntimeWarning, match=r"with b=-1\.5: .*'ell' runs the other way round"):
         mech.with_params(b=-1.5)
+
+
+def _compile(m, tmp_path):
+    return mechgen.compile(m, outdir=str(tmp_path), tier="python")
+
+
+# -- an open profile (a translating cam's track): the roller's side ------------------------
+def _track(c0, name):
+    """A wavy track y = c0 + 0.5 sin x fixed in a slider that moves along x, a roller
+    (radius 0.3) on a vertical guide at x = 2: the same track, c0 apart in the cam's frame."""
+    m = Model(name)
+    g = m.ground("g", points=[(0, 0), (1, 0), (2.0, 0), (2.0, 1)])
+    cam = m.body("cam", points=[(0, 0), (1, 0)], guess=(0, 0, 0))
+    f = m.body("f", points=[(0, 0), (0, 1)], guess=(2.0, c0 + 0.5 * math.sin(2.0), 0))
+    m.translate(g.line(1, 2), cam.line(1, 2))
+    m.relative_x(cam[0], 0.5 * T)
+    m.translate(g.line(3, 4), f.line(1, 2))
+    prof = m.profile("trk", xy=lambda s: (s, c0 + 0.5 * mechgen.sin(s)))
+    m.cam_to_point(cam, prof, f[1], contact="s", guess=2.0, radius=0.3)
+    return m
+
+
+def test_an_open_track_keeps_its_roller_on_one_side_wherever_it_lies(tmp_path):
+    """Shifting the track by c0 in its cam's frame shifts the follower by c0: the roller's
+    side may not depend on where the frame's origin is (it flipped below the track at
+    c0 = -1, above it at c0 = 0 and 1). Closed form: the roller's centre lies 0.3 along
+    the normal of the track, at the point where it meets x = 2 (found by bisection)."""
+    got = {}
+    for k, c0 in enumerate((-1.0, 0.0, 1.0)):
+        mech = _compile(_track(c0, f"track{k}"), tmp_path)
+        got[c0] = mech.solve(0.0)["Y3"] - c0
+    assert got[0.0] == pytest.approx(got[1.0], abs=1e-12)
+    assert got[-1.0] == pytest.approx(got[0.0], abs=1e-12)
+    # the right of the direction of travel (+x): below the track, as documented
+    def centre_x(s):
+        return s + 0.3 * 0.5 * math.cos(s) / math.hypot(1, 0.5 * math.cos(s)) - 2.0
+    lo, hi = 1.0, 3.0
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if centre_x(mid) < 0 else (lo, mid)
+    s = 0.5 * (lo + hi)
+    want = 0.5 * math.sin(s) - 0.3 / math.hypot(1, 0.5 * math.cos(s))
+    assert got[0.0] == pytest.approx(want, abs=1e-10)
+
+
+def test_an_open_arc_track_is_not_a_cusp(tmp_path):
+    """A half circle of radius 3 (period π, open) on a slider moving at 0.2 along x, a knife
+    edge on a vertical guide at x = 0.5: y = sqrt(9 − (0.5 − 0.2 t)²). Its end's tangent is
+    against its start's, which for a closed profile would be a cusp at the join (the
+    declaration was refused: 'has a cusp at s = 3.14002'); an open track has no join."""
+    m = Model("arc_track")
+    g = m.ground("g", points=[(0, 0), (1, 0), (0.5, 0), (0.5, 1)])
+    cam = m.body("cam", points=[(0, 0), (1, 0)], guess=(0, 0, 0))
+    f = m.body("f", points=[(0, 0), (0, 1)], guess=(0.5, 2.9, 0))
+    m.translate(g.line(1, 2), cam.line(1, 2))
+    m.relative_x(cam[0], 0.2 * T)
+    m.translate(g.line(3, 4), f.line(1, 2))
+    prof = m.profile("arc", xy=lambda s: (3 * mechgen.cos(s), 3 * mechgen.sin(s)), period=mechgen.pi)
+    m.cam_to_point(cam, prof, f[1], contact="s", guess=1.4)
+    mech = _compile(m, tmp_path)
+    for t in (0.0, 1.0, 4.0):
+        s = mech.solve(t, level="velocity")
+        x = 0.5 - 0.2 * t
+        assert s["Y3"] == pytest.approx(math.sqrt(9 - x * x), abs=1e-12)
+        assert s["Y3d"] == pytest.approx(0.2 * x / math.sqrt(9 - x * x), abs=1e-12)

@@ -1,4 +1,4 @@
-"""Audit (numerics): results must not depend on the units a model is written in, nor on
+"""Numerics: results must not depend on the units a model is written in, nor on
 how fast its driver turns. The same quick-return (seed 001) written with every length
 multiplied by S, or with its crank speed changed, is the same mechanism; its closed form
 (below, independent of mechgen) gives the reference.
@@ -8,7 +8,6 @@ crank pin P, its tip E = 9S P/|P|, a link 5S to the slider on y = 10S:
 X4 = E_x + √((5S)² − (10S − E_y)²), Th3 = atan2(−P_x, P_y)."""
 import math
 
-import numpy as np
 import pytest
 
 import mechgen

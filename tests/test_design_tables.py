@@ -1,4 +1,4 @@
-"""Audit of API.md section 4 (design tables) and section 5 ("design tables and reduce=
+"""Design tables (API.md section 4) and section 5 ("design tables and reduce=
 accept driver names"): an offset slider-crank whose slider is the rod's end on a guide
 (crank r, rod l, guide at height e, a 2 kg mass at the rod's end, a press force of -100
 along the guide), built here in the plain-Python tier.
