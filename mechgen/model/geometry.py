@@ -213,7 +213,7 @@ class Line:
 
     @property
     def length(self):
-        """|u|. For an axis fixed in one body this is the constant local length (9, not
+        """‖u‖. For an axis fixed in one body this is the constant local length (9, not
         sqrt(81 sin² + 81 cos²)), as Mech prints it."""
         d = self.local_difference()
         if d is None:

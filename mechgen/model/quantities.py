@@ -129,7 +129,7 @@ def distance(p1, p2):
 
 
 def point_to_line_distance(p, a):
-    """Signed distance of p from the axis, (a.first − r(p)) × u / |u| as Mech prints it:
+    """Signed distance of p from the axis, (a.first − r(p)) × u / ‖u‖ as Mech prints it:
     positive when p lies to the left of the axis (seen looking along u)."""
     a = _axis(a, "point_to_line_distance")
     return cross2(a.first.r - _pt(p, "point_to_line_distance"), a.u) / a.length
@@ -156,7 +156,7 @@ PARALLEL_SINE = 1e-10
 
 class unless_parallel(sp.Function):
     """``unless_parallel(c, size)``: c = u × v where c² > PARALLEL_SINE² size (size =
-    |u|² |v|²), NaN where the axes are parallel. Its rate is c's (its derivative in c
+    ‖u‖² ‖v‖²), NaN where the axes are parallel. Its rate is c's (its derivative in c
     is 1): a point divided by it, and that point's velocity and acceleration (dt), are
     NaN where the axes are parallel, and no division by an exact 0.0 raises in the
     generated code (the comparison is computed, never a quotient)."""

@@ -50,8 +50,8 @@ class Mech2D:
         """A pinion of pitch radius r centred at p (on the pinion's body) meshing with a
         rack whose pitch line is axis ``a`` (fixed in the rack's body; Mech's
         RackAndPinion2). Two rows: p lies r to the left of the axis (to its right with a
-        negative r), u × (r(p) − a.first)/|u| − r = 0, and rolls along it,
-        (r(p) − a.first) · u/|u| + r (Th_p − Th_a − α) − c = 0 (α the axis' angle in the
+        negative r), u × (r(p) − a.first)/‖u‖ − r = 0, and rolls along it,
+        (r(p) − a.first) · u/‖u‖ + r (Th_p − Th_a − α) − c = 0 (α the axis' angle in the
         rack; ``c`` the travel at which the pinion's x axis is parallel to the rack)."""
         return self._add_drawn(RackAndPinion, (p, r, a, c), name)
 
@@ -75,9 +75,9 @@ class Mech2D:
 
     def directed_distance(self, p1, p2, direction=None, d=None, name=None):
         """Point ``p1`` lies ``d`` from point ``p2`` measured along ``direction`` (an axis,
-        or a global (dx, dy); Mech's DirectedDistance1): (r(p1) − r(p2)) · u/|u| − d = 0.
+        or a global (dx, dy); Mech's DirectedDistance1): (r(p1) − r(p2)) · u/‖u‖ − d = 0.
         ``directed_distance(p1, direction, d)`` measures from the global origin; without
-        ``d`` the distance is |u|. With T in ``d`` it is a driver."""
+        ``d`` the distance is ‖u‖. With T in ``d`` it is a driver."""
         return self._add(DirectedDistance, (p1, p2, direction, d), name)
 
     # -- joints with their own coordinate -------------------------------------------
@@ -113,7 +113,7 @@ class Mech2D:
         """A slider that brings its travel as a coordinate (Mech's GenTranslate2): axis
         ``a2`` slides along axis ``a1`` without turning (rows parallel and offset, as
         translate) and its first point lies ``coordinate`` from a1's first point along
-        a1: (a2.first − a1.first) · u1/|u1| − s = 0 (row travel). ``coordinate`` as for
+        a1: (a2.first − a1.first) · u1/‖u1‖ − s = 0 (row travel). ``coordinate`` as for
         gen_revolute; GenTranslate2[axis1, axis2] is gen_translate(axis2, axis1)."""
         return self._with_coordinate(GenTranslate, a1, a2, coordinate, guess, name)
 
