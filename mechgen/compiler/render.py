@@ -4,6 +4,7 @@ the header constants from mechgen.protocol, the numeric library copied in verbat
 options give the same bytes."""
 from __future__ import annotations
 
+import functools
 import os
 import warnings
 
@@ -24,26 +25,52 @@ PREAMBLE = ("# -----------------------------------------------------------------
 
 
 def environment() -> jinja2.Environment:
-    """The strict jinja environment of the templates: a missing field fails at render time."""
+    """The strict jinja environment of the templates: a missing field fails at render time.
+    Each template is compiled once per process (jinja's own cache of the environment, kept
+    while the template files are unchanged), and its Python code kept on disk beside the
+    templates (templates/__pycache__, where writable) for the next process."""
+    return _environment(template_dir())
+
+
+@functools.lru_cache(maxsize=4)
+def _environment(folder) -> jinja2.Environment:
+    cache = os.path.join(folder, "__pycache__")
+    try:
+        os.makedirs(cache, exist_ok=True)
+        keep = jinja2.FileSystemBytecodeCache(cache, "%s.jinja") \
+            if os.access(cache, os.W_OK) else None
+    except OSError:
+        keep = None
     return jinja2.Environment(
-        loader=jinja2.FileSystemLoader(template_dir()),
+        loader=jinja2.FileSystemLoader(folder),
         undefined=jinja2.StrictUndefined,
         trim_blocks=True, lstrip_blocks=True, keep_trailing_newline=True,
-        autoescape=False,
+        autoescape=False, bytecode_cache=keep,
     )
 
 
 def module_context(model, *, sort=True, level="acceleration", outputs=None, cse=True,
                    closed_forms="cheap") -> dict:
     """Everything the template reads: the solver context (context.module_context), plus the header
-    constants (``constants``), the library text (``library``), ``all_solved`` and
-    ``inline_mode`` (the numba inline option of the hot solvers)."""
+    constants (``constants``), ``all_solved`` and ``inline_mode`` (the numba inline option
+    of the hot solvers); ``library`` is "" (render appends the library's text, which the
+    template ends with, after the parse check of the model's part)."""
     ctx = solver_context(model, sort=sort, level=level, outputs=outputs, cse=cse,
                          closed_forms=closed_forms)
-    ctx.update(constants=header_constants(), library=library_text(bool(ctx.get("forces"))),
+    ctx.update(constants=header_constants() + unit_constants(model), library="",
                all_solved=all(ctx["solved"]),
                inline_mode="always" if ctx["inline"] else "never")
     return ctx
+
+
+def unit_constants(model) -> list:
+    """The header's UNITS (mechgen.units) where the model declares its units: what the
+    runtime, its pictures and CSV files label numbers with; nothing where it declares none."""
+    stated = model.units.header()
+    if stated is None:
+        return []
+    return [("The model's units (API.md §1, Units): labels only; angles computed in radians",
+             [("UNITS", repr(stated))])]
 
 
 def build_command(source, *, sort=True, level="acceleration", outputs=None,
@@ -72,7 +99,8 @@ def render(model, *, sort=True, level="acceleration", outputs=None, cse=True,
                                 closed_forms=closed_forms)
     text = PREAMBLE.format(version=ctx["mechgen_version"], source=_one_line(source),
                            command=_one_line(command), sympy=sympy.__version__) + body
-    _check_parses(text, model.name)
+    _check_parses(text, model.name)     # the library below is the same in every module
+    text += library_text(bool(ctx.get("forces")))
     return STAMP.format(digest=content_digest(text)) + text
 
 

@@ -90,10 +90,27 @@ def module_words() -> frozenset:
     return frozenset(out)
 
 
+_TOP_DEF = re.compile(r"(?:def|class)\s+([A-Za-z_]\w*)")
+
+
 def module_level_names(source: str) -> set[str]:
     """The names a piece of Python binds at module level (functions, classes, assignments,
     imports): the library's locals live in its own functions' scopes and never meet the
-    model's names, which live in the generated functions'."""
+    model's names, which live in the generated functions'. Text whose unindented lines are
+    all decorators, functions and classes (the library: parsing it cost a build 0.03 s) is
+    read line by line; any other is parsed."""
+    names = set()
+    for line in source.splitlines():
+        if not line or line[0] in " \t#" or line[0] == "@":
+            continue
+        found = _TOP_DEF.match(line)
+        if found is None:
+            return _parsed_names(source)
+        names.add(found.group(1))
+    return names
+
+
+def _parsed_names(source: str) -> set[str]:
     out = set()
     for node in ast.parse(source).body:
         if isinstance(node, (ast.FunctionDef, ast.ClassDef)):

@@ -253,15 +253,18 @@ def margin(b):
     1 − c²/(a² + b²), a quadratic's (B² − 4AC)/(B² + 4|AC|). Each denominator is kept from
     zero (TINY): a quadratic with B = AC = 0 (x² = 0, a toggle) has the margin 0, not 0/0."""
     tiny = sp.Float(TINY)
+
+    def floored(x):     # Max(x, tiny): left unevaluated (sympy's comparisons cost 0.1 s a
+        return sp.Max(x, tiny, evaluate=not x.free_symbols)   # build), a number compared
     if b.method == DYAD_RRR:
         cx, cy, u1x, u1y, u2x, u2y = b.form
         r1, r2, dd = u1x ** 2 + u1y ** 2, u2x ** 2 + u2y ** 2, cx ** 2 + cy ** 2
-        return 1 - (r1 - r2 + dd) ** 2 / sp.Max(4 * dd * r1, tiny)
+        return 1 - (r1 - r2 + dd) ** 2 / floored(4 * dd * r1)
     if b.method == CLOSED_FORM_TRIG:
         ka, kb, kc = b.form
-        return 1 - kc ** 2 / sp.Max(ka ** 2 + kb ** 2, tiny)
+        return 1 - kc ** 2 / floored(ka ** 2 + kb ** 2)
     qa, qb, qc = b.form
-    return (qb ** 2 - 4 * qa * qc) / sp.Max(qb ** 2 + 4 * sp.Abs(qa * qc), tiny)
+    return (qb ** 2 - 4 * qa * qc) / floored(qb ** 2 + 4 * sp.Abs(qa * qc))
 
 
 def reach_body(plan, eq):
