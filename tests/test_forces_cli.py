@@ -1,8 +1,15 @@
 """Forces through the command line and the documents (issue 21): `mechgen forces`,
 `mechgen sweep --level dynamic`, `mechgen equations`, the constraint reference's worked
-example and the README's snippet, each against the closed form of tests/test_forces.py."""
-import numpy as np
+example and the README's snippet, each against the closed form of tests/test_forces.py;
+`mechgen solve --level static|dynamic` prints the driver efforts and reactions it solved,
+against the power balance of a slider-crank written here."""
+import math
+import textwrap
 
+import numpy as np
+import pytest
+
+from mechgen.cli import main
 from test_forces import (C2, G, J2, M2, closed_form, newton_euler, power_torque,
                          slider_crank)
 
@@ -152,3 +159,126 @@ def test_cli_sweep_takes_force_columns_and_reduces_a_driver(tmp_path, capsys, mo
         reduce=["crank driver"])
     np.testing.assert_allclose([float(r[col]) for r in rows[1:]],
                                tab.reduced("crank driver").max, rtol=1e-12)
+
+
+FOURBAR = """
+from mechgen import Model, T, pi, distance
+m = Model("{name}")
+base = m.ground("base", points=[(0, 0), (4, 0)])
+crank = m.body("crank", points=[(0, 0), (1, 0)], guess=(0, 0, 1.0))
+coupler = m.body("coupler", points=[(0, 0), (4, 0)], guess=(0.5, 0.8, 0.3))
+rocker = m.body("rocker", points=[(0, 0), (3, 0)], guess=(4, 0, 1.6))
+m.revolute(base[1], crank[0])
+m.revolute(crank[2], coupler[0])
+m.revolute(coupler[2], rocker[2])
+m.revolute(base[2], rocker[0])
+m.rotation_lock(crank, 2 * pi * T + 1.0, name="drive")
+{extra}
+"""
+
+
+SLIDER_CRANK = """
+from mechgen import Model, T
+m = Model("sc3")
+w = m.param("w", 2.0)
+base = m.ground("base", points=[(0, 0), (1, 0)])
+crank = m.body("crank", points=[(0, 0), (1, 0)], guess=(0, 0, 0.5))
+rod = m.body("rod", points=[(0, 0), (3, 0)], guess=(0.9, 0.5, -0.2))
+slider = m.body("slider", points=[(0, 0), (1, 0)], guess=(3.8, 0, 0), mass=2.0,
+                inertia=0.3)
+m.revolute(base[1], crank[0], name="A")
+m.revolute(crank[2], rod[0], name="B")
+m.revolute(rod[2], slider[0], name="C")
+m.translate(base.line(1, 2), slider.line(1, 2), name="guide")
+m.rotation_lock(crank, w * T + 0.5, name="motor")
+m.force(slider[0], (-100, 0), name="load")
+"""
+
+
+@pytest.fixture
+def _plain(monkeypatch):
+    monkeypatch.setenv("MECHGEN_TIER", "python")
+
+
+def write(tmp_path, text, name="model.py"):
+    path = tmp_path / name
+    path.write_text(textwrap.dedent(text).lstrip())
+    return str(path)
+
+
+def run(capsys, *argv):
+    try:
+        code = main(list(argv))
+    except SystemExit as exc:
+        code = exc.code
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+# -- solve at the force levels --------------------------------------------------------------
+def slider_crank_closed_form(t, static):
+    """Torque and pin C force on the slider of the slider-crank above: crank 1, rod 3 (both
+    massless), slider 2 kg, load -100 along x; power balance τ θ̇ = (m ẍ - F) ẋ."""
+    th, w = 2 * t + 0.5, 2.0
+    s, c = math.sin(th), math.cos(th)
+    root = math.sqrt(9 - s * s)
+    x = c + root
+    xd = w * (-s - s * c / root)
+    xdd = w * w * (-c - (c * c - s * s) / root - (s * c) ** 2 / root ** 3)
+    a = 0.0 if static else xdd
+    fx = 2.0 * a + 100.0
+    fy = fx * (-s) / (x - c)            # along the rod, from its crank end to the slider
+    return (fx * xd) / w, fx, fy
+
+
+@pytest.mark.usefixtures("_plain")
+@pytest.mark.parametrize("level", ["dynamic", "static"])
+def test_solve_at_a_force_level_prints_efforts_and_reactions(capsys, tmp_path, level):
+    path = write(tmp_path, SLIDER_CRANK)
+    code, out, err = run(capsys, "solve", path, "-t", "0.3", "--level", level,
+                         "--outdir", str(tmp_path / "gen"))
+    assert code == 0, err
+    # before: the header said "(acceleration; ...)" and no effort or reaction was printed
+    assert out.splitlines()[0].startswith(f"sc3 at T = 0.3 ({level};")
+    values = {k.strip(): float(v) for k, v in
+              (ln.split("->") for ln in out.splitlines()[1:] if "->" in ln)}
+    tau, fx, fy = slider_crank_closed_form(0.3, level == "static")
+    assert values["motor"] == pytest.approx(tau, rel=1e-9)
+    assert values["C on slider fx"] == pytest.approx(fx, rel=1e-9)
+    assert values["C on slider fy"] == pytest.approx(fy, rel=1e-9)
+    assert values["guide on slider fy"] == pytest.approx(-fy, rel=1e-9)
+
+
+@pytest.mark.usefixtures("_plain")
+def test_solve_force_columns_and_csv_match_the_sweep(capsys, tmp_path):
+    path = write(tmp_path, SLIDER_CRANK)
+    gen = str(tmp_path / "gen")
+    code, out, err = run(capsys, "solve", path, "-t", "0.3", "--level", "dynamic",
+                         "--columns", "motor,C on slider fx", "--outdir", gen)
+    # before: "mechgen: error: 'motor'"
+    assert code == 0, err
+    tau, fx, _ = slider_crank_closed_form(0.3, False)
+    assert f"-> {tau:.10g}" in out and f"-> {fx:.10g}" in out
+    one, many = tmp_path / "one.csv", tmp_path / "many.csv"
+    assert run(capsys, "solve", path, "-t", "0.3", "--level", "dynamic", "-o", str(one),
+               "--outdir", gen)[0] == 0
+    assert run(capsys, "sweep", path, "--t0", "0.3", "--t1", "0.5", "-n", "2", "--level",
+               "dynamic", "-o", str(many), "--outdir", gen)[0] == 0
+    a, b = one.read_text().splitlines(), many.read_text().splitlines()
+    assert a[0] == b[0]
+    np.testing.assert_allclose(np.array(a[1].split(","), dtype=float),
+                               np.array(b[1].split(","), dtype=float), rtol=1e-12, atol=1e-12)
+
+
+@pytest.mark.usefixtures("_plain")
+def test_solve_at_a_force_level_says_which_reactions_are_indeterminate(capsys, tmp_path):
+    extra = 'm.rotation_lock(crank, 2 * pi * T + 1.0, name="drive2")\nm.moment(crank, 3.0)'
+    path = write(tmp_path, FOURBAR.format(name="redf", extra=extra))
+    code, out, err = run(capsys, "solve", path, "-t", "0.2", "--level", "static",
+                         "--columns", "drive,drive2", "--outdir", str(tmp_path / "gen"))
+    assert code == 0, err
+    values = {k.strip(): float(v) for k, v in
+              (ln.split("->") for ln in out.splitlines()[1:] if "->" in ln)}
+    # the two drivers share the -3.0 that holds the crank against its moment
+    assert values["drive"] + values["drive2"] == pytest.approx(-3.0, rel=1e-9)
+    assert "indeterminate" in out and "drive2" in out.splitlines()[-1]

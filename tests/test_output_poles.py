@@ -1,4 +1,4 @@
-"""Audit of API.md section 1's output functions and section 4's sweep analysis against the
+"""Outputs near their poles: API.md section 1's output functions and section 4's sweep analysis against the
 quick-return's closed form (tests/closed_forms.py, mpmath): an intersection of two axes
 that turn parallel, the roots of an angle that wraps at ±π, roots and extremes around a
 pole, the extremes and roots of a rate from a sweep at level position.
