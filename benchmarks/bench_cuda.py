@@ -145,7 +145,7 @@ def measure(designs=1_000_000, times=1000, sample=2000, rounds=3, threads=None,
     ts = np.linspace(0.0, 1.0, times)
     P = np.tile(mech.p, (designs, 1))
     P[:, 0] = np.linspace(1.5, 4.0, designs)
-    q0 = mech._start(None)
+    q0 = mech.guess.copy()
     slots = quantity_slots(mech, ["X4"], "position")   # [[0, index of X4, 0]]
     tpb = threads or (8 if simulated() else 128)
 

@@ -122,7 +122,7 @@ def kernel(mech, ts, P, names, level="dynamic"):
     from mechgen.runtime.gpu.cuda_forces import run_forces_cuda
     from mechgen.runtime.tables.reduce import reduce_slots
     slots = reduce_slots(mech, names, 2 if level == "dynamic" else 0, level)[1]
-    args = (mech, ts, P, mech._start(None), mech._tol(None), mech.xtol, mech._maxit(None), slots)
+    args = (mech, ts, P, mech.guess.copy(), mech.tol, mech.xtol, mech.maxit, slots)
     for tpb in (128, 64, 32):
         t0 = time.perf_counter()
         r = run_forces_cuda(*args, threads=tpb, level=level)

@@ -48,7 +48,7 @@ def _slots(mech):
 def _compiled(mech, expr):
     """(function, symbols, shape) for ``expr``, cached on the mechanism."""
     import sympy as sp
-    cache = mech.__dict__.setdefault("_evaluate_cache", {})
+    cache = mech.state.evaluate_cache
     if isinstance(expr, (list, tuple)):
         expr = sp.Matrix(expr)
     if isinstance(expr, sp.MatrixBase):

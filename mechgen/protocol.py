@@ -20,6 +20,22 @@ FORMAT_VERSION = 4          # the layout of a generated module that this runtime
 LEVELS = ("position", "velocity", "acceleration")
 LEVEL = {name: k for k, name in enumerate(LEVELS)}
 
+# The force levels (a solve or sweep with the multipliers: level="static" or "dynamic") and
+# each one's fused quick path, the sweep that solves the multipliers on its way
+# (compiler/functions/dynamics_code.py): the module's flag that says it is written (else a
+# stub), the kinematic level (LEVEL) its sweep runs at, its name.
+FORCE_LEVELS = ("static", "dynamic")
+FUSED_PATHS = {"static": ("STATIC_FUSED", 0, "sweep_fast_statics"),
+               "dynamic": ("FORCE_FUSED", 2, "sweep_fast_forces")}
+
+
+def fused_path(module, level, lev):
+    """The quick path of ``module`` that solves force level ``level``'s multipliers on its
+    way in a sweep at kinematic level ``lev`` (FUSED_PATHS), or None."""
+    flag, need, name = FUSED_PATHS[level]
+    return getattr(module, name) if lev == need and getattr(module, flag, False) else None
+
+
 # Solving methods (the ``method`` argument of the generated solvers).
 METHODS = ("auto", "sorted", "full")
 METHOD = {name: k for k, name in enumerate(METHODS)}

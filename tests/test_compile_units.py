@@ -59,7 +59,7 @@ import json, sys
 import mechgen
 mech = mechgen.load(sys.argv[1])
 mod = mech.module
-guess = dict(zip(mech.coordinates, mech._start(None)))   # Newton from it (no following)
+guess = dict(zip(mech.coordinates, mech.guess.copy()))   # Newton from it (no following)
 mech.solve(0.15, guess=guess)
 after_position = {name: len(getattr(mod, name).signatures) for name in
                   ("solve_point_sorted", "newton_full", "velocity_sorted", "acceleration_sorted",

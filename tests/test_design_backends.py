@@ -271,7 +271,7 @@ def test_a_table_in_the_python_tier(qr, monkeypatch):
     py = mechgen.load(os.path.join(ROOT, "generated", "quick_return.py"), tier="python")
     assert py.tier == "python"
     asked = []
-    monkeypatch.setattr(py._tiers, "expect",
+    monkeypatch.setattr(py.state.tiers, "expect",
                         lambda mech, points, kind="sweep": asked.append((points, kind)))
     args = dict(params={"longitud": [2.0, 3.0, 6.0]}, level="velocity", on_fail="ignore")
     tab = py.sweep(0.0, 1.0, 7, workers=2, **args)

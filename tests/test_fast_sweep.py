@@ -11,6 +11,7 @@ import sympy as sp
 import mechgen
 from mechgen.compiler.codegen.ir import Assign, Guard, render
 from mechgen.compiler.codegen.schedule import emit
+from mechgen.runtime.guesses import start_vector
 
 from conftest import example_model
 
@@ -28,7 +29,7 @@ def test_turn_is_sin_and_cos_of_the_new_angle(qr):
 
 def _fast_and_careful(mech, ts, guess=None):
     mod, n, N = mech.module, mech.n, len(ts)
-    q0 = mech._start(guess)
+    q0 = start_vector(mech, guess)
     out = []
     for fn in ("sweep_fast", "sweep"):
         Q, QD, QDD = np.zeros((N, n)), np.zeros((N, n)), np.zeros((N, n))
@@ -132,10 +133,10 @@ def test_solve_point_equals_the_call_by_call_solve(qr, qr_slider):
         mod, p = mech.module, mech.p
         for t, guess in cases:
             if guess is None:       # Newton from the model's guess (no guess follows the motion)
-                guess = dict(zip(mech.coordinates, mech._start(None)))
+                guess = dict(zip(mech.coordinates, mech.guess.copy()))
             for level in LEVELS:
                 lev = LEVEL[level]
-                q, info = mech._start(guess), np.zeros(POINT_INFO_SIZE)
+                q, info = start_vector(mech, guess), np.zeros(POINT_INFO_SIZE)
                 status = mod.solve_position(q, t, p, mech.tol, mech.xtol, mech.maxit, AUTO, info)
                 expected = None if status == OK else mechgen.ConvergenceError
                 singular = int(info[INFO_RANK]) < mech.n or not mod.pivot_ratio(q, t, p) >= SING_RTOL

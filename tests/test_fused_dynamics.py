@@ -15,6 +15,7 @@ import pytest
 import mechgen
 from mechgen.runtime.forces.points import solve_points
 from mechgen.runtime.forces.sweep import attach
+from mechgen.runtime.kinematics.solving import sweep as sweep_once
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
@@ -49,7 +50,7 @@ def _separate(mech, sw, level="dynamic"):
 
 def _fused_sweep(mech, t0, t1, n, level="acceleration", times=None):
     fused = {}
-    sw = mech._sweep_once(t0, t1, n, level, None, None, None, None, times, None, fused)
+    sw = sweep_once(mech.state, t0, t1, n, level, None, None, None, None, times, None, fused)
     return sw, fused
 
 
@@ -76,7 +77,7 @@ def test_the_careful_sweep_s_points_are_solved_after(qr):
     careful sweep solves the rest; their multipliers come from the separate pass."""
     times = np.concatenate([np.linspace(0.0, 0.3, 61), np.linspace(0.6, 1.0, 41)])
     fused = {}
-    sw = qr._sweep_once(0.0, 1.0, len(times), "acceleration", None, None, None, None, times,
+    sw = sweep_once(qr.state, 0.0, 1.0, len(times), "acceleration", None, None, None, None, times,
                         None, fused)
     assert 0 < fused["count"] < len(sw)
     dyn = attach(sw, "dynamic", fused)

@@ -160,7 +160,7 @@ def test_the_fast_path_is_taken_with_any_names(built):
     for key, (names, mech) in built.items():
         n, ts = mech.n, np.linspace(0.0, 1.0, 81)
         Q, QD, QDD = np.zeros((81, n)), np.zeros((81, n)), np.zeros((81, n))
-        done = mech.module.sweep_fast(ts, mech._start(None), mech.p, 1e-10, 1e-10, 50,
+        done = mech.module.sweep_fast(ts, mech.guess.copy(), mech.p, 1e-10, 1e-10, 50,
                                       Q, QD, QDD, np.zeros((81, 2), dtype=np.int16))
         assert done == 81, key
 
@@ -204,7 +204,7 @@ def test_a_memory_named_like_the_sweeps_locals_gives_way(built, tmp_path):
     # the written sweep alone, compiled (the rest of the module is the ordinary one's)
     ts, n = b.t, mech.n
     Q, QD, QDD = np.zeros((201, n)), np.zeros((201, n)), np.zeros((201, n))
-    done = mech.module.sweep_fast(ts, mech._start(None), mech.p, 1e-10, 1e-10, 50, Q, QD, QDD,
+    done = mech.module.sweep_fast(ts, mech.guess.copy(), mech.p, 1e-10, 1e-10, 50, Q, QD, QDD,
                                   np.zeros((201, 2), dtype=np.int16))
     assert done > 100           # (it hands the rest, past a hard point, to sweep())
     for A, B in ((Q, b.Q), (QD, b.QD), (QDD, b.QDD)):

@@ -173,7 +173,7 @@ def test_random_four_bars_carried_to_other_dimensions_keep_their_mode(fourbar):
             with warnings.catch_warnings():
                 warnings.simplefilter("error")
                 q = m1.solve(0.0, method=method).q
-            got = (q[m1._index["Th3"]], q[m1._index["Th4"]])
+            got = (q[m1.state.index["Th3"]], q[m1.state.index["Th4"]])
             assert max(abs(wrapped(g - w)) for g, w in zip(got, want)) < 1e-9, \
                 (p0, p1, mode, method)
         with warnings.catch_warnings():
@@ -182,7 +182,7 @@ def test_random_four_bars_carried_to_other_dimensions_keep_their_mode(fourbar):
                            on_fail="ignore")
         assert np.abs(tab.Q[0, 0] - q).max() < 1e-9
         newton = m1.solve(0.0, guess=m0.guess, method="full").q
-        flipped += abs(wrapped(newton[m1._index["Th3"]] - want[0])) > 1e-6
+        flipped += abs(wrapped(newton[m1.state.index["Th3"]] - want[0])) > 1e-6
         checked += 1
     assert flipped >= 3, flipped
 

@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from mechgen.protocol import OK
+from mechgen.runtime.guesses import start_vector
 
 
 def _fast(mech, ts, level, guess=None):
@@ -16,7 +17,7 @@ def _fast(mech, ts, level, guess=None):
     Q, S = np.zeros((N, n)), np.zeros((N, 2), dtype=np.int16)
     QD = np.zeros((N, n) if level else (0, n))
     QDD = np.zeros((N, n) if level else (0, n))
-    done = mod.sweep_fast(np.asarray(ts, dtype=float), mech._start(guess), mech.p, 1e-10,
+    done = mod.sweep_fast(np.asarray(ts, dtype=float), start_vector(mech, guess), mech.p, 1e-10,
                           1e-10, 50, Q, QD, QDD, S)
     return done, Q, S
 

@@ -337,7 +337,7 @@ def test_a_time_too_far_from_the_guess_is_refused_before_any_work(fourbar_mech):
     mech = fourbar_mech.with_params()
     with pytest.raises(ValueError, match=r"solve\(t=1000000\).*farther.*guess near t"):
         mech.solve(1e6)
-    assert mech._path is None or mech._path.count == {1: 0, -1: 0}
+    assert mech.state.path is None or mech.state.path.count == {1: 0, -1: 0}
 
 
 def test_an_unsorted_build_keeps_the_mode_too(tmp_path):

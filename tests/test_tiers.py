@@ -242,7 +242,7 @@ def test_two_workers_then_the_switch(fresh):
         import mechgen
         assert cache_ready({path!r})
         m = mechgen.load({path!r})                  # auto: the cache is ready, no worker
-        assert m.tier == "python" and m._tiers.worker is None
+        assert m.tier == "python" and m.state.tiers.worker is None
         first = m.solve(0.1)
         while m.tier == "python":                   # its calls cost SWITCH_AFTER seconds
             m.solve(0.1)
@@ -267,7 +267,7 @@ def test_a_large_call_compiles_what_it_needs(fresh):
         import mechgen
         from mechgen.runtime.loading import tiers
         m = mechgen.load({path!r})
-        assert m.tier == "python" and m._tiers.worker is not None
+        assert m.tier == "python" and m.state.tiers.worker is not None
         small = m.sweep(0, 1, 50, level="acceleration")
         tiers.BIG_CALL = 1e-9                        # any sweep is large now
         big = m.sweep(0, 1, 50, level="acceleration")
@@ -275,8 +275,8 @@ def test_a_large_call_compiles_what_it_needs(fresh):
         for x in ("Q", "QD", "QDD", "info"):       # bit for bit, the tiers' promise
             assert np.array_equal(getattr(big, x), getattr(small, x), equal_nan=True), x
         assert not tiers.cache_ready({path!r})      # the worker was stopped before the end
-        assert m._tiers.worker is not None          # and started again for the rest
-        m._tiers.stop_worker()
+        assert m.state.tiers.worker is not None          # and started again for the rest
+        m.state.tiers.stop_worker()
         print("ok")
     """
     out = _run(code, env)

@@ -96,7 +96,7 @@ def _start(mech, tol, maxit, meth) -> Path:
     """The path of the current guess: the guess solved at its time, kept while the guess,
     parameters, tolerances and method stay the same."""
     key = _key(mech, tol, maxit, meth)
-    path = getattr(mech, "_path", None)
+    path = mech.state.path
     if path is not None and path.key == key:
         return path
     t0 = float(mech.guess_t)
@@ -118,7 +118,7 @@ def _start(mech, tol, maxit, meth) -> Path:
         raise exc
     if note is not None:
         warnings.warn(note, BranchJumpWarning, stacklevel=outside())
-    path = mech._path = Path(key, t0, q)
+    path = mech.state.path = Path(key, t0, q)
     return path
 
 
@@ -130,7 +130,7 @@ def start_at(mech, guess, t, tol, maxit, meth, what) -> np.ndarray:
     (the mechanism's guess followed to t: a Newton from it at t could start on another
     mode than solve's); any other guess, the Newton start at t (runtime.guesses.guess_at)."""
     if guess is None:
-        with mech._lock:    # (the way is kept on the mechanism, as solve's)
+        with mech.state.lock:    # (the way is kept on the mechanism, as solve's)
             return follow(mech, float(t), tol, maxit, meth, what=what)
     if not isinstance(guess, Solution) or float(guess.t) == float(t):
         return guess_at(mech, guess, t)
@@ -195,13 +195,14 @@ def _segment(mech, ts, q0, tol, maxit, meth):
     report = np.zeros(REPORT_SIZE)
     if module_attr(mech.module, "SWITCH_TIMES", ()):
         # stages: Mechanism.sweep runs each stage's piece on its own (runtime.stages)
-        last = mech._last
+        state = mech.state
+        last = state.last
         try:
             sw = mech.sweep(float(ts[0]), float(ts[-1]), N, times=ts, guess=q0,
                             level="position", method=_NAMES[meth], tol=tol,
                             maxit=maxit)
         finally:
-            mech._last = last
+            state.last = last
         return sw.Q[[0, -1]], N, S[[0, -1]], report      # (two times: the ends)
     none = no_rows(n)
     done, _ = compiled(mech, ts, q0.copy(), _POSITION, tol, maxit, meth, Q, none, none, S,
@@ -322,7 +323,7 @@ def follow(mech, t, tol, maxit, meth, what=None) -> np.ndarray:
     ``what`` names the caller's solve in it (default "solve(t=...)")."""
     # (a solve's own cost once the way is known: the path's key compared, the last cell
     # before t found and the one short continuation from it; see _start and Path)
-    path = getattr(mech, "_path", None)
+    path = mech.state.path
     if path is None or path.key != (mech.p.tobytes(), mech.guess.tobytes(),   # (_key)
                                     float(mech.guess_t), tol, mech.xtol, maxit, meth):
         path = _start(mech, tol, maxit, meth)
@@ -346,7 +347,7 @@ def follow(mech, t, tol, maxit, meth, what=None) -> np.ndarray:
         tc = t0 + (sign * m) * CELL
     have = path.count[sign]
     if m > have:                                # the cells still missing, CHUNK at a time
-        mech._tiers.expect(mech, m - have)
+        mech.state.tiers.expect(mech, m - have)
         chunk = 1 if module_attr(mech.module, "SWITCH_TIMES", ()) else CHUNK
         while have < m:
             ks = np.arange(have, min(m, have + chunk) + 1)

@@ -25,10 +25,10 @@ def start_vector(mech, guess) -> np.ndarray:
     if isinstance(guess, dict):
         base = mech.guess.copy()
         for name, value in guess.items():
-            if name not in mech._index:
+            if name not in mech.state.index:
                 raise ValueError(f"guess: {name!r} is not a coordinate of '{mech.name}' "
                                  f"(coordinates: {', '.join(mech.coordinates)})")
-            base[mech._index[name]] = finite(value, f"guess for {name}")
+            base[mech.state.index[name]] = finite(value, f"guess for {name}")
         return base
     try:
         arr = np.asarray(guess, dtype=np.float64)
@@ -53,7 +53,7 @@ def guess_at(mech, guess, t) -> np.ndarray:
     deciding the mode."""
     q = start_vector(mech, guess)
     if isinstance(guess, dict) and 0 < len(guess) < mech.n:
-        fit_given(mech, q, float(t), {mech._index[name] for name in guess})
+        fit_given(mech, q, float(t), {mech.state.index[name] for name in guess})
     return q
 
 

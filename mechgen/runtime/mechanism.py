@@ -5,29 +5,19 @@ sensitivity, fitting), none of which imports it. A symbolic quantity is evaluate
 symbolic side ``mechgen.compile`` attaches (``mech.symbolic``)."""
 from __future__ import annotations
 
-import threading
-import warnings
-from math import isfinite as _isfinite
-
 import numpy as np
 
-from ..errors import MechgenError, RedundancyWarning
-from ..protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, LEVEL, LEVELS,
-                        METHOD, OK, POINT_INFO_SIZE, POINT_PIVOT, POINT_RESIDUAL, SING_RTOL,
-                        VELOCITY)
-from .entry import (module_attr, solve_acceleration, solve_point, solve_point_derivatives,
-                    solve_velocity)
-from .follow import at_guess_params, follow, start_at
-from .forces.lookup import is_force_level
-from .guards import (finite, level_index, method_index, positive_count, positive_tol,
-                     point_bytes, sweep_count, sweep_times)
-from .guesses import guess_at, start_vector, turned_home
+from ..protocol import FORCE_LEVELS, SING_RTOL
+from .entry import module_attr
+from .follow import start_at
+from .guards import finite, method_index
+from .guesses import guess_at, start_vector
+from .kinematics.solving import solve, solve_derivatives
+from .kinematics.solving import sweep as sweep_once
 from .loading.tiers import Tiers
 from .quantity import symbolic_side
 from .results import Solution, Sweep
-from .sweeping import no_points
-from .sweeping import run as run_sweep
-from .sweeping import times as sweep_times_of
+from .state import RuntimeState
 
 # imported where used, so that a fresh process's first answer does not wait for them:
 # assembly, design (and its backends), forces' solvers, stages, singular and locks (the
@@ -44,12 +34,22 @@ def load(path_or_module, tier=None, **kwargs) -> "Mechanism":
     return Mechanism(Tiers.open(path_or_module, tier), **kwargs)
 
 
+def _on_state(name, doc):
+    """A Mechanism attribute that is the state's ``name`` (runtime.state)."""
+    def get(self):
+        return getattr(self.state, name)
+
+    def put(self, value):
+        setattr(self.state, name, value)
+    return property(get, put, doc=doc)
+
+
 class Mechanism:
     """A loaded kinematic solver: positions, velocities, accelerations, sweeps."""
 
     def __init__(self, module, params=None, tol=1e-10, xtol=1e-10, maxit=50, method="auto"):
-        self._tiers = Tiers.of(module)      # the module answering now (mechgen.runtime.loading.tiers)
-        module = self._tiers.module
+        tiers = Tiers.of(module)      # the module answering now (runtime.loading.tiers)
+        module = tiers.module
         self.name = module.MODEL_NAME
         self.coordinates = tuple(module.COORDINATES)
         self.outputs = tuple(module.OUTPUTS)
@@ -59,48 +59,45 @@ class Mechanism:
         self.parameter_names = tuple(module.PARAMETERS)
         self.n = len(self.coordinates)
         self.m = len(self.constraint_labels)
-        self._index = {c: k for k, c in enumerate(self.coordinates)}
         # what this build computes: its highest level, and the coordinates a pruned build
         # (mechgen build --outputs ...) solves
         self.built_level = int(module.LEVEL)
-        self._levels = {name: k for k, name in enumerate(LEVELS) if k <= self.built_level}
         self.solved = tuple(bool(x) for x in module.SOLVED)
-        self._param_index = {name: k for k, name in enumerate(self.parameter_names)}
-        self.p = np.array(module.PARAMETER_DEFAULTS, dtype=np.float64)
-        if params:
-            self.p = self._params_array(params)
-        self.guess = np.array(module.GUESS, dtype=np.float64)
-        self.guess_t = 0.0      # the time the guess is a configuration for (see set_guess)
-        self.guess_p = self.p if not params else \
-            np.array(module.PARAMETER_DEFAULTS, dtype=np.float64)   # and its parameters:
-                                # its mode is carried from them (p itself where they are)
-        self._path = None       # solve(t)'s way from the guess (mechgen.runtime.follow)
-        self.tol, self.xtol, self.maxit = float(tol), float(xtol), int(maxit)
         method_index(method)
-        self.method = method
+        own = np.array(module.PARAMETER_DEFAULTS, dtype=np.float64)
+        self.state = RuntimeState(
+            tiers, self.name, self.built_level, {c: k for k, c in enumerate(self.coordinates)},
+            {name: k for k, name in enumerate(self.parameter_names)}, own,
+            np.array(module.GUESS, dtype=np.float64), 0.0, own, float(tol), float(xtol),
+            int(maxit), method, owner=self)
+        if params:      # (the guess stays one for the model's own parameters)
+            self.state.p = self._params_array(params)
         self.model = None      # the symbolic model, when built by mechgen.compile
         self.symbolic = None   # its evaluator (evaluate, derivative, level), attached there
-        self._last = None      # a Solution, or (t, q, qd, qdd) until asked for (see last)
-        self._info = np.zeros(POINT_INFO_SIZE)
-        self._none = np.empty(0)    # qd, qdd of a solve that does not ask for them
-        # solve() keeps scratch on the mechanism (_info, the path's step arrays, the
-        # force rows'): one solve at a time, so that threads sharing a mechanism each get
-        # their own answer (the compiled calls hold the GIL: nothing ran in parallel)
-        self._lock = threading.RLock()
+
+    p = _on_state("p", "The parameters' values, in parameter_names' order.")
+    guess = _on_state("guess", "The start of solves: a configuration at guess_t.")
+    guess_t = _on_state("guess_t", "The time the guess is a configuration for (set_guess).")
+    guess_p = _on_state("guess_p", "The parameters the guess was given for: its mode is "
+                        "carried from them (p itself where they are).")
+    tol = _on_state("tol", "The residual tolerance of solves.")
+    xtol = _on_state("xtol", "The step tolerance of solves.")
+    maxit = _on_state("maxit", "The most Newton iterations a solve takes.")
+    method = _on_state("method", '"auto", "sorted" or "full": the solver of solves.')
 
     @property
     def module(self):
         """The generated module answering now: plain Python or numba's (``tier``)."""
-        return self._tiers.module
+        return self.state.tiers.module
 
     @module.setter
     def module(self, module):
-        self._tiers = Tiers.of(module)      # this mechanism alone: no tier switch
+        self.state.tiers = Tiers.of(module)     # this mechanism alone: no tier switch
 
     @property
     def tier(self) -> str:
         """"python" or "compiled": which tier answers this mechanism's calls now."""
-        return self._tiers.tier
+        return self.state.tiers.tier
 
     def __repr__(self):
         return (f"<Mechanism {self.name!r}: {self.n} coordinates, {self.m} equations, "
@@ -110,27 +107,28 @@ class Mechanism:
     def last(self):
         """The last configuration solved (Mech's LastSolve[]): a Solution, or None. After
         a sweep it is the sweep's last point, made into a Solution when first asked for."""
-        last = self._last
+        last = self.state.last
         if last.__class__ is tuple:
-            last = self._last = Solution(self, *last)
+            last = self.state.last = Solution(self, *last)
         return last
 
     @last.setter
     def last(self, value):
-        self._last = value
+        self.state.last = value
 
     # -- parameters -------------------------------------------------------------------
     @property
     def parameters(self) -> dict:
-        return {name: float(self.p[k]) for name, k in self._param_index.items()}
+        p = self.state.p
+        return {name: float(p[k]) for name, k in self.state.param_index.items()}
 
     def _params_array(self, values) -> np.ndarray:
-        p = self.p.copy()
+        p, index = self.p.copy(), self.state.param_index
         for name, value in values.items():
-            if name not in self._param_index:
-                known = ", ".join(self._param_index) or "none"
+            if name not in index:
+                known = ", ".join(index) or "none"
                 raise ValueError(f"model '{self.name}' has no parameter {name!r} (parameters: {known})")
-            p[self._param_index[name]] = finite(value, f"parameter {name!r}")
+            p[index[name]] = finite(value, f"parameter {name!r}")
         if values and module_attr(self.module, "mass_matrix") is not None:
             from .forces.masses import negative_mass
             wrong = negative_mass(self, p)
@@ -145,7 +143,7 @@ class Mechanism:
         for (the model's own, or those of set_guess): its solves and sweeps start where
         that mode goes as the parameters move from those to the new ones (the library's
         carry_params; mechgen.runtime.follow)."""
-        other = Mechanism(self._tiers, tol=self.tol, xtol=self.xtol, maxit=self.maxit,
+        other = Mechanism(self.state.tiers, tol=self.tol, xtol=self.xtol, maxit=self.maxit,
                           method=self.method)
         other.p = self._params_array(values)
         other.model, other.symbolic = self.model, self.symbolic
@@ -156,10 +154,6 @@ class Mechanism:
         return other
 
     # -- guesses ----------------------------------------------------------------------
-    def _start(self, guess) -> np.ndarray:
-        """The start vector of ``guess`` (runtime.guesses.start_vector)."""
-        return start_vector(self, guess)
-
     def set_guess(self, guess=None, t=None):
         """Mech's SetGuess[]: the start of later solves becomes ``guess`` (a dict of
         coordinates, an array or a Solution), or the model's own guess when None. The
@@ -174,24 +168,11 @@ class Mechanism:
             self.guess = np.array(self.module.GUESS, dtype=np.float64)
             own = np.array(self.module.PARAMETER_DEFAULTS, dtype=np.float64)
             self.guess_p = self.p if own.tobytes() == self.p.tobytes() else own
-        self._path = None       # (a path is kept per guess, and guess_p is not in its key)
+        self.state.path = None  # (a path is kept per guess, and guess_p is not in its key)
         if t is not None:
             self.guess_t = finite(t, "t")
         else:
             self.guess_t = float(guess.t) if isinstance(guess, Solution) else 0.0
-
-    # -- checked arguments ------------------------------------------------------------
-    def _level(self, level) -> int:
-        return level_index(level, self.built_level, self.name)
-
-    def _method(self, method) -> int:
-        return method_index(self.method if method is None else method)
-
-    def _tol(self, tol) -> float:
-        return self.tol if tol is None else positive_tol(tol)
-
-    def _maxit(self, maxit) -> int:
-        return self.maxit if maxit is None else positive_count(maxit, "maxit")
 
     # -- solving ----------------------------------------------------------------------
     def solve(self, t, guess=None, level="position", method=None, tol=None, maxit=None,
@@ -208,100 +189,21 @@ class Mechanism:
         (mechgen.runtime.forces). ``sensitivities`` (True, or parameter names) adds
         the derivatives with respect to the parameters (mechgen.runtime.sensitivity)."""
         # the usual arguments pass with a look-up each, anything else through guards' checks
-        lev = self._levels.get(level) if level.__class__ is str else None
-        with self._lock:
-            if lev is None and is_force_level(level):
+        state = self.state
+        lev = state.levels.get(level) if level.__class__ is str else None
+        with state.lock:
+            if lev is None and level in FORCE_LEVELS:
                 result = _force_solve()(self, t, level, guess, method, tol, maxit)
             else:
-                result = self._solve(t, guess, level, method, tol, maxit, None, lev)
+                result = solve(state, t, guess, level, method, tol, maxit, None, lev)
         return _attach()(self, result, sensitivities) if sensitivities else result
-
-    def _solve(self, t, guess, level, method, tol, maxit, fused=None, lev=None) -> Solution:
-        """solve() at a kinematic level; ``fused``: see entry.solve_point_derivatives;
-        ``lev``: the level's index where the caller has looked it up (else None)."""
-        cls = t.__class__
-        if (cls is float or cls is _FLOAT64) and _isfinite(t):
-            t = float(t)            # what finite() makes of it, without its call
-        else:
-            t = finite(t, "t")
-        if lev is None:
-            lev = self._levels.get(level) if level.__class__ is str else None
-            if lev is None:
-                lev = self._level(level)
-        name = self.method if method is None else method
-        meth = _METHOD.get(name) if name.__class__ is str else None
-        if meth is None:
-            meth = method_index(name)
-        tol = self.tol if tol is None else positive_tol(tol)
-        maxit = self.maxit if maxit is None else positive_count(maxit, "maxit")
-        if guess is None:
-            q = follow(self, t, tol, maxit, meth)
-            qd, qdd, info = self._solve_point(t, q, lev, meth, tol, maxit, fused)
-        else:
-            q = guess_at(self, guess, t)
-            start = q.copy()
-            qd, qdd, info = self._solve_point(t, q, lev, meth, tol, maxit, fused)
-            if turned_home(self, q, start):
-                # Newton from a poor guess may throw an angle whole turns away (1e8 rad,
-                # where a float keeps only 1e-8 of it): the same configuration nearer the
-                # guess, solved again to full precision
-                qd, qdd, info = self._solve_point(t, q, lev, meth, tol, maxit, fused)
-        if self.m > self.n:
-            self._report_redundancy(q, t)
-        # a singular position is returned (flagged); its velocity is not determined
-        singular = int(info[INFO_RANK]) < self.n or not info[POINT_PIVOT] >= SING_RTOL
-        sol = Solution(self, t, q, qd, qdd, int(info[INFO_ITERATIONS]), info[POINT_RESIDUAL],
-                       singular, "full" if info[INFO_METHOD] else "sorted")
-        self._last = sol
-        return sol
-
-    def _solve_point(self, t, q, lev, meth, tol, maxit, fused=None):
-        """The position (in place), its checks and the derivatives asked for, as the
-        module's solve_point_derivatives makes them, one compiled call per step
-        (mechgen.runtime.entry): (qd, qdd, the info row as a list of Python numbers: one
-        call, not a numpy scalar a field). ``fused``: see there."""
-        info = self._info
-        qd = np.empty(self.n) if lev >= _VELOCITY_LEVEL else None
-        qdd = np.empty(self.n) if lev >= _ACCELERATION_LEVEL else None
-        # one small compiled call at a time (mechgen.runtime.entry): a position solve
-        # compiles neither the full Newton (unless the sorted solver gives up) nor the
-        # derivative passes
-        if lev or fused is not None:
-            none = self._none
-            status = solve_point_derivatives(self._tiers.module, q, t, self.p, tol, self.xtol,
-                                             maxit, meth, lev, none if qd is None else qd,
-                                             none if qdd is None else qdd, info, fused)
-        else:                   # (what solve_point_derivatives does at level position)
-            status = solve_point(self._tiers.module, q, t, self.p, tol, self.xtol, maxit,
-                                 meth, info)
-        if status != OK:
-            if OK < status < VELOCITY:
-                raise convergence_error(self, status, t, q, info)
-            if status >= ACCELERATION:
-                raise singular_error(self, t, q, "acceleration", status=status - ACCELERATION)
-            raise singular_error(self, t, q, "velocity", status=status - VELOCITY)
-        return qd, qdd, info.tolist()
 
     def solve_derivatives(self, ts, Q, QD=None, QDD=None, level="velocity"):
         """(QD, QDD) at solved positions Q (rows, at times ts) up to ``level`` (a name or
         an index into LEVELS): the levels not given are solved (linear solves, no Newton
         iteration); a level above the one asked for stays as given. Raises SingularError
         where they are not determined."""
-        lev = LEVEL[level] if isinstance(level, str) else int(level)
-        meth = self._method(None)
-        mod, N = self.module, len(ts)
-        if lev >= LEVEL["velocity"] and QD is None:
-            QD = np.empty((N, self.n))
-            for k in range(N):
-                if solve_velocity(mod, Q[k], float(ts[k]), self.p, meth, QD[k]) != OK:
-                    raise singular_error(self, float(ts[k]), Q[k], "velocity")
-        if lev >= LEVEL["acceleration"] and QDD is None:
-            QDD = np.empty((N, self.n))
-            for k in range(N):
-                if solve_acceleration(mod, Q[k], QD[k], float(ts[k]), self.p, meth,
-                                            QDD[k]) != OK:
-                    raise singular_error(self, float(ts[k]), Q[k], "acceleration")
-        return QD, QDD
+        return solve_derivatives(self.state, ts, Q, QD, QDD, level)
 
     # -- diagnostics ------------------------------------------------------------------
     @property
@@ -313,21 +215,6 @@ class Mechanism:
         """How far Φ_q(q, t) is from losing rank: the smallest pivot of a full-pivoting
         elimination of the row-equilibrated Jacobian (1: well conditioned, 0: rank lost)."""
         return float(self.module.pivot_ratio(np.asarray(q, dtype=np.float64), float(t), self.p))
-
-    def _report_redundancy(self, q, t):
-        """Once per module: a model with more equations than coordinates solves by dropping
-        dependent rows; say which equations depend on the others."""
-        if self.m <= self.n or getattr(self.module, "_mechgen_redundancy_reported", False):
-            return
-        self.module._mechgen_redundancy_reported = True     # the runtime's own mark
-        from .analysis.singular import null_space
-        null = null_space(self, q, t)
-        extra = self.m - min(null.rank, self.n)
-        warnings.warn(
-            f"model '{self.name}' has {self.m} equations for {self.n} coordinates: {extra} "
-            f"redundant (consistent at t={t:.6g}; the solver drops dependent rows). The "
-            f"dependent equations are among: {'; '.join(null.constraints)}",
-            RedundancyWarning, stacklevel=3)
 
     def residual(self, q, t) -> float:
         """max |Φ(q, t)| (NaN when an equation is not finite)."""
@@ -358,7 +245,8 @@ class Mechanism:
         if isinstance(n, bool) or int(n) != n or n < 2:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
         ts = np.linspace(t0, t1, int(n))
-        q = start_at(self, guess, float(ts[0]), self.tol, self.maxit, self._method(None),
+        q = start_at(self, guess, float(ts[0]), self.tol, self.maxit,
+                     self.state.method_of(None),
                      "singularities()' start")
         if module_attr(self.module, "SWITCH_TIMES", ()):     # stage by stage (runtime.stages)
             from .stages import staged_singularities
@@ -390,7 +278,7 @@ class Mechanism:
             result = self.sweep(t0, t1, n, level, guess, method, tol, maxit, times, params,
                                 out, backend, workers, client, reduce, **table_options)
             return _attach()(self, result, sensitivities)
-        if is_force_level(level) and params is None:
+        if level.__class__ is str and level in FORCE_LEVELS and params is None:
             if out is not None or backend != "cpu" or reduce is not None:
                 raise ValueError(f"level={level!r}: out=, backend= and reduce= are for a "
                                  "single kinematic sweep or a design table (params=)")
@@ -410,48 +298,7 @@ class Mechanism:
             raise ValueError("backend=, workers=, client=, reduce= and "
                              f"{', '.join(table_options) or 'the table options'} are for "
                              "design tables (params={name: [values, ...]})")
-        return self._sweep_once(t0, t1, n, level, guess, method, tol, maxit, times, out)
-
-    def _sweep_once(self, t0, t1, n, level, guess, method, tol, maxit, times, out,
-                    forces=None):
-        """One kinematic sweep (sweep() without params); ``forces``: a dict that a
-        dynamic or static sweep's quick path fills with the multipliers it solved on the
-        way (sweeping.compiled), where the module has it."""
-        if module_attr(self.module, "SWITCH_TIMES", ()):
-            # a model with stages: a sweep across a switch runs stage by stage
-            from .stages import staged_sweep
-            staged = staged_sweep(self, t0, t1, n, times, guess=guess, level=level,
-                                  method=method, tol=tol, maxit=maxit)
-            if staged is not None:
-                return staged
-        lev = self._levels.get(level) if level.__class__ is str else None
-        if lev is None:
-            lev = self._level(level)
-        meth = self._method(method)
-        shared = times is None and t0.__class__ is float and t1.__class__ is float and \
-            n.__class__ is int and n >= 1 and t0 - t0 == 0.0 and t1 - t1 == 0.0
-        if shared:
-            if n > 1 << 20:
-                sweep_count(n, self.n, lev)         # refused before anything is allocated
-            ts = sweep_times_of(t0, t1, n)          # plain numbers: no further checks
-        else:
-            ts = sweep_times(t0, t1, n, times, each=point_bytes(self.n, lev))
-        tol = self.tol if tol is None else positive_tol(tol)
-        maxit = self.maxit if maxit is None else positive_count(maxit, "maxit")
-        self._tiers.expect(self, ts.shape[0])
-        if guess is None and ts[0] == self.guess_t and at_guess_params(self):
-            try:                # the guess solved where it was given, its angles kept
-                with self._lock:    # near it as solve(t) keeps them (runtime.follow)
-                    q0 = follow(self, float(ts[0]), tol, maxit, meth)
-            except MechgenError:    # the sweep says why, from the guess itself
-                q0 = self.guess.copy()
-        else:       # where solve(ts[0]) is (no guess: the guess's mode followed there), or
-            try:    # a Solution at another time, its mode followed to ts[0] (start_at)
-                q0 = start_at(self, guess, float(ts[0]), tol, maxit, meth, "the sweep's start")
-            except MechgenError as exc:
-                exc.sweep = no_points(self, ts, lev)
-                raise
-        return run_sweep(self, ts, q0, lev, tol, maxit, meth, out, shared, forces)
+        return sweep_once(self.state, t0, t1, n, level, guess, method, tol, maxit, times, out)
 
     def simulate(self, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
                  method="dopri5", max_step=float("inf"), progress=None):
@@ -533,7 +380,7 @@ class Mechanism:
             raise ValueError(f"starts must be a non-negative integer, got {starts!r}")
         from .analysis.assembly import assemblies
         return assemblies(self, t, guess_at(self, guess, t), int(starts), level,
-                               self._tol(None), self._method(None), flips=flips)
+                               self.tol, self.state.method_of(None), flips=flips)
 
     def explore(self, **options):
         """Show this mechanism live in a Jupyter notebook (Mech's Manipulate; API.md §7):
@@ -565,9 +412,6 @@ class Mechanism:
         return out
 
 
-_FLOAT64 = np.float64
-_METHOD = METHOD            # (name -> index: a valid name looked up, an invalid one checked)
-_VELOCITY_LEVEL, _ACCELERATION_LEVEL = LEVEL["velocity"], LEVEL["acceleration"]
 _FORCE_SOLVE = []
 _ATTACH = []
 
@@ -586,15 +430,3 @@ def _attach():
         from .sensitivity import attach
         _ATTACH.append(attach)
     return _ATTACH[0]
-
-
-def convergence_error(*args, **kwargs):
-    """mechgen.runtime.analysis.locks.convergence_error, imported when a solve first fails."""
-    from .analysis.locks import convergence_error as error
-    return error(*args, **kwargs)
-
-
-def singular_error(*args, **kwargs):
-    """mechgen.runtime.analysis.locks.singular_error, imported when a solve first fails."""
-    from .analysis.locks import singular_error as error
-    return error(*args, **kwargs)

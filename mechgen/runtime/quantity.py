@@ -47,7 +47,7 @@ def _lookup(mech, name):
 def _find(mech, name):
     if not isinstance(name, str):
         raise TypeError(f"index with a coordinate or output name, got {name!r}")
-    index = mech._index
+    index = mech.state.index
     if name in index:
         return "q", index[name], 0
     for order in (2, 1):            # "dd" before "d": X4dd is not the d of "X4d"

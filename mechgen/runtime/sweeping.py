@@ -17,11 +17,11 @@ import warnings
 
 import numpy as np
 
-from ..errors import BranchJumpWarning, MechgenError, SingularError
-from ..protocol import (ACCELERATION, JUMP, LEVEL, LEVELS, METHOD_FULL, REPORT_FAILED,
-                        REPORT_JUMP, REPORT_REACHED, REPORT_SIZE, REPORT_STATUS, STATUS_CODE,
-                        STATUS_COLUMNS, THROUGH_SINGULAR, VELOCITY)
-from .forces.lookup import FUSED_PATHS, fused_path
+from ..errors import BranchJumpWarning, MechgenError, RedundancyWarning, SingularError
+from ..protocol import (ACCELERATION, FUSED_PATHS, JUMP, LEVEL, LEVELS, METHOD_FULL,
+                        REPORT_FAILED, REPORT_JUMP, REPORT_REACHED, REPORT_SIZE,
+                        REPORT_STATUS, STATUS_CODE, STATUS_COLUMNS, THROUGH_SINGULAR,
+                        VELOCITY, fused_path)
 from .results import Sweep
 
 _VEL, _ACC = LEVEL["velocity"], LEVEL["acceleration"]
@@ -82,13 +82,14 @@ def _block(mech, size) -> np.ndarray:
     dropped."""
     if size < _SPARE_MIN:
         return np.empty(size)
-    spare, mech._spare = getattr(mech, "_spare", None), None
+    state = mech.state
+    spare, state.spare = state.spare, None
     if spare is not None and size <= spare.shape[0] <= 4 * size and \
             sys.getrefcount(spare) == 2:
-        mech._spare = spare     # referenced only here: no sweep holds a view of it
+        state.spare = spare     # referenced only here: no sweep holds a view of it
         return spare[:size]
     del spare
-    block = mech._spare = np.empty(size)
+    block = state.spare = np.empty(size)
     return block
 
 
@@ -298,7 +299,7 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False, forces=None
             raise
     if done:
         if mech.m > n:
-            mech._report_redundancy(Q[0], ts[0])
+            report_redundancy(mech.state, Q[0], ts[0])
         k = done - 1                        # the last point, a Solution when asked for
         mech.last = (ts[k], Q[k].copy(), QD[k].copy() if lev >= _VEL else None,
                      QDD[k].copy() if lev >= _ACC else None)
@@ -339,6 +340,23 @@ def _flag(mech, sw, report):
             "there the mechanism may continue in another assembly mode "
             "(sw.crossings lists the times; mech.singularities locates them)",
             BranchJumpWarning, stacklevel=level)
+
+
+def report_redundancy(state, q, t):
+    """Once per module: a model with more equations than coordinates solves by dropping
+    dependent rows; say which equations depend on the others."""
+    mech, module = state.owner, state.module
+    if mech.m <= mech.n or getattr(module, "_mechgen_redundancy_reported", False):
+        return
+    module._mechgen_redundancy_reported = True     # the runtime's own mark
+    from .analysis.singular import null_space
+    null = null_space(mech, q, t)
+    extra = mech.m - min(null.rank, mech.n)
+    warnings.warn(
+        f"model '{mech.name}' has {mech.m} equations for {mech.n} coordinates: {extra} "
+        f"redundant (consistent at t={t:.6g}; the solver drops dependent rows). The "
+        f"dependent equations are among: {'; '.join(null.constraints)}",
+        RedundancyWarning, stacklevel=outside())
 
 
 def failure(mech, ts, done, Q, report, q0) -> MechgenError:

@@ -4,14 +4,7 @@ from __future__ import annotations
 
 import functools
 
-FORCE_LEVELS = ("static", "dynamic")
-
-
-# a force level's fused quick path, the sweep that solves the multipliers on its way
-# (compiler/functions/dynamics_code.py): the module's flag that says it is written (else a stub),
-# the kinematic level (protocol.LEVEL) its sweep runs at, its name
-FUSED_PATHS = {"static": ("STATIC_FUSED", 0, "sweep_fast_statics"),
-               "dynamic": ("FORCE_FUSED", 2, "sweep_fast_forces")}
+from ...protocol import FORCE_LEVELS
 
 
 def loads_guarded(span: bool):
@@ -57,13 +50,6 @@ def division_error(mech, when, t=float("nan")):
 
 def is_force_level(level) -> bool:
     return level.__class__ is str and level in FORCE_LEVELS
-
-
-def fused_path(module, level, lev):
-    """The quick path of ``module`` that solves force level ``level``'s multipliers on its
-    way in a sweep at kinematic level ``lev`` (FUSED_PATHS), or None."""
-    flag, need, name = FUSED_PATHS[level]
-    return getattr(module, name) if lev == need and getattr(module, flag, False) else None
 
 
 # -- the model's tables -------------------------------------------------------------------
@@ -172,10 +158,10 @@ def _stage_names(label, kind):
 
 def tables(mech) -> _Tables:
     mod = mech.module
-    cached = getattr(mech, "_force_tables", None)
+    state = mech.state
+    cached = state.force_tables
     if cached is None or cached[0] is not mod:
-        cached = (mod, _Tables(mech))
-        mech._force_tables = cached
+        cached = state.force_tables = (mod, _Tables(mech))
     return cached[1]
 
 

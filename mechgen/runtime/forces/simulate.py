@@ -292,9 +292,9 @@ def _named_rates(mech, rates, qd):
     qd = qd.copy()
     named = []
     for key, value in rates.items():
-        name = key[:-1] if isinstance(key, str) and key not in mech._index \
+        name = key[:-1] if isinstance(key, str) and key not in mech.state.index \
             and key.endswith("d") else key
-        if name not in mech._index:
+        if name not in mech.state.index:
             raise ValueError(f"simulate: qd0: {key!r} is not a velocity of '{mech.name}' "
                              f"(velocities: {', '.join(c + 'd' for c in mech.coordinates)})")
         try:
@@ -303,8 +303,8 @@ def _named_rates(mech, rates, qd):
             v = float("nan")
         if not np.isfinite(v):
             raise ValueError(f"simulate: qd0: {key!r} must be a finite number, got {value!r}")
-        qd[mech._index[name]] = v
-        named.append(mech._index[name])
+        qd[mech.state.index[name]] = v
+        named.append(mech.state.index[name])
     return qd, named
 
 
@@ -427,7 +427,7 @@ def integrate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10
                          f"({', '.join(SCIPY_METHODS)})")
     system = _System(mech, free)
     # an integration makes thousands of calls: in the python tier of "auto", compiled first
-    mech._tiers.expect(mech, SIMULATE_POINTS, "simulate")
+    mech.state.tiers.expect(mech, SIMULATE_POINTS, "simulate")
     system.mod = mech.module
     t_start = float(ts[0])
     if q0 is None:                  # the drivers' state at t0, all of them still acting
@@ -449,7 +449,8 @@ def integrate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10
                              "them by name ({'Th2d': 5.0})")
     size = 1.0 + float(np.max(np.abs(mech.points_at(q, t_start))))
     qd_in = qd.copy()
-    held = [mech._index[c] for c in q0 if c in mech._index] if isinstance(q0, dict) else ()
+    index = mech.state.index
+    held = [index[c] for c in q0 if c in index] if isinstance(q0, dict) else ()
     q, qd, moved = system.project(q, qd, t_start, size, held, held_rates)
     if q0 is not None or qd0 is not None:
         moved_rates = held_rates if held_rates else slice(None)   # a dict: what it named

@@ -11,6 +11,7 @@ from ...errors import RedundancyWarning, SingularError
 from ...protocol import SING_RTOL
 from ..entry import module_attr
 from ..guards import all_finite
+from ..kinematics.solving import solve
 from ..results import Solution
 from .contact import contact_labels, contact_values
 from .directions import singular_error
@@ -312,10 +313,11 @@ def _rows_scratch(mech, mod):
     """The arrays of force_rows at one point that a solution does not keep (its time, Φ_q,
     ν, the energies, the driver factors, the pivot), made once per mechanism and module:
     force_rows writes each before it reads it, and nothing reads them after the pivot."""
-    cached = mech.__dict__.get("_rows_scratch")
+    state = mech.state
+    cached = state.rows_scratch
     if cached is None or cached[0] is not mod:
         m, n = mech.m, mech.n
-        cached = mech._rows_scratch = (mod, (
+        cached = state.rows_scratch = (mod, (
             np.empty(1), np.empty((1, m, n)), np.zeros((1, m)), np.zeros((1, 3)),
             np.zeros((1, len(tables(mech).driver_rows))), np.zeros(1)))
     return cached[1]
@@ -343,15 +345,16 @@ def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -
     derivatives' pass where the module has dynamics_sorted, else one compiled call where
     it writes the multipliers out (multipliers_point)."""
     kin = "acceleration" if level == "dynamic" else "position"
-    mod = mech.module
+    state = mech.state
+    mod = state.tiers.module
     fused = None
     if level == "dynamic" and module_attr(mod, "dynamics_sorted", MISSING) is not MISSING:
         # λ in the same pass
-        scratch = mech.__dict__.get("_force_scratch")    # the pivot and the factors
+        scratch = state.force_scratch       # the pivot and the factors
         if scratch is None:
-            scratch = mech._force_scratch = (np.zeros(3), np.empty(len(mod.DRIVER_ROWS)))
+            scratch = state.force_scratch = (np.zeros(3), np.empty(len(mod.DRIVER_ROWS)))
         fused = (scratch[0], np.empty(mech.m), scratch[1])
-    s = mech._solve(t, guess, kin, method, tol, maxit, fused)
+    s = solve(state, t, guess, kin, method, tol, maxit, fused)
     pointless = singular_error(mech, s)     # a spring or damper without direction
     if pointless is not None:
         raise pointless
@@ -363,7 +366,7 @@ def force_solve(mech, t, level, guess=None, method=None, tol=None, maxit=None) -
     s.__class__ = ForceSolution         # the kinematic solution, with its multipliers
     s.force_level, s.lam, s._terms = level, lam, terms
     s.indeterminate = _constraints_of(mech, dependent) if dependent else ()
-    mech._last = s                      # (mech.last = s, without its setter)
+    state.last = s
     return s
 
 

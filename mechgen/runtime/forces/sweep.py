@@ -8,6 +8,7 @@ import warnings
 import numpy as np
 
 from ...protocol import SING_RTOL, STATUS_COLUMNS
+from ..kinematics.solving import sweep as sweep_once
 from ..results import Sweep
 from .contact import CAM_KINDS, contact_labels, contact_values
 from .contact_loss import contact_loss, pulling
@@ -349,7 +350,7 @@ def force_sweep(mech, t0, t1, n, level, guess=None, method=None, tol=None, maxit
     sweep_fast_statics)."""
     kin = "acceleration" if level == "dynamic" else "position"
     fused = {}
-    sw = mech._sweep_once(t0, t1, n, kin, guess, method, tol, maxit, times, None, fused)
+    sw = sweep_once(mech.state, t0, t1, n, kin, guess, method, tol, maxit, times, None, fused)
     return attach(sw, level, fused)
 
 

@@ -220,8 +220,8 @@ def run_table_cuda(mech, ts, P, q0, lev, tol, maxit, slots=None, method=None, th
     max_registers: a cap on the kernels' registers per thread (numba.cuda.jit's option;
     fewer registers, more threads resident, some values spilled)."""
     cuda = require_cuda()
-    lev = mech._level(LEVELS[_level_of(lev)])
-    meth = mech._method(method)
+    lev = mech.state.level_of(LEVELS[_level_of(lev)])
+    meth = mech.state.method_of(method)
     ts, P, Q0 = table_inputs(mech, ts, P, q0)
     D, N, n = P.shape[0], ts.shape[0], Q0.shape[1]
     reducing = slots is not None

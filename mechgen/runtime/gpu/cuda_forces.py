@@ -31,8 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...errors import MechgenError
-from ...protocol import LEVEL
-from ..forces.lookup import FUSED_PATHS
+from ...protocol import FUSED_PATHS, LEVEL
 from ..forces.points import driver_rows
 from ..tables.reduce import DRIVER
 from .cuda import OUTPUT, STATUS_COLUMNS, THREADS, SIM_THREADS, flat_slots, numba_module, \

@@ -17,10 +17,9 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 import numpy as np
 
 from ...errors import MechgenError
-from ...protocol import JUMP, OK, STATUS_CODE, THROUGH_SINGULAR
+from ...protocol import FORCE_LEVELS, JUMP, OK, STATUS_CODE, THROUGH_SINGULAR
 from .chunks import (DESIGN_INFO_COLUMNS, DESIGN_INFO_DTYPE, Collector, TableData,
                      chunks, fused_level, guided_chunks, solve_chunk, sweep_chunk)
-from ..forces.lookup import FORCE_LEVELS
 from .reduce import DRIVER, design_status
 
 BACKENDS = ("cpu", "dask", "cuda")

@@ -11,8 +11,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from ...protocol import METHOD, OK, STATUS_CODE
-from ..forces.lookup import FORCE_LEVELS, fused_path
+from ...protocol import FORCE_LEVELS, METHOD, OK, STATUS_CODE, fused_path
 from .reduce import DRIVER, design_status, reduce_chunk, repaired
 
 # A design table's per-point record: the first column of a sweep's STATUS rows (int16: the

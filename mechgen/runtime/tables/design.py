@@ -23,6 +23,7 @@ from ..forces import attach, is_force_level
 from ..forces.lookup import (column_name, division_error, effort_column, loads_guarded,
                              tables)
 from ..guards import finite, fits, point_bytes, sweep_times
+from ..guesses import quiet_params
 from ..quantity import _lookup, column_names
 from ..results import Sweep, pandas, write_csv
 from ..sweeping import divides
@@ -466,7 +467,7 @@ def _design_table(mech, t0, t1, n, params, level="position", guess=None, method=
     fixed, names, axes = split_params(mech, params)
     if on_fail not in ON_FAIL:
         raise ValueError(f"on_fail must be 'warn', 'raise' or 'ignore', got {on_fail!r}")
-    base = mech._params_array(fixed) if fixed else mech.p.copy()
+    base = quiet_params(mech, fixed).p if fixed else mech.p.copy()
     if not names:
         if backend != "cpu" or reduce is not None or client is not None:
             raise ValueError("backend=, client= and reduce= are for design tables: vary a "
@@ -477,11 +478,12 @@ def _design_table(mech, t0, t1, n, params, level="position", guess=None, method=
     force_level = level if is_force_level(level) else None
     if force_level is not None:     # the kinematics the multipliers need, then λ
         level = "acceleration" if force_level == "dynamic" else "position"
-    lev = mech._level(level)
-    meth = mech._method(method)
+    state = mech.state
+    lev = state.level_of(level)
+    meth = state.method_of(method)
     ts = sweep_times(t0, t1, n, times)
-    tol = mech._tol(tol)
-    maxit = mech._maxit(maxit)
+    tol = state.tol_of(tol)
+    maxit = state.maxit_of(maxit)
     reduced, slots = ((), None) if reduce is None else \
         reduce_slots(mech, reduce, lev, force_level)
     # refused before the grid is made: designs x points must fit in memory
@@ -490,10 +492,10 @@ def _design_table(mech, t0, t1, n, params, level="position", guess=None, method=
                             else 64 * (mech.n + 1))
     fits(designs, each, "designs", "params", f" of {ts.shape[0]:,} times each")
     make = design_grid if grid else design_list
-    P = make(base, mech._param_index, names, axes)
+    P = make(base, state.param_index, names, axes)
     # a big table in the python tier: compiled first (runtime.tiers); elsewhere the
     # designs' starts (a few solves each) are this process's work
-    mech._tiers.expect(mech, P.shape[0] * (ts.shape[0] if backend == "cpu" else 8), "design")
+    state.tiers.expect(mech, P.shape[0] * (ts.shape[0] if backend == "cpu" else 8), "design")
     # a driver's effort the GPU cannot reduce: the kernel keeps the points (backends)
     on_host = backend == "cuda" and cuda_keeps_points(mech, slots, lev, meth)
     origin = guess_reference(mech, ts[0], guess)     # whose guess the designs leave

@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ...protocol import JUMP, OK, SING_RTOL, STATUS_CODE, STATUS_NAMES, THROUGH_SINGULAR
+from ...protocol import (FORCE_LEVELS, JUMP, OK, SING_RTOL, STATUS_CODE, STATUS_NAMES,
+                         THROUGH_SINGULAR)
 from ..forces.directions import load_ends, mark
-from ..forces.lookup import FORCE_LEVELS, tables
+from ..forces.lookup import tables
 from ..forces.points import (by_blocks, driver_rows, efforts, has_forces, solve_points,
                             svd_point)
 from ..quantity import _lookup

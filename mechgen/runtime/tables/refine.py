@@ -103,7 +103,7 @@ class _Probe:
         self.ts[0], self.ts[1] = tab.t[k], t
         Q, QD, QDD = self.rows
         done = mech.module.sweep(self.ts, tab.Q[d, k].copy(), tab.P[d], 2, mech.tol,
-                                 mech.xtol, mech.maxit, mech._method(None), Q, QD, QDD,
+                                 mech.xtol, mech.maxit, mech.state.method_of(None), Q, QD, QDD,
                                  self.status, self.report)
         if done != 2 or self.status[:, STATUS_CODE].any():
             return False
@@ -155,7 +155,7 @@ class _Probe:
         p = tab.P[d]
         t = float(tab.t[k])
         tk = t
-        meth = mech._method(None)
+        meth = mech.state.method_of(None)
         for _ in range(NEWTON_STEPS):
             h = t - tk          # Taylor from the grid point, as far as the table holds
             self.q[:] = tab.Q[d, k]
