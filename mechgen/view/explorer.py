@@ -11,6 +11,7 @@ import numpy as np
 
 from ..errors import MechgenError
 from ..runtime.guesses import quiet_params
+from ..runtime.loading.tiers import Tiers
 from ..plot.scene import Scene
 from .cycle import (DRIVER, Failure, assembling_range, columns, empty_columns, quantity_names,
                     solve_cycle)
@@ -240,11 +241,10 @@ def _gist(why) -> str:
 def _compiled(mech):
     """The mechanism on its compiled tier (the view recomputes whole cycles per slider
     move; the plain-Python tier is for first answers)."""
-    from ..runtime.mechanism import load
-    path = getattr(getattr(mech, "_tiers", None), "path", None)
+    path = mech.state.tiers.path
     if path is None:
         return mech
-    other = load(path, tier="compiled")
+    other = type(mech)(Tiers.open(path, "compiled"))      # (load(path, tier="compiled"))
     other.p = mech.p.copy()
     other.model, other.symbolic = mech.model, mech.symbolic
     other.guess, other.guess_t, other.guess_p = mech.guess.copy(), mech.guess_t, \

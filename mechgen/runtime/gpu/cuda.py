@@ -79,7 +79,7 @@ def numba_module(mech):
     module = mech.module
     if getattr(getattr(module, "sweep", None), "py_func", None) is not None:
         return module
-    path = getattr(getattr(mech, "_tiers", None), "path", None) or \
+    path = mech.state.tiers.path or \
         getattr(module, "__file__", None)
     if not path:
         raise MechgenError(f"backend='cuda' translates the numba functions of '{mech.name}''s "
