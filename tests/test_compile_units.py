@@ -1,5 +1,5 @@
 """Compile units (issue 12): a solve calls the generated module one small compiled function
-at a time (mechgen.runtime.entry), so that a position solve compiles neither the full
+at a time (mechgen.runtime.kinematics.entry), so that a position solve compiles neither the full
 Newton nor the derivative passes; the numbers and statuses are those of the library's
 all-in-one entries (solve_point, solve_point_derivatives) for every method."""
 import json
@@ -12,13 +12,13 @@ import pytest
 
 from conftest import GENERATED, ROOT
 from mechgen.protocol import METHOD, POINT_INFO_SIZE
-from mechgen.runtime import entry
+from mechgen.runtime.kinematics import entry
 
 QR = os.path.join(GENERATED, "quick_return.py")
 
 
 def _both(mod, q0, t, p, meth, level, tol=1e-10, maxit=50):
-    """(status, q, qd, qdd, info) by the library entry and by mechgen.runtime.entry."""
+    """(status, q, qd, qdd, info) by the library entry and by mechgen.runtime.kinematics.entry."""
     out = []
     for how in ("library", "entry"):
         q = np.array(q0, dtype=float)

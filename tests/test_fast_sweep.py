@@ -11,7 +11,7 @@ import sympy as sp
 import mechgen
 from mechgen.compiler.codegen.ir import Assign, Guard, render
 from mechgen.compiler.codegen.schedule import emit
-from mechgen.runtime.guesses import start_vector
+from mechgen.runtime.kinematics.guesses import start_vector
 
 from conftest import example_model
 

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from mechgen.protocol import OK
-from mechgen.runtime.guesses import start_vector
+from mechgen.runtime.kinematics.guesses import start_vector
 
 
 def _fast(mech, ts, level, guess=None):

@@ -2,7 +2,7 @@
 overhead of mech.solve; benchmarks/bench_solve_overhead.py times it).
 
 Each Solution owns its arrays: mutating one never changes another, the mechanism's later
-solves or its way kept (mechgen.runtime.follow). Numbers, at every level, against values
+solves or its way kept (mechgen.runtime.kinematics.follow). Numbers, at every level, against values
 made here: the quick-return's closed form (tests/closed_forms.py, mpmath), and bit for
 bit the documented algorithm written out with the generated module's own entry points
 (Newton from the guess at t, then the derivative passes and the multipliers; without a
@@ -123,7 +123,7 @@ def _followed(mech, t):
     """The configuration solve(t) reaches from the model's guess at 0 (follow's docstring):
     the guess solved at 0, one careful sweep over the cells k CELL (k = 0 … the last at or
     before t), then the two-point sweep from that cell to t."""
-    from mechgen.runtime.follow import CELL
+    from mechgen.runtime.kinematics.follow import CELL
     mod, n = mech.module, mech.n
     q0 = mech.guess.copy()
     _newton(mech, q0, 0.0)

@@ -10,7 +10,7 @@ import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LATER = ("mechgen.runtime.tables.design", "mechgen.runtime.tables.backends", "mechgen.runtime.forces.solution",
-         "mechgen.runtime.forces.sweep", "mechgen.runtime.stages", "mechgen.runtime.analysis.events",
+         "mechgen.runtime.forces.sweep", "mechgen.runtime.kinematics.stages", "mechgen.runtime.analysis.events",
          "mechgen.runtime.analysis.locks", "mechgen.runtime.analysis.assembly", "importlib.metadata", "sympy",
          "numba", "scipy")
 

@@ -9,7 +9,7 @@ import pytest
 
 import mechgen
 from mechgen.protocol import JUMP, OK, STATUS_COLUMNS, THROUGH_SINGULAR
-from mechgen.runtime.sweeping import linspace
+from mechgen.runtime.kinematics.sweeping import linspace
 
 from test_robustness import NEAR_T1, T1
 
@@ -211,7 +211,7 @@ def test_design_tables_keep_their_statuses(qr_slider):
 def test_a_sweep_held_is_never_written_by_the_next(qr, monkeypatch):
     """Fresh arrays are views of one block; a Mechanism hands a large block out again only
     once no view of it is alive (here every block counts as large)."""
-    from mechgen.runtime import sweeping
+    from mechgen.runtime.kinematics import sweeping
     monkeypatch.setattr(sweeping, "_SPARE_MIN", 64)
     a = qr.sweep(0.0, 1.0, 501, level="acceleration")
     A, AD = a.Q.copy(), a.QD.copy()

@@ -8,10 +8,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..protocol import FORCE_LEVELS, SING_RTOL
-from .entry import module_attr
-from .follow import start_at
+from .kinematics.entry import module_attr
+from .kinematics.follow import start_at
 from .guards import finite, method_index
-from .guesses import guess_at, start_vector
+from .kinematics.guesses import guess_at, start_vector
 from .kinematics.solving import solve, solve_derivatives
 from .kinematics.solving import sweep as sweep_once
 from .loading.tiers import Tiers
@@ -142,7 +142,7 @@ class Mechanism:
         keeps the guess and the assembly mode the guess has at the parameters it was given
         for (the model's own, or those of set_guess): its solves and sweeps start where
         that mode goes as the parameters move from those to the new ones (the library's
-        carry_params; mechgen.runtime.follow)."""
+        carry_params; mechgen.runtime.kinematics.follow)."""
         other = Mechanism(self.state.tiers, tol=self.tol, xtol=self.xtol, maxit=self.maxit,
                           method=self.method)
         other.p = self._params_array(values)
@@ -180,7 +180,7 @@ class Mechanism:
         """Solve at time t (Mech's SolveMech[t]). Without ``guess``: the configuration the
         mechanism reaches by moving from its guess (the model's, a configuration at t = 0,
         or set_guess()'s at its time) to t, on the assembly mode connected to it
-        (mechgen.runtime.follow); a way blocked by a lock raises, naming where. With
+        (runtime.kinematics.follow); a way blocked by a lock raises, naming where. With
         ``guess`` (some or all coordinates, or a Solution such as ``mech.last``): Newton
         from it at t. Angles are taken modulo 2π as the drivers ask. The result becomes
         ``last``. Raises ConvergenceError or SingularError rather than returning a
@@ -248,8 +248,8 @@ class Mechanism:
         q = start_at(self, guess, float(ts[0]), self.tol, self.maxit,
                      self.state.method_of(None),
                      "singularities()' start")
-        if module_attr(self.module, "SWITCH_TIMES", ()):     # stage by stage (runtime.stages)
-            from .stages import staged_singularities
+        if module_attr(self.module, "SWITCH_TIMES", ()):     # stage by stage (kinematics.stages)
+            from .kinematics.stages import staged_singularities
             return staged_singularities(self, ts, q)
         from .analysis.locks import singularities
         return singularities(self, ts, q)

@@ -16,7 +16,7 @@ import warnings
 import numpy as np
 
 from ..errors import BranchJumpWarning, MechgenError
-from ..runtime.guesses import quiet_params
+from ..runtime.kinematics.guesses import quiet_params
 from .geometry import poses
 
 DRIVER = "driver: "      # the prefix of a driver effort's column

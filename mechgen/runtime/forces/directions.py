@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..entry import module_attr
+from ..kinematics.entry import module_attr
 
 DIRECTION_RTOL = 1e-9      # ends closer than this times the model's size: no direction
 _KINDS = ("spring", "damper")

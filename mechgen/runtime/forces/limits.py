@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..entry import module_attr
+from ..kinematics.entry import module_attr
 
 
 def refused_constant(module, p):

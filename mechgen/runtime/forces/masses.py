@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..entry import module_attr
+from ..kinematics.entry import module_attr
 from .limits import refused_constant
 from .lookup import tables
 

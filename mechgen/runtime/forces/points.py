@@ -18,7 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ...protocol import SING_RTOL
-from ..entry import module_attr
+from ..kinematics.entry import module_attr
 from .directions import mark
 
 CONSISTENT_RTOL = 1e-8     # a residual of Φ_qᵀλ = Q above this share of its size: no solution

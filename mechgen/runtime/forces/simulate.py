@@ -34,7 +34,7 @@ import numpy as np
 
 from ...errors import ConvergenceError, SingularError
 from ..guards import positive_tol, sweep_times
-from ..guesses import start_vector
+from ..kinematics.guesses import start_vector
 from ...protocol import SING_RTOL
 from ..results import Sweep
 from .lookup import _constraints_of, division_error, loads_guarded, tables

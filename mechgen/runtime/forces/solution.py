@@ -9,7 +9,7 @@ import numpy as np
 
 from ...errors import RedundancyWarning, SingularError
 from ...protocol import SING_RTOL
-from ..entry import module_attr
+from ..kinematics.entry import module_attr
 from ..guards import all_finite
 from ..kinematics.solving import solve
 from ..results import Solution

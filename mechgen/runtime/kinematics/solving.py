@@ -11,13 +11,13 @@ import numpy as np
 from ...errors import MechgenError
 from ...protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, LEVEL, OK,
                          POINT_PIVOT, POINT_RESIDUAL, SING_RTOL, VELOCITY)
-from ..entry import module_attr, solve_acceleration, solve_point as solve_position
-from ..entry import solve_point_derivatives, solve_velocity
-from ..follow import at_guess_params, follow, start_at
+from .entry import module_attr, solve_acceleration, solve_point as solve_position
+from .entry import solve_point_derivatives, solve_velocity
+from .follow import at_guess_params, follow, start_at
 from ..guards import finite, point_bytes, sweep_count, sweep_times
-from ..guesses import guess_at, turned_home
+from .guesses import guess_at, turned_home
 from ..results import Solution
-from ..sweeping import no_points, report_redundancy, run, times as sweep_times_of
+from .sweeping import no_points, report_redundancy, run, times as sweep_times_of
 
 _FLOAT64 = np.float64
 _VELOCITY, _ACCELERATION = LEVEL["velocity"], LEVEL["acceleration"]
@@ -62,13 +62,13 @@ def solve(state, t, guess, level, method, tol, maxit, fused=None, lev=None) -> S
 def solve_point(state, t, q, lev, meth, tol, maxit, fused=None):
     """The position (in place), its checks and the derivatives asked for, as the
     module's solve_point_derivatives makes them, one compiled call per step
-    (runtime.entry): (qd, qdd, the info row as a list of Python numbers: one call, not a
+    (runtime.kinematics.entry): (qd, qdd, the info row as a list of Python numbers: one call, not a
     numpy scalar a field). ``fused``: see there."""
     info = state.info
     n = state.guess.shape[0]
     qd = np.empty(n) if lev >= _VELOCITY else None
     qdd = np.empty(n) if lev >= _ACCELERATION else None
-    # one small compiled call at a time (runtime.entry): a position solve compiles
+    # one small compiled call at a time (runtime.kinematics.entry): a position solve compiles
     # neither the full Newton (unless the sorted solver gives up) nor the derivative passes
     if lev or fused is not None:
         none = state.none
@@ -116,7 +116,7 @@ def sweep(state, t0, t1, n, level, guess, method, tol, maxit, times, out, forces
     mech = state.owner
     if module_attr(state.module, "SWITCH_TIMES", ()):
         # a model with stages: a sweep across a switch runs stage by stage
-        from ..stages import staged_sweep
+        from .stages import staged_sweep
         staged = staged_sweep(mech, t0, t1, n, times, guess=guess, level=level,
                               method=method, tol=tol, maxit=maxit)
         if staged is not None:

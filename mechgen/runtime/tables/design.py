@@ -23,10 +23,10 @@ from ..forces import attach, is_force_level
 from ..forces.lookup import (column_name, division_error, effort_column, loads_guarded,
                              tables)
 from ..guards import finite, fits, point_bytes, sweep_times
-from ..guesses import quiet_params
+from ..kinematics.guesses import quiet_params
 from ..quantity import _lookup, column_names
 from ..results import Sweep, pandas, write_csv
-from ..sweeping import divides
+from ..kinematics.sweeping import divides
 from .backends import cuda_keeps_points, progress_reporter, run_backend
 from .chunks import reduce_threads
 from .starts import design_starts, guess_reference, mark_starts

@@ -17,7 +17,7 @@ import numpy as np
 
 from ...errors import MechgenError
 from ...protocol import OK, REPORT_SIZE, STATUS_CODE, STATUS_COLUMNS
-from ..entry import module_attr
+from ..kinematics.entry import module_attr
 from .reduce import COORDINATE, DRIVER, Reduction, reduce_chunk, reduce_slots
 
 NEWTON_STEPS = 12

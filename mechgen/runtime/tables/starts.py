@@ -3,7 +3,7 @@ design's parameters (the module's start_designs, on threads), and what the table
 results say of a design whose start could not be carried.
 
 The reference is a mechanism's guess, a configuration at its time (``guess_t``) for its
-parameters (``guess_p``; mechgen.runtime.follow): each design moves from there to its
+parameters (``guess_p``; mechgen.runtime.kinematics.follow): each design moves from there to its
 parameters at that time, then to the table's first time, as ``mech.with_params(...).
 sweep(...)`` of that design starts. A table's ``guess=`` makes that mechanism a copy whose
 guess it is, at the table's first time with the mechanism's parameters (guess_reference).
@@ -22,10 +22,10 @@ import numpy as np
 
 from ...errors import MechgenError
 from ...protocol import JUMP, OK, POINT_INFO_SIZE, STATUS_CODE, THROUGH_SINGULAR
-from ..entry import module_attr, solve_point
-from ..guesses import quiet_params
-from ..follow import CELL, follow
-from ..guesses import turned_home
+from ..kinematics.entry import module_attr, solve_point
+from ..kinematics.guesses import quiet_params
+from ..kinematics.follow import CELL, follow
+from ..kinematics.guesses import turned_home
 from ..results import Solution
 from .backends import cpu_count
 
@@ -52,7 +52,7 @@ def design_starts(mech, ts, P, tol, maxit, meth, workers=None, followed=False):
     """(Q0, S0): each design's start vector (designs × coordinates), from ``mech``'s guess
     (guess_reference), and its start status (int64: OK, JUMP, THROUGH_SINGULAR or the
     status of a failed way; see the module's docstring). ``followed``: the guess's mode
-    followed to the table's first time at the guess's parameters first (runtime.follow),
+    followed to the table's first time at the guess's parameters first (runtime.kinematics.follow),
     as for stages, and where the module's way there divides by zero (the rate of sqrt(T)
     at T = 0, the guess's time): then each design is carried at that time alone."""
     try:
@@ -72,7 +72,7 @@ def _starts(mech, ts, P, tol, maxit, meth, workers, followed):
     if start is not None and D and t_ref != float(ts[0]) and \
             (followed or module_attr(mod, "SWITCH_TIMES", ())):
         # stages: the guess's mode followed to the table's first time at the guess's
-        # parameters (stage by stage: runtime.follow), then carried to each design there
+        # parameters (stage by stage: runtime.kinematics.follow), then carried to each design there
         ref = quiet_params(mech, dict(zip(mech.parameter_names, map(float, p_ref))))
         try:
             g = follow(ref, float(ts[0]), tol, maxit, meth, what="the table's start")

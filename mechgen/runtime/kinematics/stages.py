@@ -22,11 +22,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import MechgenError, ModelError
-from .analysis.events import Event, Events
-from .analysis.locks import singularities as find_singularities
-from .quantity import Quantity
-from .results import Sweep
+from ...errors import MechgenError, ModelError
+from ..analysis.events import Event, Events
+from ..analysis.locks import singularities as find_singularities
+from ..quantity import Quantity
+from ..results import Sweep
 
 POSITION_AGREEMENT = 1e-8   # largest |Φ| of the next stage at the reached configuration
 
@@ -99,7 +99,7 @@ def pieces(ts, switches):
 def staged_sweep(mech, t0, t1, n, times=None, guess=None, **kw):
     """Mechanism.sweep across stage switches (see the module docstring), or None when the
     sweep's times cross no switch."""
-    from .guards import sweep_times
+    from ..guards import sweep_times
     ts = sweep_times(t0, t1, n, times)
     split = pieces(ts, switch_times(mech))
     if split is None:

@@ -8,8 +8,8 @@ import math
 
 import numpy as np
 
-from .guards import all_finite, finite
-from .results import Solution
+from ..guards import all_finite, finite
+from ..results import Solution
 
 _ANGLES = []
 
@@ -123,7 +123,7 @@ def _angle_coordinates():
     guess first moved a coordinate half a turn (and kept: an import statement costs a
     solve a microsecond)."""
     if not _ANGLES:
-        from .analysis.assembly import angle_coordinates
+        from ..analysis.assembly import angle_coordinates
         _ANGLES.append(angle_coordinates)
     return _ANGLES[0]
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from types import ModuleType
 
-from ..protocol import (ACCELERATION, INFO_RANK, INFO_RESIDUAL, METHOD, NOT_FINITE, OK,
+from ...protocol import (ACCELERATION, INFO_RANK, INFO_RESIDUAL, METHOD, NOT_FINITE, OK,
                         POINT_PIVOT, SING_RTOL, SINGULAR, VELOCITY)
 
 FULL, SORTED = METHOD["full"], METHOD["sorted"]

@@ -6,7 +6,7 @@ check`` and sweeps start), or what ``set_guess`` made it (a Solution at its time
 ``set_guess(q, t=...)``). Solved there, it fixes the assembly mode; the module's careful
 continuation (``sweep``, with its branch tests and step control) carries it to t, its quick
 path (``sweep_fast``, which accepts a point only where it passes sweep()'s tests) first,
-as a sweep goes (runtime.sweeping.compiled). The configurations on the way are kept, one
+as a sweep goes (runtime.kinematics.sweeping.compiled). The configurations on the way are kept, one
 every CELL of time from the guess's time (a path per guess, parameters, tolerances and
 method), so that a later solve continues from the nearest kept one between the guess's
 time and its own: a solve costs one short continuation once the way is known. Where the
@@ -22,12 +22,12 @@ from math import floor as _floor
 
 import numpy as np
 
-from ..errors import BranchJumpWarning, SolveError
-from ..protocol import (JUMP, LEVEL, METHOD, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE,
+from ...errors import BranchJumpWarning, SolveError
+from ...protocol import (JUMP, LEVEL, METHOD, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE,
                         STATUS_CODE, STATUS_COLUMNS, THROUGH_SINGULAR)
 from .entry import module_attr, solve_point
 from .guesses import guess_at, turned_home
-from .results import Solution
+from ..results import Solution
 from .sweeping import compiled, failure, no_rows, outside
 
 CELL = 1.0 / 16.0       # time between the configurations kept on the way (a 16th of a
@@ -110,7 +110,7 @@ def _start(mech, tol, maxit, meth) -> Path:
         # gives it, solved again to full precision
         status = solve_point(mech.module, q, t0, mech.p, tol, mech.xtol, maxit, meth, info)
     if status != 0:
-        from .analysis.locks import convergence_error     # an error path: imported when needed
+        from ..analysis.locks import convergence_error     # an error path: imported when needed
         exc = convergence_error(mech, status, t0, q, info)
         exc.args = (f"the guess does not assemble at its time t={t0:.10g}, from which "
                     f"solve(t) follows the motion (pass guess= to solve from a guess at t, "
@@ -128,7 +128,7 @@ def start_at(mech, guess, t, tol, maxit, meth, what) -> np.ndarray:
     followed to t as solve(t) follows it, not a Newton from it at t, which may fall into
     another mode (a mode picked by assemblies(t'), swept from t); none, where solve(t) is
     (the mechanism's guess followed to t: a Newton from it at t could start on another
-    mode than solve's); any other guess, the Newton start at t (runtime.guesses.guess_at)."""
+    mode than solve's); any other guess, the Newton start at t (guesses.guess_at)."""
     if guess is None:
         with mech.state.lock:    # (the way is kept on the mechanism, as solve's)
             return follow(mech, float(t), tol, maxit, meth, what=what)
@@ -194,7 +194,7 @@ def _segment(mech, ts, q0, tol, maxit, meth):
     S = np.zeros((N, STATUS_COLUMNS), dtype=np.int16)
     report = np.zeros(REPORT_SIZE)
     if module_attr(mech.module, "SWITCH_TIMES", ()):
-        # stages: Mechanism.sweep runs each stage's piece on its own (runtime.stages)
+        # stages: Mechanism.sweep runs each stage's piece on its own (runtime.kinematics.stages)
         state = mech.state
         last = state.last
         try:

@@ -17,12 +17,12 @@ import warnings
 
 import numpy as np
 
-from ..errors import BranchJumpWarning, MechgenError, RedundancyWarning, SingularError
-from ..protocol import (ACCELERATION, FUSED_PATHS, JUMP, LEVEL, LEVELS, METHOD_FULL,
+from ...errors import BranchJumpWarning, MechgenError, RedundancyWarning, SingularError
+from ...protocol import (ACCELERATION, FUSED_PATHS, JUMP, LEVEL, LEVELS, METHOD_FULL,
                         REPORT_FAILED, REPORT_JUMP, REPORT_REACHED, REPORT_SIZE,
                         REPORT_STATUS, STATUS_CODE, STATUS_COLUMNS, THROUGH_SINGULAR,
                         VELOCITY, fused_path)
-from .results import Sweep
+from ..results import Sweep
 
 _VEL, _ACC = LEVEL["velocity"], LEVEL["acceleration"]
 _KEYS = ("q", "qd", "qdd", "status")
@@ -306,7 +306,7 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False, forces=None
     return sw
 
 
-_PACKAGE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+_PACKAGE = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))  # mechgen/
 
 
 def outside() -> int:
@@ -349,7 +349,7 @@ def report_redundancy(state, q, t):
     if mech.m <= mech.n or getattr(module, "_mechgen_redundancy_reported", False):
         return
     module._mechgen_redundancy_reported = True     # the runtime's own mark
-    from .analysis.singular import null_space
+    from ..analysis.singular import null_space
     null = null_space(mech, q, t)
     extra = mech.m - min(null.rank, mech.n)
     warnings.warn(
@@ -364,8 +364,8 @@ def failure(mech, ts, done, Q, report, q0) -> MechgenError:
     are not determined, else ConvergenceError (with the lock the branch ran into, where
     there is one). The careful sweep left the last configuration it reached in Q[done],
     its time and the time that failed in the report."""
-    from .analysis.locks import convergence_error, singular_error    # an error path: imported here
-    from .analysis.singular import solve_q
+    from ..analysis.locks import convergence_error, singular_error    # an error path: imported here
+    from ..analysis.singular import solve_q
     status = int(report[REPORT_STATUS])
     t = float(ts[done])
     t_last, t_try = float(report[REPORT_REACHED]), float(report[REPORT_FAILED])
