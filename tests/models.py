@@ -17,7 +17,7 @@ from collections import namedtuple
 
 import mpmath as mp
 
-from closed_forms import quick_return as quick_return_q  # noqa: F401  (re-exported)
+import closed_forms
 
 SliderCrank = namedtuple("SliderCrank", "m ground crank rod slider")
 FourBar = namedtuple("FourBar", "m ground crank coupler rocker")
@@ -59,8 +59,8 @@ def slider_crank(name="slider_crank", r=1.0, l=3.0, e=0.0, theta0=0.0, omega=2 *
     the crank (0, 0)-(r, 0), the rod (0, 0)-(l, 0), the slider's first point its pin.
     ``params`` maps roles (r, l, e, theta0, omega) to parameter names; ``masses`` maps a
     body to its mass=, inertia=, centroid=; ``joints`` names the crank pivot, the crank pin,
-    the slider pin and the guide; ``drive`` names the crank's rotation_lock (None: no
-    driver, the caller adds one). Returns (m, ground, crank, rod, slider)."""
+    the slider pin and the guide; ``drive`` names the crank's rotation_lock (None: unnamed;
+    False: no driver, the caller adds one). Returns (m, ground, crank, rod, slider)."""
     from mechgen import Model, T
     m = Model(name)
     params = dict(params)
@@ -79,7 +79,7 @@ def slider_crank(name="slider_crank", r=1.0, l=3.0, e=0.0, theta0=0.0, omega=2 *
     m.revolute(crank[2], rod[1], name=joints[1])
     m.revolute(rod[2], slider[1], name=joints[2])
     m.translate(base.line(*guide), slider.line(1, 2), name=joints[3])
-    if drive is not None:
+    if drive is not False:
         m.rotation_lock(crank, th0 + w * T, name=drive)
     return SliderCrank(m, base, crank, rod, slider)
 
@@ -106,7 +106,7 @@ def four_bar(name="four_bar", a=1.0, b=3.0, c=2.0, d=3.0, theta0=0.0, omega=2 * 
     """The four-bar of four_bar_q as a Model: ground (0, 0), (d, 0); crank (0, 0)-(a, 0),
     coupler (0, 0)-(b, 0), rocker (0, 0)-(c, 0) pivoted at its origin. ``params``: roles
     a, b, c, d, theta0, omega to parameter names. Returns (m, ground, crank, coupler,
-    rocker)."""
+    rocker); ``drive`` as in slider_crank."""
     from mechgen import Model, T
     m = Model(name)
     params = dict(params)
@@ -124,7 +124,7 @@ def four_bar(name="four_bar", a=1.0, b=3.0, c=2.0, d=3.0, theta0=0.0, omega=2 * 
     m.revolute(crank[2], coupler[1], name=joints[1])
     m.revolute(coupler[2], rocker[2], name=joints[2])
     m.revolute(base[2], rocker[1], name=joints[3])
-    if drive is not None:
+    if drive is not False:
         m.rotation_lock(crank, th0 + w * T, name=drive)
     return FourBar(m, base, crank, coupler, rocker)
 
@@ -135,3 +135,8 @@ def quick_return():
     closed form is quick_return_q (tests/closed_forms.quick_return)."""
     from conftest import example_model
     return example_model("quick_return")
+
+
+def quick_return_q(t, longitud=3, velocidad=None, anguloI=0, side=1):
+    """The quick-return at T = t (tests/closed_forms.quick_return, mpmath)."""
+    return closed_forms.quick_return(t, longitud, velocidad, anguloI, side)

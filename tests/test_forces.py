@@ -10,6 +10,7 @@ import pytest
 import sympy as sp
 
 import mechgen
+import models
 from mechgen import Model, ModelError, SingularError, T
 
 G = 9.807
@@ -26,21 +27,15 @@ def _compile(model, tmp_path):
 
 
 def slider_crank():
-    m = Model("sc_forces")
-    base = m.ground("base", points=[(0, 0), (1, 0)])
-    w = m.param("w", W)
-    mass4 = m.param("mass4", M4)
-    crank = m.body("crank", points=[(0, 0), (R, 0)], guess=(0, 0, TH0), mass=M2,
-                   inertia=J2, centroid=C2)
-    rod = m.body("rod", points=[(0, 0), (L, 0)], guess=(0.19, 0.06, -0.1), mass=M3,
-                 inertia=J3, centroid=C3)
-    slider = m.body("slider", points=[(0, 0), (1, 0)], guess=(0.79, 0, 0), mass=mass4,
-                    inertia=J4, centroid=C4)
-    m.revolute(base[1], crank[1], name="A")
-    m.revolute(crank[2], rod[1], name="B")
-    m.revolute(rod[2], slider[1], name="C")
-    m.translate(base.line(1, 2), slider.line(1, 2), name="guide")
-    m.rotation_lock(crank, w * T + TH0, name="crank driver")
+    """tests/models.py's slider-crank (crank R, rod L, θ = TH0 + wT) with masses, the
+    slider's a parameter, under gravity and a press on the slider's pin."""
+    m, base, crank, rod, slider = models.slider_crank(
+        "sc_forces", R, L, 0.0, TH0, W, params={"omega": "w"}, ground=[(0, 0), (1, 0)],
+        ground_name="base", guide=(1, 2), joints=("A", "B", "C", "guide"),
+        masses={"crank": dict(mass=M2, inertia=J2, centroid=C2),
+                "rod": dict(mass=M3, inertia=J3, centroid=C3),
+                "slider": dict(mass=("mass4", M4), inertia=J4, centroid=C4)},
+        drive="crank driver")
     m.gravity(G)
     m.force(slider[1], PRESS, name="press")
     return m

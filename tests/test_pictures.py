@@ -6,7 +6,6 @@ what T is, no made-up units, twin axes and equal scale; and the README's files i
 The models of this file are built for positions only and solved in closed form here
 (their guesses are exact assemblies), so that numba compiles no solver: fast tests.
 """
-import math
 import os
 import re
 import shutil
@@ -22,6 +21,7 @@ import pytest  # noqa: E402
 from matplotlib.collections import LineCollection  # noqa: E402
 from matplotlib.patches import FancyArrow, Polygon  # noqa: E402
 
+import models  # noqa: E402
 from conftest import ROOT, example_model  # noqa: E402
 from mechgen import MechgenError, plot  # noqa: E402
 from mechgen.runtime.results import Solution, Sweep  # noqa: E402
@@ -45,27 +45,16 @@ def strandbeest_model():
 
 
 def slider_crank_model():
-    """Crank 1, rod 3, the slider's guide along the x axis through the crank's pivot."""
-    from mechgen import Model, T, pi
-    m = Model("inline_slider_crank")
-    ground = m.ground("ground", points=[(0, 0), (-2, 0), (6, 0)])
-    crank = m.body("crank", points=[(0, 0), (1, 0)], guess=(0, 0, 0))
-    rod = m.body("rod", points=[(0, 0), (3, 0)], guess=(1, 0, 0))
-    slider = m.body("slider", points=[(0, 0), (1, 0)], guess=(4, 0, 0))
-    m.revolute(ground[1], crank[1])
-    m.rotation_lock(crank, 2 * pi * T, name="crank angle")
-    m.revolute(crank[2], rod[1])
-    m.revolute(rod[2], slider[1])
-    m.translate(ground.line(2, 3), slider.line(1, 2))
-    return m
+    """tests/models.py's in-line slider-crank: crank 1, rod 3, the slider's guide along the
+    x axis through the crank's pivot (ground points (-2, 0), (6, 0)), θ = 2πT."""
+    return models.slider_crank("inline_slider_crank", 1.0, 3.0,
+                               ground=[(0, 0), (-2, 0), (6, 0)], drive="crank angle").m
 
 
 def slider_crank_q(t):
-    """The slider-crank's coordinates in closed form (X2 Y2 Th2 X3 Y3 Th3 X4 Y4 Th4)."""
-    th = 2 * math.pi * t
-    phi = -math.asin(math.sin(th) / 3.0)
-    return np.array([0, 0, th, math.cos(th), math.sin(th), phi,
-                     math.cos(th) + 3 * math.cos(phi), 0, 0], dtype=float)
+    """The slider-crank's coordinates in closed form (X2 Y2 Th2 X3 Y3 Th3 X4 Y4 Th4):
+    tests/models.slider_crank_q, whose rod angle is −asin(sin θ / 3) in line."""
+    return np.array(models.slider_crank_q(t, 1.0, 3.0), dtype=float)
 
 
 @pytest.fixture(scope="module")

@@ -23,6 +23,7 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import mechgen
+import models
 from mechgen.protocol import OK
 
 COUNTS = {"four-bars": 0, "slider-cranks": 0, "configurations": 0,
@@ -61,20 +62,11 @@ def fourbar_model():
 
 
 def slider_crank_model():
-    from mechgen import Model, T
-    m = Model("prop_slider_crank")
-    a, b, e = m.param("a", 1.0), m.param("b", 3.0), m.param("e", 0.2)
-    th0, w = m.param("theta0", 0.0), m.param("omega", 6.0)
-    ground = m.ground("ground", points=[(0, 0), (0, e), (1, e)])
-    crank = m.body("crank", points=[(0, 0), (a, 0)], guess=(0, 0, 0))
-    rod = m.body("rod", points=[(0, 0), (b, 0)], guess=(1, 0, 0))
-    slider = m.body("slider", points=[(0, 0), (1, 0)], guess=(4, 0.2, 0))
-    m.revolute(ground[1], crank[1])
-    m.revolute(crank[2], rod[1])
-    m.revolute(rod[2], slider[1])
-    m.translate(ground.line(2, 3), slider.line(1, 2))
-    m.rotation_lock(crank, th0 + w * T, name="crank")
-    return m
+    """tests/models.py's offset slider-crank, every length, the offset, θ0 and ω parameters
+    a, b, e, theta0, omega."""
+    return models.slider_crank("prop_slider_crank", 1.0, 3.0, 0.2, 0.0, 6.0,
+                               params={"r": "a", "l": "b", "e": "e", "theta0": "theta0",
+                                       "omega": "omega"}).m
 
 
 @pytest.fixture(scope="module")

@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 import mechgen
+import models
 from mechgen import Line, Model, T, cos, location, sin
 
 import sensitivity_closed_forms as cf
@@ -61,18 +62,10 @@ SLIDER = dict(r=1.0, l=3.5, e=0.6)
 
 
 def slider_crank_model():
-    m = Model("sens_slider_crank")
-    r, l, e = (m.param(k, v) for k, v in SLIDER.items())
-    ground = m.ground("ground", points=[(0, 0), (0, e), (1, e)])
-    crank = m.body("crank", points=[(0, 0), (r, 0)], guess=(0, 0, 0.4))
-    rod = m.body("rod", points=[(0, 0), (l, 0)], guess=_guess(cf.slider_crank, SLIDER, 1))
-    slider = m.body("slider", points=[(0, 0), (1, 0)], guess=_guess(cf.slider_crank, SLIDER, 2))
-    m.revolute(ground[1], crank[1])
-    m.revolute(crank[2], rod[1])
-    m.revolute(rod[2], slider[1])
-    m.translate(ground.line(2, 3), slider.line(1, 2))
-    m.rotation_lock(crank, 0.4 + 2 * math.pi * T)
-    return m
+    """tests/models.py's offset slider-crank, its lengths and offset parameters r, l, e,
+    driven θ = 0.4 + 2πT by an unnamed rotation_lock."""
+    return models.slider_crank("sens_slider_crank", **SLIDER, theta0=0.4, omega=2 * math.pi,
+                               params={k: k for k in SLIDER}, drive=None).m
 
 
 QUICK = dict(L=3.0, h=5.0, rod=5.0)
