@@ -6,7 +6,7 @@ design reduced on the GPU to the minimum and maximum of X4 (the slider) and thei
     python benchmarks/bench_cuda.py --designs 20000 --times 200
     python benchmarks/bench_cuda.py --sim                    # tiny, on numba's simulator
 
-Reports points (design, time) a second for the generated kernel (mechgen.runtime.gpu.cuda,
+Reports points (design, time) a second for the generated kernel (mechgen.runtime.tables.cuda,
 the module's own solvers translated for the GPU) and the hand-written one
 (``hand_kernel``: the sorted algorithm of benchmarks/baselines.py, one thread per design,
 Taylor-predicted warm starts), their ratio, the largest difference between the two, and
@@ -138,7 +138,7 @@ def measure(designs=1_000_000, times=1000, sample=2000, rounds=3, threads=None,
             max_registers=None, level="position"):
     """The comparison as a dict (see the module docstring); None without a GPU."""
     import mechgen
-    from mechgen.runtime.gpu.cuda import design_status, quantity_slots, run_table_cuda, simulated
+    from mechgen.runtime.tables.cuda import design_status, quantity_slots, run_table_cuda, simulated
     if not (cuda.is_available() or simulated()):
         return None
     mech = mechgen.load(MODULE)

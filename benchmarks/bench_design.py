@@ -11,7 +11,7 @@ machine other work only adds time, so the best is the figure least disturbed by 
 
 Rows: mech.sweep(..., params=...) with workers=1 and with every core (the default), the
 same with reduce=["X4"] (per-design min/max only), backend="dask" on a LocalCluster of 2
-worker processes (--no-dask skips it), backend="cuda" where mechgen.runtime.gpu.cuda and a
+worker processes (--no-dask skips it), backend="cuda" where mechgen.runtime.tables.cuda and a
 GPU are present, and the hand-written kernels.
 """
 from __future__ import annotations
@@ -68,7 +68,7 @@ def main():
         runs["mechgen, dask (LocalCluster, 2 workers)"] = lambda: table(backend="dask",
                                                                         client=client)
     try:
-        from mechgen.runtime.gpu.cuda import run_table_cuda  # noqa: F401
+        from mechgen.runtime.tables.cuda import run_table_cuda  # noqa: F401
         mech.sweep(0.0, 1.0, 10, params={"longitud": lengths[:4]}, backend="cuda")
         runs["mechgen, cuda"] = lambda: table(backend="cuda")
     except Exception as exc:          # no kernel in this build, or no GPU

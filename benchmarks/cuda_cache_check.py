@@ -1,5 +1,5 @@
 """Whether a GPU design table's kernels come from numba's on-disk cache in a later
-process (mechgen.runtime.gpu.cuda_twin.source_file): run it twice, each in a fresh process;
+process (mechgen.runtime.tables.cuda_twin.source_file): run it twice, each in a fresh process;
 the first compiles the kinematic and the force kernels (tens of seconds each), the second
 should load them (about a second).
 

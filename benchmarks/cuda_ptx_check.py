@@ -5,7 +5,7 @@ report their registers and stack per thread (what occupancy they allow).
     CUDA_HOME=$(python -c "import nvidia.cuda_nvcc as m; print(list(m.__path__)[0])") \\
         python benchmarks/cuda_ptx_check.py [generated/quick_return.py] [--cc 90]
     ... python benchmarks/cuda_ptx_check.py generated/quick_return_forces.py --forces
-        (the force tables' kernels, dynamic and static: mechgen.runtime.gpu.cuda_forces)
+        (the force tables' kernels, dynamic and static: mechgen.runtime.tables.cuda_forces)
 
 numba compiles a device function for the current device; with no device this script
 tells it one of compute capability --cc exists (a stand-in used here only, for typing).
@@ -52,7 +52,7 @@ def main(argv=None):
     ap.add_argument("--kernels", default=None, help="(default: the four kinematic kernels, "
                     "or with --forces the force kernel)")
     ap.add_argument("--forces", action="store_true", help="the force kernel of a module with "
-                    "FORCE_FUSED (mechgen.runtime.gpu.cuda_forces)")
+                    "FORCE_FUSED (mechgen.runtime.tables.cuda_forces)")
     args = ap.parse_args(argv)
     cc = (int(args.cc[:-1]), int(args.cc[-1]))
     import numba.cuda.dispatcher as dispatcher
@@ -60,11 +60,11 @@ def main(argv=None):
     dispatcher.get_current_device = lambda: types.SimpleNamespace(compute_capability=cc)
 
     import mechgen
-    from mechgen.runtime.gpu.cuda import STATUS_COLUMNS, numba_module
-    from mechgen.runtime.gpu.cuda_twin import build_twin
+    from mechgen.runtime.tables.cuda import STATUS_COLUMNS, numba_module
+    from mechgen.runtime.tables.cuda_twin import build_twin
     mech = mechgen.load(args.module)
     if args.forces:
-        from mechgen.runtime.gpu import cuda_forces
+        from mechgen.runtime.tables import cuda_forces
         module = numba_module(mech)
         ns = cuda_forces.twin(module, cuda=cuda)
         made = [kernel for level, (_, kernel) in cuda_forces.KERNELS.items()

@@ -4,7 +4,7 @@ benchmarks/bench_cuda.py, at 10^5 designs × 10^3 times, positions and all level
 10^6 designs × 10^3 times in positions; each with its difference from the hand kernel
 and from the CPU design table on a sample of designs. Then a force table: the peak crank
 torque of 10^4 designs of examples/quick_return_forces.py × 10^3 times at level
-"dynamic" (the effort reduced in the kernel, mechgen.runtime.gpu.cuda_forces; the designs it
+"dynamic" (the effort reduced in the kernel, mechgen.runtime.tables.cuda_forces; the designs it
 leaves to the host solved there) beside the same table on the CPU's cores, their largest
 difference, and the kernel alone at a few block sizes (how many designs it left to the
 host).
@@ -117,9 +117,9 @@ def mixed(mech, designs=256, times=1000, level="dynamic"):
 
 
 def kernel(mech, ts, P, names, level="dynamic"):
-    """The force kernel alone (mechgen.runtime.gpu.cuda_forces.run_forces_cuda) at a few block
+    """The force kernel alone (mechgen.runtime.tables.cuda_forces.run_forces_cuda) at a few block
     sizes: its time and how many designs it left to the host."""
-    from mechgen.runtime.gpu.cuda_forces import run_forces_cuda
+    from mechgen.runtime.tables.cuda_forces import run_forces_cuda
     from mechgen.runtime.tables.reduce import reduce_slots
     slots = reduce_slots(mech, names, 2 if level == "dynamic" else 0, level)[1]
     args = (mech, ts, P, mech.guess.copy(), mech.tol, mech.xtol, mech.maxit, slots)

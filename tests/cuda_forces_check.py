@@ -1,6 +1,6 @@
 """Run by tests/test_cuda_forces.py in a subprocess with NUMBA_ENABLE_CUDASIM=1 (numba reads
 it when first imported): force design tables reducing a driver's effort with
-backend="cuda" (mechgen.runtime.gpu.cuda_forces: the effort reduced in the kernel) on numba's
+backend="cuda" (mechgen.runtime.tables.cuda_forces: the effort reduced in the kernel) on numba's
 CUDA simulator, against backend="cpu" and against closed forms; printed as one JSON line.
 
     NUMBA_ENABLE_CUDASIM=1 PYTHONPATH=. python3 tests/cuda_forces_check.py [case ...]
@@ -57,8 +57,8 @@ class _Watch:
     points (design.reduce_threads) refused outright."""
 
     def __init__(self, refuse_points=True):
-        import mechgen.runtime.gpu.cuda as cu
-        import mechgen.runtime.gpu.cuda_forces as cf
+        import mechgen.runtime.tables.cuda as cu
+        import mechgen.runtime.tables.cuda_forces as cf
         import mechgen.runtime.tables.design as design
         self.results = []
         self.saved = [(cu, "run_table_cuda", cu.run_table_cuda),
@@ -114,7 +114,7 @@ def weak_pivots():
     """Every point's multipliers marked not to be used (SING_RTOL above the fused path's
     verdicts, 0 or 1, in a fresh twin): every design goes to the host, the same numbers."""
     import mechgen
-    import mechgen.runtime.gpu.cuda_forces as cf
+    import mechgen.runtime.tables.cuda_forces as cf
     mech = mechgen.load(os.path.join(ROOT, "generated", "quick_return_forces.py"))
     cf._TWINS.clear()                   # a fresh twin, dropped afterwards
     ns = cf.twin(cf.numba_module(mech))

@@ -1,5 +1,5 @@
 """Run by tests/test_cuda_sim.py in a subprocess with NUMBA_ENABLE_CUDASIM=1 (numba reads
-it when first imported): the CUDA design tables of mechgen.runtime.gpu.cuda on numba's CUDA
+it when first imported): the CUDA design tables of mechgen.runtime.tables.cuda on numba's CUDA
 simulator against the CPU design table (mech.sweep(..., params=...)), printed as one JSON
 line of differences."""
 import inspect
@@ -40,8 +40,8 @@ def _rows(tab):
 
 def _cpu_status(tab, nt):
     """The CPU table's per-design status: its own where it has one, else the rule of
-    mechgen.runtime.gpu.cuda.design_status from its per-point STATUS rows."""
-    from mechgen.runtime.gpu.cuda import design_status
+    mechgen.runtime.tables.cuda.design_status from its per-point STATUS rows."""
+    from mechgen.runtime.tables.cuda import design_status
     own = getattr(tab, "status", None)
     if own is not None:
         return np.asarray(own).reshape(-1).astype(np.int64)
@@ -64,7 +64,7 @@ def _needs(mech, name):
 def compare(name, span, params, quantities, levels):
     import mechgen
     from mechgen.protocol import STATUS_CODE
-    from mechgen.runtime.gpu.cuda import quantity_slots, run_table_cuda
+    from mechgen.runtime.tables.cuda import quantity_slots, run_table_cuda
     mech = mechgen.load(os.path.join(ROOT, "generated", name + ".py"))
     out = {}
     for level in levels:
@@ -118,7 +118,7 @@ def compare(name, span, params, quantities, levels):
 
 def full_method(mech, span, params, level):
     """method="full" (no sweep_fast: every design goes to the second kernel) as on the CPU."""
-    from mechgen.runtime.gpu.cuda import run_table_cuda
+    from mechgen.runtime.tables.cuda import run_table_cuda
     cpu = _cpu_table(mech, span, params, level, method="full")
     gpu = run_table_cuda(mech, cpu.t, cpu.P, _starts(mech, cpu), level, mech.tol, mech.maxit,
                          method="full")
@@ -147,7 +147,7 @@ def python_tier():
     """A mechanism answering in the plain-Python tier: its CUDA table is translated from
     the same file's numba functions, and equals the compiled tier's."""
     import mechgen
-    from mechgen.runtime.gpu.cuda import run_table_cuda
+    from mechgen.runtime.tables.cuda import run_table_cuda
     path = os.path.join(ROOT, "generated", "quick_return.py")
     plain = mechgen.load(path, tier="python")
     P = np.tile(plain.p, (2, 1))
@@ -163,7 +163,7 @@ def python_tier():
 
 def contract():
     """mech.sweep(..., params=..., backend="cuda") end to end (the design-table dispatch of
-    mechgen.runtime.tables.backends into mechgen.runtime.gpu.cuda, the real kernels on the simulator)
+    mechgen.runtime.tables.backends into mechgen.runtime.tables.cuda, the real kernels on the simulator)
     against backend="cpu": full tables and reductions, with a design that cannot turn
     (longitud 6 at velocidad 2π: it fails in mid-sweep) among them."""
     import math

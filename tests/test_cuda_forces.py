@@ -109,8 +109,8 @@ def test_sweep_fast_forces_translates_with_its_rows_masked(name):
     """The fused quick paths of the committed force module: their λ rows indexed through
     the row mask like Q, the hook before the first row each writes in each step."""
     import mechgen
-    from mechgen.runtime.gpu.cuda import numba_module
-    from mechgen.runtime.gpu.cuda_twin import ROOTS, translate
+    from mechgen.runtime.tables.cuda import numba_module
+    from mechgen.runtime.tables.cuda_twin import ROOTS, translate
     mod = numba_module(mechgen.load(os.path.join(ROOT, "generated", "quick_return_forces.py")))
     text = translate(mod, ROOTS + (name,))
     fused = text[text.index(f"def {name}("):]
@@ -130,7 +130,7 @@ def test_the_twin_s_source_file_is_written_once_per_text_module_and_options(tmp_
     option, or another module file, another file."""
     import shutil
     import types
-    from mechgen.runtime.gpu.cuda_twin import source_file
+    from mechgen.runtime.tables.cuda_twin import source_file
     shutil.copy(os.path.join(ROOT, "generated", "quick_return.py"), tmp_path / "qr.py")
     module = types.SimpleNamespace(__name__="qr", __file__=str(tmp_path / "qr.py"))
     first = source_file(module, "def f():\n    return 1\n", (1, None))
@@ -148,7 +148,7 @@ def test_a_kernel_numba_cannot_cache_is_compiled_without_the_cache():
     """cuda_twin._kernel: with its source in a file, the kernel asks numba for its on-disk
     cache; where numba refuses (here: a jit that raises for cache=True), it is compiled
     without, the options kept; without a file it never asks."""
-    from mechgen.runtime.gpu.cuda_twin import _kernel
+    from mechgen.runtime.tables.cuda_twin import _kernel
     calls = []
 
     class FakeCuda:

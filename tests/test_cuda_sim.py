@@ -1,4 +1,4 @@
-"""backend="cuda" design tables (mechgen.runtime.gpu.cuda) on numba's CUDA simulator: the
+"""backend="cuda" design tables (mechgen.runtime.tables.cuda) on numba's CUDA simulator: the
 same values and statuses as the CPU design table, reductions as numpy's min/max of it.
 
 numba reads NUMBA_ENABLE_CUDASIM when it is first imported, so the simulator runs in a
@@ -67,7 +67,7 @@ def test_python_tier_translates_the_same_file(sim):
 
 def test_no_cuda_import_until_asked():
     """Importing the backend (or loading and sweeping a module) costs nothing of CUDA."""
-    code = ("import sys, mechgen, mechgen.runtime.gpu.cuda, mechgen.runtime.gpu.cuda_twin; "
+    code = ("import sys, mechgen, mechgen.runtime.tables.cuda, mechgen.runtime.tables.cuda_twin; "
             "m = mechgen.load(sys.argv[1]); "
             "assert 'numba.cuda' not in sys.modules, 'numba.cuda imported'")
     out = subprocess.run([sys.executable, "-c", code, os.path.join(ROOT, "generated",
@@ -78,7 +78,7 @@ def test_no_cuda_import_until_asked():
 
 
 def test_slots(qr):
-    from mechgen.runtime.gpu.cuda import flat_slots, quantity_slots, slot_names
+    from mechgen.runtime.tables.cuda import flat_slots, quantity_slots, slot_names
     n, m = len(qr.coordinates), len(qr.outputs)
     names = ["X4", "X4d", "X4dd", "stroke_x", "stroke_xd", "stroke_xdd"]
     slots = quantity_slots(qr, names, "acceleration")
@@ -105,14 +105,14 @@ def test_no_gpu_is_one_clear_error(qr):
     from numba.core import config
     if config.ENABLE_CUDASIM or cuda.is_available():
         pytest.skip("a GPU (or the simulator) is present")
-    from mechgen.runtime.gpu.cuda import run_table_cuda
+    from mechgen.runtime.tables.cuda import run_table_cuda
     with pytest.raises(MechgenError, match=r"backend='cuda' needs an NVIDIA GPU.*is_available\(\) is False"):
         run_table_cuda(qr, np.linspace(0, 1, 3), qr.p[None, :], qr.guess, "position",
                        qr.tol, qr.maxit)
 
 
 def test_translation_refuses_what_it_cannot_express(tmp_path):
-    from mechgen.runtime.gpu.cuda_twin import TranslationError, translate
+    from mechgen.runtime.tables.cuda_twin import TranslationError, translate
     (tmp_path / "cu_bad_mod.py").write_text(textwrap.dedent("""
         import numpy as np
         from numba import njit
@@ -141,7 +141,7 @@ def test_translation_refuses_what_it_cannot_express(tmp_path):
 def test_every_example_translates(name):
     """The rules cover every function the sweep reaches in each committed module."""
     import importlib.util
-    from mechgen.runtime.gpu.cuda_twin import translate
+    from mechgen.runtime.tables.cuda_twin import translate
     path = os.path.join(ROOT, "generated", name + ".py")
     spec = importlib.util.spec_from_file_location(f"_cu_{name}", path)
     mod = importlib.util.module_from_spec(spec)

@@ -246,7 +246,7 @@ def test_dask_force_table_equals_cpu(client):
 
 def test_cuda_backend_on_the_simulator():
     """backend="cuda" through the design-table dispatch into the real kernels of
-    mechgen.runtime.gpu.cuda, on numba's CUDA simulator (a subprocess: numba reads
+    mechgen.runtime.tables.cuda, on numba's CUDA simulator (a subprocess: numba reads
     NUMBA_ENABLE_CUDASIM when first imported; tests/cuda_sim_check.py contract): its full
     table and its reductions equal the CPU's, the design that fails in mid-sweep included."""
     import json

@@ -1,7 +1,7 @@
 """Where a design table runs: ``backend="cpu"`` (chunks of designs on a pool of threads,
 each chunk one call of the module's compiled sweep_designs, which releases the GIL),
 ``"dask"`` (chunks over a dask.distributed cluster, mechgen.runtime.tables.dask_backend) or
-``"cuda"`` (a generated GPU kernel, mechgen.runtime.gpu.cuda). Every backend returns a
+``"cuda"`` (a generated GPU kernel, mechgen.runtime.tables.cuda). Every backend returns a
 TableData: the full arrays, or only the reductions when ``slots`` is given, and the
 count of solved times and the status of every design. Each design is swept on its own
 (the same warm-started continuation and branch keeping as a single sweep), so the
@@ -107,17 +107,17 @@ def cuda_keeps_points(mech, slots, lev, meth) -> bool:
 
 def run_cuda(mech, ts, Q0, P, lev, tol, maxit, slots, xtol=None, meth=None,
              workers=None) -> TableData:
-    """The table as a generated GPU kernel (mechgen.runtime.gpu.cuda.run_table_cuda); a
-    driver's effort reduced on the GPU where it can (mechgen.runtime.gpu.cuda_forces), the
+    """The table as a generated GPU kernel (mechgen.runtime.tables.cuda.run_table_cuda); a
+    driver's effort reduced on the GPU where it can (mechgen.runtime.tables.cuda_forces), the
     designs it leaves to the host solved by the CPU table (run_cpu) and merged in."""
     try:
-        from ..gpu.cuda import run_table_cuda
+        from .cuda import run_table_cuda
     except ImportError as exc:
         raise MechgenError("backend='cuda' is not available in this mechgen "
-                           f"(mechgen.runtime.gpu.cuda could not be imported: {exc})") from None
+                           f"(mechgen.runtime.tables.cuda could not be imported: {exc})") from None
     if slots is not None and np.any(slots[:, 0] == DRIVER) and \
             not cuda_keeps_points(mech, slots, lev, meth):
-        from ..gpu.cuda_forces import run_forces_cuda
+        from .cuda_forces import run_forces_cuda
         res = run_forces_cuda(mech, ts, P, Q0, tol, mech.xtol if xtol is None else xtol,
                               maxit, slots, level=gpu_force_level(mech, slots, lev, meth))
         done, status, host = res["done"], res["status"], res["host"]

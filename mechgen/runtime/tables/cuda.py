@@ -2,7 +2,7 @@
 sweeping its times warm-started exactly as the CPU design table does (the module's
 sweep_designs(): sweep_fast(), then sweep() from its last accepted point: two kernels,
 the second only for the designs the first left unfinished), with the module's own solver
-functions compiled for the GPU (mechgen.runtime.gpu.cuda_twin).
+functions compiled for the GPU (mechgen.runtime.tables.cuda_twin).
 
 :func:`run_table_cuda` runs it two ways:
 
@@ -152,7 +152,7 @@ def flat_slots(mech, slots, lev):
     arr = np.asarray(slots)
     if arr.dtype.kind not in "iu" or arr.ndim != 2 or arr.shape[1] != 3 or arr.shape[0] == 0:
         raise MechgenError("slots: give a non-empty int64 array of rows [kind, index, order] "
-                           "(see mechgen.runtime.gpu.cuda.quantity_slots)")
+                           "(see mechgen.runtime.tables.cuda.quantity_slots)")
     flat = np.zeros(arr.shape[0], dtype=np.int64)
     nord = 0
     for j, (kind, index, order) in enumerate(arr.tolist()):

@@ -4,7 +4,7 @@ each design is swept, so that no point leaves the GPU.
 
 The module's fused quick path ``sweep_fast_forces`` (present where its FORCE_FUSED is
 True: the multipliers written out in the sweep's own step) is translated with the rest of
-the CUDA twin (mechgen.runtime.gpu.cuda_twin): its LAM, FACTORS and FPIV rows are indexed
+the CUDA twin (mechgen.runtime.tables.cuda_twin): its LAM, FACTORS and FPIV rows are indexed
 through the row mask like Q, so the reducing kernel keeps one thread-local row, and its
 hook ``_cu_point_forces`` sees each accepted point once, as ``_cu_point`` does for
 sweep_fast. A driver slot's value at a point is the driver's effort Σ λ_r ∂Φ_r/∂f from
@@ -24,7 +24,7 @@ the caller (mechgen.runtime.tables.backends.run_cuda) computes those designs alo
 table and merges them in. Every other design's numbers are those of the CPU table,
 whose sweep_designs_forces takes the same quick path with the same source.
 
-numba.cuda is imported only through mechgen.runtime.gpu.cuda, when a table is asked for.
+numba.cuda is imported only through mechgen.runtime.tables.cuda, when a table is asked for.
 """
 from __future__ import annotations
 
@@ -33,7 +33,7 @@ import numpy as np
 from ...errors import MechgenError
 from ...protocol import FUSED_PATHS, LEVEL
 from ..forces.points import driver_rows
-from ..tables.reduce import DRIVER
+from .reduce import DRIVER
 from .cuda import OUTPUT, STATUS_COLUMNS, THREADS, SIM_THREADS, flat_slots, numba_module, \
     require_cuda, simulated, table_inputs
 from .cuda_twin import ROOTS, build_twin
@@ -159,7 +159,7 @@ def twin(module, max_registers=None, cuda=None):
 
 def device_slots(mech, slots):
     """(flat, nord, DRV, names): the kernel's slot codes (a coordinate or output as
-    mechgen.runtime.gpu.cuda.flat_slots numbers it; -1 - j for a driver, described by row j
+    mechgen.runtime.tables.cuda.flat_slots numbers it; -1 - j for a driver, described by row j
     of DRV: [count of rows, its rows of λ, their columns in FACTORS]), how many output
     orders to evaluate, and each slot's name."""
     arr = np.asarray(slots, dtype=np.int64)

@@ -20,7 +20,7 @@ back from the module file, translated by a few mechanical rules and compiled wit
 - in sweep() and sweep_fast() the rows they write (Q, QD, QDD, STATUS) are indexed
   ``k & mask``: mask -1 keeps every row (the table kernels, nothing changes), mask 0
   one thread-local row (the reducing kernels); sweep_fast_forces' (and
-  sweep_fast_statics') LAM, FACTORS and FPIV rows too, where mechgen.runtime.gpu.cuda_forces
+  sweep_fast_statics') LAM, FACTORS and FPIV rows too, where mechgen.runtime.tables.cuda_forces
   translates them (their hook: ``_cu_point_forces``);
 - a hook ``_cu_point`` sees each final point once: at the end of each time step of
   sweep(), one step late in sweep_fast() (whose last accepted point sweep() solves
@@ -36,7 +36,7 @@ them instead of compiling again (the first compile of a kernel takes tens of sec
 Where no file can be written, or numba cannot cache, they are compiled in every process.
 
 Nothing here imports numba.cuda: ``build_twin(module, cuda)`` is given it by
-mechgen.runtime.gpu.cuda, which imports it only when a CUDA table is asked for.
+mechgen.runtime.tables.cuda, which imports it only when a CUDA table is asked for.
 """
 from __future__ import annotations
 
@@ -53,7 +53,7 @@ from ...errors import MechgenError
 
 ROOTS = ("sweep_fast", "sweep", "outputs", "outputs_d", "outputs_dd")
 # the rows a hooked sweep writes (2-D: Q[k, j]; 1-D: FPIV[k]); sweep_fast_forces' λ rows
-# too (mechgen.runtime.gpu.cuda_forces)
+# too (mechgen.runtime.tables.cuda_forces)
 ROW_ARRAYS = ("Q", "QD", "QDD", "STATUS", "LAM", "FACTORS")
 ROW_VECTORS = ("FPIV",)
 # hooked function -> (its hook, the row arrays the hook is given)
@@ -113,7 +113,7 @@ def _cu_copy(src, a):
 
 def _cu_value(s, row, Q, QD, QDD, OUT):
     \"\"\"Flat slot s at a row: coordinates, velocities, accelerations, then the outputs and
-    their first and second derivatives (mechgen.runtime.gpu.cuda.flat_slots).\"\"\"
+    their first and second derivatives (mechgen.runtime.tables.cuda.flat_slots).\"\"\"
     if s < N_COORDS:
         return Q[row, s]
     if s < 2 * N_COORDS:
@@ -489,7 +489,7 @@ def build_twin(module, cuda, status_columns=1, max_registers=None, roots=ROOTS, 
     functions, and the kernels (KERNELS: first and second pass, keeping every point or
     reducing), compiled by numba at their first launch (max_registers: numba.cuda.jit's
     option). ``roots``, ``support`` and ``kernels``: more functions of the module to
-    translate, more source and kernels (mechgen.runtime.gpu.cuda_forces)."""
+    translate, more source and kernels (mechgen.runtime.tables.cuda_forces)."""
     from numba import types
     text = translate(module, roots) + "\n\n" + SUPPORT + "\n\n" + support
     filename = source_file(module, text, (status_columns, max_registers))
