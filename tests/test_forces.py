@@ -411,6 +411,32 @@ def test_flywheel_of_the_slider_crank(sc):
         sw.flywheel(0.0)
 
 
+def test_flywheel_over_a_period_that_does_not_start_at_zero(tmp_path):
+    """A turn from t0 = 0.37 of the slider-crank working against a moment of 4 on its
+    crank (a mean power of 4 W, where the press and gravity give none): ΔE, the inertia
+    and the mean power against trapezoids on the closed-form torque over that turn, the
+    mean taken over the turn's own length (a mean power of work / t1, or a mean rate of
+    ∫ω dt / t1, passes every sweep from 0)."""
+    m = slider_crank()
+    m.moment(m.bodies["crank"], -4.0, name="resist")
+    mech = _compile(m, tmp_path)
+    n, t0 = 721, 0.37
+    period = 2 * math.pi / W
+    sw = mech.sweep(t0, t0 + period, n, level="dynamic")
+    ts = np.linspace(t0, t0 + period, n)
+    torque = np.array([power_torque(closed_form(x)) + 4.0 for x in ts])
+    power = torque * W
+    work = np.concatenate([[0.0], np.cumsum(np.diff(ts) * (power[1:] + power[:-1]) / 2)])
+    mean = work[-1] / period
+    swing = work - mean * (ts - t0)
+    energy = swing.max() - swing.min()
+    fw = sw.flywheel(0.05)
+    assert energy > 1.0 and abs(mean) > 1.0
+    np.testing.assert_allclose(fw["mean_power"], mean, rtol=1e-9)
+    np.testing.assert_allclose(fw["energy"], energy, rtol=1e-9)
+    np.testing.assert_allclose(fw["inertia"], energy / (0.05 * W ** 2), rtol=1e-9)
+
+
 def test_redundant_sweep_takes_the_svd_path(tmp_path):
     two = _compile(parallelogram(False), tmp_path / "two")
     with pytest.warns(mechgen.RedundancyWarning):
