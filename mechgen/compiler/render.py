@@ -37,7 +37,7 @@ def _environment(folder) -> jinja2.Environment:
     cache = os.path.join(folder, "__pycache__")
     try:
         os.makedirs(cache, exist_ok=True)
-        keep = jinja2.FileSystemBytecodeCache(cache, "%s.jinja") \
+        keep = jinja2.FileSystemBytecodeCache(cache, "%s.jinja-code") \
             if os.access(cache, os.W_OK) else None
     except OSError:
         keep = None
