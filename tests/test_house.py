@@ -30,7 +30,7 @@ def layer(module):
     parts = module.split(".")
     if module in ("mechgen", "mechgen.__main__"):
         return "api"
-    if parts[1] in ("errors", "protocol", "turns"):
+    if parts[1] in ("errors", "protocol", "turns", "units"):
         return "base"
     return parts[1]
 

@@ -6,6 +6,8 @@ from __future__ import annotations
 
 from ..errors import MechgenError
 from ..runtime.forces.contact import CAM_KINDS
+from ..units import effort_kind
+from ..units import of as units_of
 from .loading import mechanism
 from .options import number_type, output_file, parse_guess, positive_type, written
 
@@ -41,19 +43,27 @@ def plot_effort(mech, args, level):
 
 def print_forces(mech, args, level):
     s = mech.solve(args.t, guess=parse_guess(args.guess), level=level, method=args.method)
-    print(f"{mech.name} at T = {s.t:g} ({level}: Phi_q^T lambda = Q"
+    units = units_of(mech)
+    time = f" {units.time}" if units.declared else ""
+    print(f"{mech.name} at T = {s.t:g}{time} ({level}: Phi_q^T lambda = Q"
           f"{'' if args.static else ' - M qdd - h'})")
-    drivers = [label for _, _, label, _, driver in mech.module.CONSTRAINTS if driver]
-    if drivers:
+    print(f"units: forces in {units.force}, moments in {units.of('torque')}, lengths in "
+          f"{units.length}" if units.declared else
+          "units: model units (the model declares none: Model(..., units=\"SI\"))")
+    kinds = {label: kind for _, kind, label, _, driver in mech.module.CONSTRAINTS if driver}
+    if kinds:
         print("drivers (effort; its power = effort x the rate of the driven quantity)")
-        width = max(len(d) for d in drivers)
-        for label in drivers:
+        width = max(len(d) for d in kinds)
+        for label, kind in kinds.items():
+            unit = units.of(effort_kind(kind)) if units.declared else ""
             try:
-                effort = f"{s.driver(label) + 0.0:.10g}"
+                effort = f"{s.driver(label) + 0.0:.10g}{' ' + unit if unit else ''}"
             except ValueError:      # a form of equation whose effort is not defined:
                 effort = "(not defined for this form of equation; its reactions below)"
             print(f"  {label:<{width}}  {effort}")
-    print("reactions: (fx, fy, moment about the body's origin) that each constraint "
+    what = f"[{units.force}], fy [{units.force}], moment [{units.of('torque')}]" \
+        if units.declared else ", fy, moment"
+    print(f"reactions: (fx {what} about the body's origin) that each constraint "
           "applies to each body")
     rows = [(f"{label} on {body}", v) for (label, body), v in s.reactions().items()]
     width = max((len(k) for k, _ in rows), default=0)

@@ -205,8 +205,10 @@ def add_commands(sub, add_common):
                         "point (body[k] or body.at(x, y)) with nothing declared")
     p.add_argument("--x", metavar="NAME", help="plot against this quantity instead of T")
     p.add_argument("--length", metavar="UNIT", help="the unit of the model's lengths, e.g. mm "
-                                                   "(default: none stated)")
-    p.add_argument("--time", metavar="UNIT", default="s",
-                   help="the unit of the model's time T (default: s)")
+                                                   "(default: the model's units=, else none "
+                                                   "stated)")
+    p.add_argument("--time", metavar="UNIT", default=None,
+                   help="the unit of the model's time T (default: the model's units=, "
+                        "else s)")
     span(p, 101)
     p.set_defaults(func=cmd_plot)

@@ -8,18 +8,25 @@ import sys
 import numpy as np
 
 from ..errors import MechgenError
+from ..runtime.unit_columns import column_units, labelled
+from ..units import of as units_of
 from .loading import mechanism
 from .options import (number_type, output_file, parse_columns, parse_guess,
                       parse_param_option)
 from .tables import FORCE_LEVELS, format_table, needed_level, select, times, write_csv
 
 
-def _emit(args, header, data, keep, what, sweep=None):
+def _emit(args, header, data, keep, what, sweep=None, mech=None):
     """Print the table, or write it to the -o/--csv file and say so; with ``sweep`` and
-    --sensitivities, the columns d<name>/d<param> of each quantity printed after them."""
+    --sensitivities, the columns d<name>/d<param> of each quantity printed after them.
+    Where ``mech`` (or the sweep's) declares its units, each column says its unit
+    ("X4 [mm]", runtime.unit_columns)."""
     header, data = select(header, data, parse_columns(args.columns), keep)
     if sweep is not None and getattr(args, "sensitivities", None):
         header, data = with_sensitivities(sweep, header, data, keep)
+    mech = mech if sweep is None else sweep.mechanism
+    if mech is not None:
+        header, data = labelled(mech, header, data)
     if args.csv:
         write_csv(args.csv, header, data)
         print(f"wrote {what} to {args.csv}")
@@ -69,15 +76,19 @@ def cmd_solve(args):
         by_name = dict(rows)
         rows = [("T", s.t)] + [(c, by_name[c]) for c in columns if c != "T"]
     if args.csv:
-        write_csv(args.csv, [k for k, _ in rows], np.array([[v for _, v in rows]]))
+        header, data = labelled(mech, [k for k, _ in rows], np.array([[v for _, v in rows]]))
+        write_csv(args.csv, header, data)
         print(f"wrote {mech.name} at T = {s.t:g} ({len(rows) - 1} columns) to {args.csv}")
         return
     said = level if level in FORCE_LEVELS else s.level
     print(f"{mech.name} at T = {s.t:g} ({said}; {s.iterations} Newton iterations, "
           f"residual {s.residual:.2g}, {s.method} solver{', SINGULAR' if s.singular else ''})")
     width = max(len(k) for k, _ in rows)
-    for k, v in rows:
-        print(f"  {k:<{width}} -> {float(v) + 0.0:.10g}")     # + 0.0: never -0
+    names = [k for k, _ in rows]
+    _, data = labelled(mech, names, np.array([[v for _, v in rows]]))   # (deg where asked)
+    said = column_units(mech, names) if units_of(mech).declared else [""] * len(names)
+    for k, v, u in zip(names, data[0], said):
+        print(f"  {k:<{width}} -> {float(v) + 0.0:.10g}{' ' + u if u else ''}")  # never -0
     if getattr(s, "indeterminate", ()):
         print("indeterminate (redundant constraints; minimum-norm multipliers shown): "
               + "; ".join(s.indeterminate))
@@ -117,7 +128,7 @@ def cmd_sweep(args):
         header, data = tab.table()
         keep = len(tab.names) + (1 if tab.kept_points else 0)
         _emit(args, header, data, keep,
-              f"{data.shape[0]} rows ({len(tab)} designs)")
+              f"{data.shape[0]} rows ({len(tab)} designs)", mech=mech)
         return
     if args.backend != "cpu" or args.reduce or args.workers is not None:
         raise MechgenError("--backend, --workers and --reduce are for design tables: vary a "
@@ -132,7 +143,7 @@ def cmd_sweep(args):
         if partial is not None and len(partial):
             header, data = partial.table()
             _emit(args, header, data, 1, f"the {len(partial)} of {len(ts)} rows reached "
-                                          "before the failure")
+                                          "before the failure", mech=mech)
             sys.stdout.flush()
         raise
     header, data = sw.table()

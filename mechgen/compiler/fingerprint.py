@@ -56,6 +56,8 @@ def fingerprint(model, **options) -> str:
     put("options", sorted((k, repr(v)) for k, v in options.items()))
     put("model", model.name, model.doc,
         os.path.basename(getattr(model, "source", "") or "<interactive>"))
+    if model.units.declared:        # the module states them (UNITS): none, nothing put
+        put("units", sorted(model.units.header().items()))
     for name, (sym, value) in model.params.items():
         put("param", name, sp.srepr(sym), repr(value))
     for c in model.coords:

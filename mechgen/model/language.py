@@ -9,6 +9,7 @@ import unicodedata
 
 import sympy as sp
 
+from .. import units as _units
 from ..errors import ModelError, _user_frame
 from .constraints import (Constraint, Expression, Orthogonal, Parallel, PointOnLine,
                           RelativeAngle, RelativeDistance, RelativeX, RelativeY, Revolute,
@@ -65,9 +66,11 @@ _DERIVED = {"coordinate": ("velocity", "acceleration"),
 
 
 class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
-    """A planar mechanism. Every ``Model`` defined at module level of a model file is built."""
+    """A planar mechanism. Every ``Model`` defined at module level of a model file is built.
+    ``units``: what its numbers are measured in ("SI", "mm-N-s" or a mapping of length,
+    mass, time and angle; API.md §1 "Units", mechgen.units); None: "model units"."""
 
-    def __init__(self, name: str):
+    def __init__(self, name: str, units=None):
         if not _is_identifier(name) or keyword.iskeyword(name):
             raise ModelError(f"Model name {name!r} must be a Python identifier that is not a "
                              "keyword (it names the generated module)")
@@ -82,6 +85,10 @@ class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
                              f"{MAX_MODEL_NAME} bytes")
         self.name = name
         self.doc = ""
+        try:
+            self.units = _units.parse(units)
+        except ValueError as exc:
+            raise ModelError(f"model '{name}': {exc}") from None
         self.params: dict[str, tuple[sp.Symbol, float]] = {}
         self.ground_body: Body | None = None
         self.bodies: dict[str, Body] = {}

@@ -3,9 +3,10 @@ mechgen.runtime.forces): a driver's effort against the quantity it drives over a
 with its mean and peak (effort), and the polar diagram of a joint's force on a body, the
 locus of the force vector's tip over the sweep (polar), as Norton and Marghitu draw them.
 
-mechgen does not know the model's units: forces and moments are printed as they are and
-their axes say "model units" (the model's units of force and length); time is taken to be in
-seconds, as plot.unit takes it.
+A model that declares its units (``Model(..., units=...)``, mechgen.units) has its forces,
+torques, lengths and time labelled in them (N, N·mm, mm, s); without a declaration forces
+and moments are printed as they are and their axes say "model units" (the model's units of
+force and length), and time is taken to be in seconds, as plot.unit takes it.
 """
 from __future__ import annotations
 
@@ -16,12 +17,12 @@ import numpy as np
 from ..errors import MechgenError
 from ..runtime.forces import ForceSweep, is_force_level
 from ..runtime.forces.lookup import _name_of, tables
+from ..units import FORCE_KINDS, TORQUE_KINDS, Units
+from ..units import of as units_of
 from .labels import Label, Obstacles, place, renderer_of, set_offset
 from .style import INK
 
-ANGLE_KINDS = ("rotation_lock", "relative_angle", "gen_revolute")
-LENGTH_KINDS = ("relative_x", "relative_y", "relative_distance", "gen_translate",
-                "directed_distance")
+ANGLE_KINDS, LENGTH_KINDS = TORQUE_KINDS, FORCE_KINDS     # (mechgen.units)
 MEAN_COLOR = "#555555"
 MODEL_UNITS = "model units"     # what a force or moment is measured in: mechgen cannot know
 JUMP = 6.0           # a step of a polar locus this many times its neighbours' is a jump (a load
@@ -46,15 +47,26 @@ def degree(x) -> str:
     return f"{float(x):.1f}".rstrip("0").rstrip(".") + "°"
 
 
-def effort_unit(nature) -> str:
-    """The unit of a driver's effort for an axis: a torque is a force times a length."""
+def effort_unit(nature, units=None) -> str:
+    """The unit of a driver's effort for an axis: a torque is a force times a length (N·mm
+    in "mm-N-s"; "force × length, model units" without declared units)."""
+    units = units or Units.undeclared()
+    if units.declared:
+        return units.of("torque" if nature == "angle" else "force") \
+            if nature in ("angle", "length") else f"{units.force} or {units.of('torque')}"
     what = "force × length" if nature == "angle" else "force" if nature == "length" else ""
     return f"{what}, {MODEL_UNITS}" if what else MODEL_UNITS
 
 
-def time_span(t0, t1) -> str:
-    """A sweep's time for a title: "time 0 .. 1 s" (T in seconds, as plot.unit takes it)."""
-    return f"time {float(t0):.4g} .. {float(t1):.4g} s"
+def short_unit(nature, units) -> str:
+    """The effort's unit after a number: "N·mm", or "model units"."""
+    return effort_unit(nature, units) if units.declared else MODEL_UNITS
+
+
+def time_span(t0, t1, units=None) -> str:
+    """A sweep's time for a title: "time 0 .. 1 s" (T in seconds unless the model's units
+    say otherwise, as plot.unit takes it)."""
+    return f"time {float(t0):.4g} .. {float(t1):.4g} {(units or Units()).of('time')}"
 
 
 def _degree_ticks(v, _pos):
@@ -205,6 +217,7 @@ def effort(sweep, driver=None, ax=None, *, degrees=True, mean=True, peak=True, f
     (``sw.force_singular``) are gaps."""
     _check(sweep, "effort")
     mech = sweep.mechanism
+    units = units_of(mech)
     label, _, kind = pick_driver(mech, driver)
     y = np.asarray(sweep.driver(label), dtype=float)
     x, nature, absolute = driven(sweep, label)
@@ -223,7 +236,8 @@ def effort(sweep, driver=None, ax=None, *, degrees=True, mean=True, peak=True, f
     out.mean = cycle_mean(x, y)
     if mean and math.isfinite(out.mean):
         out.mean_line = ax.axhline(out.mean, color=MEAN_COLOR, linestyle="--", linewidth=1.1,
-                                   zorder=2, label=f"mean {number(out.mean)} ({MODEL_UNITS})")
+                                   zorder=2, label=f"mean {number(out.mean)} "
+                                         f"({short_unit(nature, units)})")
         if fill:
             out.fills = [ax.fill_between(x, y, out.mean, where=y >= out.mean, color=ABOVE,
                                          linewidth=0, zorder=1, interpolate=True),
@@ -238,7 +252,9 @@ def effort(sweep, driver=None, ax=None, *, degrees=True, mean=True, peak=True, f
         # the text on the side of the plot with more room, inside the axes
         lo, hi = float(np.nanmin(x)), float(np.nanmax(x))
         right = x[k] < (lo + hi) / 2
-        out.peak_text = ax.annotate(f"peak {number(y[k])} at {where}", xy=(x[k], y[k]),
+        peak_unit = f" {effort_unit(nature, units)}" if units.declared else ""
+        out.peak_text = ax.annotate(f"peak {number(y[k])}{peak_unit} at {where}",
+                                    xy=(x[k], y[k]),
                                     xytext=(10 if right else -10, -4 if y[k] > 0 else 4),
                                     textcoords="offset points",
                                     ha="left" if right else "right",
@@ -246,14 +262,15 @@ def effort(sweep, driver=None, ax=None, *, degrees=True, mean=True, peak=True, f
                                     fontsize=9, color=INK, zorder=5)
     what = "torque" if nature == "angle" else "force" if nature == "length" else "effort"
     unit = (" [°]" if degrees else " [rad]") if nature == "angle" else \
+        f" [{units.of('length')}]" if nature == "length" and units.declared else \
         f" [length, {MODEL_UNITS}]" if nature == "length" else f" [{MODEL_UNITS}]"
     quantity = {"angle": "angle", "length": "length"}.get(nature, "driven quantity")
     if absolute:
         ax.set_xlabel(f"{name}: driven {quantity}{unit}")
     else:
         ax.set_xlabel(f"{name}: change of the driven {quantity} since time "
-                      f"{sweep.t[0]:.4g} s{unit}")
-    ax.set_ylabel(f"{name} {what} [{effort_unit(nature)}]")
+                      f"{sweep.t[0]:.4g} {units.of('time')}{unit}")
+    ax.set_ylabel(f"{name} {what} [{effort_unit(nature, units)}]")
     if nature == "angle" and degrees and np.all(np.isfinite(x)):
         span = abs(x[-1] - x[0])
         if 90 <= span <= 1440:
@@ -267,7 +284,7 @@ def effort(sweep, driver=None, ax=None, *, degrees=True, mean=True, peak=True, f
     ax.grid(True, color="#dddddd", linewidth=0.7)
     ax.legend(loc="best", fontsize="small", framealpha=0.9)
     if title is None:
-        title = f"{mech.name}: {name} {what} over {time_span(sweep.t[0], sweep.t[-1])} " \
+        title = f"{mech.name}: {name} {what} over {time_span(sweep.t[0], sweep.t[-1], units)} " \
                 f"({sweep.force_level})"
     if title:
         ax.set_title(title, fontsize=10)
@@ -335,6 +352,7 @@ def polar(sweep, constraint, on, ax=None, *, local=False, marks=8, title=None,
     (a load switching on or off) the locus is broken, not joined by a chord (``broken``)."""
     _check(sweep, "polar")
     mech = sweep.mechanism
+    units = units_of(mech)
     tab = tables(mech)
     label = tab.constraint(constraint, mech)[0]
     body = tab.body(on, mech)
@@ -379,7 +397,7 @@ def polar(sweep, constraint, on, ax=None, *, local=False, marks=8, title=None,
         out.rays += ax.plot([0, tip[0]], [0, tip[1]], color="#8c8c8c", linewidth=0.8,
                             zorder=2)
         ax.plot([tip[0]], [tip[1]], ".", color=style["color"], markersize=5, zorder=4)
-        text = degree(a) if angle is not None else f"t = {a:.3g} s"
+        text = degree(a) if angle is not None else f"t = {a:.3g} {units.of('time')}"
         out.texts.append(ax.annotate(text, xy=(tip[0], tip[1]), xytext=(0.0, 0.0),
                                      textcoords="offset points", ha="center", va="center",
                                      fontsize=8, color="#444444", zorder=5,
@@ -388,13 +406,15 @@ def polar(sweep, constraint, on, ax=None, *, local=False, marks=8, title=None,
     out.tips = np.array(shown).reshape(-1, 2)
     if top > 0:
         k = int(np.nanargmax(np.where(finite, size, -np.inf)))
-        where = degree(angle[k]) if angle is not None else f"t = {sweep.t[k]:.4g} s"
+        where = degree(angle[k]) if angle is not None else f"t = {sweep.t[k]:.4g} {units.of('time')}"
         out.peak_marker = ax.plot([f[k, 0]], [f[k, 1]], "o", color=INK, markersize=5,
-                                  zorder=5, label=f"largest {number(top)} at {where}")[0]
+                                  zorder=5, label=f"largest {number(top)}"
+                                  f"{' ' + units.force if units.declared else ''} at {where}")[0]
         ax.legend(loc="best", fontsize="small", framealpha=0.9)
     frame = f"{on}'s frame" if local and body is not None else "global axes"
-    ax.set_xlabel(f"fx [force, {MODEL_UNITS}] ({frame})")
-    ax.set_ylabel(f"fy [force, {MODEL_UNITS}] ({frame})")
+    force = units.force if units.declared else f"force, {MODEL_UNITS}"
+    ax.set_xlabel(f"fx [{force}] ({frame})")
+    ax.set_ylabel(f"fy [{force}] ({frame})")
     ax.set_aspect("equal", adjustable="box")
     ax.grid(True, color="#dddddd", linewidth=0.7)
     if top > 0:   # room for the ray labels around the locus
@@ -404,7 +424,7 @@ def polar(sweep, constraint, on, ax=None, *, local=False, marks=8, title=None,
         ax.set_ylim(min(lo[1], 0) - pad, max(hi[1], 0) + pad)
     if title is None:
         title = f"{mech.name}: force of {name} on {on} over " \
-                f"{time_span(sweep.t[0], sweep.t[-1])}"
+                f"{time_span(sweep.t[0], sweep.t[-1], units)}"
     if title:
         ax.set_title(title, fontsize=10)
     if own:

@@ -1,10 +1,13 @@
 """Quantities of a sweep against time or against each other (plot), with their units
 (unit): coordinates, their derivatives and declared outputs, one sweep or a family.
 
-mechgen does not know a model's units. ``T`` is the model's time symbol (the one its
-drivers are written in), taken to be in seconds unless ``time=`` says otherwise; lengths
-carry no unit unless ``length=`` names one; angles are in radians. A quantity whose unit
-is unknown (a declared output) is labelled by its name alone.
+A model that declares its units (``Model(..., units=...)``, mechgen.units; the module's
+UNITS) is labelled in them: lengths in its length unit, ``T`` in its time unit, angles in
+degrees where it asks for them (the values shown converted; computed in radians). Without a
+declaration ``T`` (the model's time symbol, the one its drivers are written in) is taken to
+be in seconds unless ``time=`` says otherwise; lengths carry no unit unless ``length=``
+names one; angles are in radians. A quantity whose unit is unknown (a declared output) is
+labelled by its name alone.
 """
 from __future__ import annotations
 
@@ -15,6 +18,7 @@ import numpy as np
 from matplotlib import rcParams
 
 from ..protocol import LEVELS
+from ..units import of as units_of
 from ..runtime.results import Sweep, _lookup
 from .scene import Scene, point_coordinate
 
@@ -51,14 +55,15 @@ def _dimension(mech, name):
     return "1", order
 
 
-def unit(mech, name, length="length", time="s"):
-    """The unit of a quantity name: rad for angles, ``length`` for X/Y (``length=None``:
-    no unit stated for anything measured in lengths), per ``time`` for derivatives; ""
-    when unknown (a declared output and its derivatives)."""
+def unit(mech, name, length="length", time="s", angle="rad"):
+    """The unit of a quantity name: ``angle`` (rad, or deg where shown in degrees) for
+    angles, ``length`` for X/Y (``length=None``: no unit stated for anything measured in
+    lengths), per ``time`` for derivatives; "" when unknown (a declared output and its
+    derivatives)."""
     kind, order = _dimension(mech, name)
     per = ("", f"/{time}", f"/{time}²")[order]
     if kind == "rad":
-        return "rad" + per
+        return angle + per
     if kind == "length":
         return (length + per) if length else ""
     if kind == "1":
@@ -66,20 +71,39 @@ def unit(mech, name, length="length", time="s"):
     return ""
 
 
-def _label(mech, name, length, time):
-    u = unit(mech, name, length=length, time=time)
+def model_units(mech, length=None, time=None):
+    """(length, time, angle) to label ``mech``'s quantities with: the caller's length and
+    time where given, else the model's declared ones (mechgen.units), else no length and
+    seconds; angle "deg" where the model shows angles in degrees, else "rad"."""
+    u = units_of(mech)
+    if u.declared:
+        return (u.length if length is None else length), \
+            (u.time if time is None else time), u.angle
+    return length, ("s" if time is None else time), "rad"
+
+
+def shown(mech, name, values):
+    """A quantity's values as its label states them: an angle (and its rates) in degrees
+    where the model declares ``"angle": "deg"``; else as computed."""
+    if units_of(mech).degrees and _dimension(mech, name)[0] == "rad":
+        return np.degrees(values)
+    return values
+
+
+def _label(mech, name, length, time, angle="rad"):
+    u = unit(mech, name, length=length, time=time, angle=angle)
     return f"{name} [{u}]" if u else name
 
 
-def _axis_label(mech, names, length, time):
+def _axis_label(mech, names, length, time, angle="rad"):
     """One axis' label: the name with its unit, or the names with their common unit."""
     if len(names) == 1:
-        return _label(mech, names[0], length, time)
-    units = {unit(mech, n, length=length, time=time) for n in names}
+        return _label(mech, names[0], length, time, angle)
+    units = {unit(mech, n, length=length, time=time, angle=angle) for n in names}
     if len(units) > 1:   # each its own unit; those with none stated last ("Th3 [rad], X4",
         # not "X4, Th3 [rad]", which reads as both in rad)
         ordered = sorted(names, key=lambda n: not unit(mech, n, length=length, time=time))
-        return ", ".join(_label(mech, n, length, time) for n in ordered)
+        return ", ".join(_label(mech, n, length, time, angle) for n in ordered)
     common = units.pop()
     return ", ".join(names) + (f" [{common}]" if common else "")
 
@@ -141,7 +165,7 @@ def split_axes(mech, names, values):
     return [small, large] if names[0] in small else [large, small]   # the first on the left
 
 
-def plot(sweep, *names, x=None, ax=None, labels=None, length=None, time="s", title=None,
+def plot(sweep, *names, x=None, ax=None, labels=None, length=None, time=None, title=None,
          equal=None, **line_kwargs):
     """Quantities of a sweep against time, or against quantity ``x``: ``plot(sw, "X4")``,
     ``plot(sw, "X4", "X4d")``, ``plot(sw, "Th3", x="Th2")``. A quantity is a coordinate,
@@ -153,9 +177,10 @@ def plot(sweep, *names, x=None, ax=None, labels=None, length=None, time="s", tit
     drawn on).
 
     The time axis reads "time T [s]": T is the model's time symbol, the one its drivers
-    are written in (``velocidad * T``); ``time`` names its unit (seconds unless you say
-    otherwise: mechgen cannot know). ``length`` names the unit of lengths ("mm" gives
-    "X4 [mm]", "X4d [mm/s]"); by default none is stated. Angles are in rad.
+    are written in (``velocidad * T``); ``time`` names its unit (the model's declared
+    one, else seconds unless you say otherwise). ``length`` names the unit of lengths ("mm"
+    gives "X4 [mm]", "X4d [mm/s]"); by default the model's declared one, else none is
+    stated. Angles are in rad, or deg (their values converted) where the model says so.
 
     Quantities of two kinds (X4 and X4d) or of sizes more than ``SCALE_RATIO`` apart go on
     two y axes, the second on the right (``ax.twinx()``), each labelled in its line's
@@ -183,7 +208,9 @@ def plot(sweep, *names, x=None, ax=None, labels=None, length=None, time="s", tit
         _, ax = plt.subplots(figsize=(7.0, 4.2))
     mech = sweeps[0].mechanism
     needed_level(mech, flat + ([x] if x is not None else []))   # unknown names fail here
-    values = {n: np.concatenate([np.ravel(quantity(sw, n)) for sw in sweeps]) for n in flat}
+    length, time, angle = model_units(mech, length, time)
+    values = {n: np.concatenate([np.ravel(shown(mech, n, quantity(sw, n))) for sw in sweeps])
+              for n in flat}
     path = is_path(mech, flat, x) if equal is None else bool(equal)
     groups = [flat] if path else split_axes(mech, flat, [values[n] for n in flat])
     axes = [ax] if len(groups) == 1 else [ax, ax.twinx()]
@@ -193,17 +220,17 @@ def plot(sweep, *names, x=None, ax=None, labels=None, length=None, time="s", tit
     recolor = not ({"color", "c"} & set(line_kwargs))
     lines = []
     for sw, lab in zip(sweeps, labels):
-        xs = sw.t if x is None else quantity(sw, x)
+        xs = sw.t if x is None else shown(mech, x, quantity(sw, x))
         for n in flat:
             text = n if lab is None else (lab if len(flat) == 1 else f"{n}, {lab}")
             kw = dict(line_kwargs)
             if recolor:
                 kw["color"] = cycle[len(lines) % len(cycle)]
-            lines += where[n].plot(xs, quantity(sw, n), label=text, **kw)
-    ax.set_xlabel(f"time T [{time}]" if x is None else _label(mech, x, length, time))
+            lines += where[n].plot(xs, shown(mech, n, quantity(sw, n)), label=text, **kw)
+    ax.set_xlabel(f"time T [{time}]" if x is None else _label(mech, x, length, time, angle))
     coloured = 0
     for a, group in zip(axes, groups):
-        a.set_ylabel(_axis_label(mech, group, length, time))
+        a.set_ylabel(_axis_label(mech, group, length, time, angle))
         mine = [ln for ln in lines if ln.axes is a]
         if len(axes) > 1 and len({ln.get_color() for ln in mine}) == 1:
             a.yaxis.label.set_color(mine[0].get_color())   # which axis is whose

@@ -325,8 +325,10 @@ class Sweep(Derivatives):
         return ["T"] + cols, data
 
     def to_csv(self, path):
-        """Write T and every column to a CSV file."""
-        return write_csv(path, *self.table())
+        """Write T and every column to a CSV file; where the model declares its units,
+        each name carries its unit ("T [s]", "X4 [mm]", "crank [N·mm]": unit_columns)."""
+        from .unit_columns import labelled
+        return write_csv(path, *labelled(self.mechanism, *self.table()))
 
     def to_dataframe(self):
         """A pandas DataFrame of T and every column (needs pandas)."""

@@ -17,6 +17,8 @@ import numpy as np
 
 from ..errors import BranchJumpWarning, MechgenError
 from ..runtime.kinematics.guesses import quiet_params
+from ..units import MODEL_UNITS, Units, coordinate_kind, effort_kind
+from ..units import of as units_of
 from .geometry import poses
 
 DRIVER = "driver: "      # the prefix of a driver effort's column
@@ -48,11 +50,19 @@ def quantity_names(mech) -> list:
 
 
 def unit_of(name, mech=None) -> str:
-    """A quantity's unit, in the model's length (L) and time (T) units. With ``mech``,
-    the quantity is read as the mechanism names it (a coordinate or output, then its
-    rates X4d, X4dd): an output whose own name ends in d ("speed", "feed") is not a rate."""
+    """A quantity's unit: in the model's declared units (mechgen.units: "mm/s", "N·mm",
+    "deg" where angles are shown in degrees), else in its length (L) and time (T) units
+    ("model units" for a driver's effort). With ``mech``, the quantity is read as the
+    mechanism names it (a coordinate or output, then its rates X4d, X4dd): an output whose
+    own name ends in d ("speed", "feed") is not a rate."""
+    units = units_of(mech) if mech is not None else Units.undeclared()
+    if name == "t":
+        return units.time if units.declared else "T: the model's time unit"
     if name.startswith(DRIVER):
-        return "model force or torque units"
+        if not units.declared:
+            return MODEL_UNITS
+        kind = driver_kinds(mech).get(name[len(DRIVER):], "")
+        return units.of(kind) if kind else f"{units.force} or {units.of('torque')}"
     base, order = name.rstrip("d"), None
     if mech is not None:
         known = set(mech.coordinates) | set(mech.outputs)
@@ -64,10 +74,25 @@ def unit_of(name, mech=None) -> str:
     if order is None:
         order = len(name) - len(base)
     if base.startswith("Th") and base[2:].isdigit():
-        return ("rad", "rad/T", "rad/T²")[min(order, 2)]
+        return units.of("angle", order) if units.declared else \
+            ("rad", "rad/T", "rad/T²")[min(order, 2)]
     if base[:1] in "XY" and base[1:].isdigit():
-        return ("L", "L/T", "L/T²")[min(order, 2)]
+        return units.of("length", order) if units.declared else \
+            ("L", "L/T", "L/T²")[min(order, 2)]
+    if units.declared:
+        return units.of("1", order)
     return ("", "per T", "per T²")[min(order, 2)] if order else ""
+
+
+def driver_kinds(mech) -> dict:
+    """Each driver's name (as drivers() names it) -> "torque" or "force" (mechgen.units)."""
+    out = {}
+    for entry in getattr(mech.module, "CONSTRAINTS", ()):
+        number, kind, label, _, driving = entry[:5]
+        if driving:
+            name = label.split(":", 1)[0].strip() if ":" in label else str(number)
+            out[name] = effort_kind(kind)
+    return out
 
 
 class Failure(Exception):
@@ -110,10 +135,12 @@ def columns(mech, sw, frames, traces) -> dict:
     for j, (_, where) in enumerate(traces):
         xy = where(P, sw.Q)
         data[f"tr{j}x"], data[f"tr{j}y"] = xy[:, 0], xy[:, 1]
+    degrees = units_of(mech).degrees        # shown in degrees: the poses stay in radians
     for k, c in enumerate(mech.coordinates):
-        data[c] = sw.Q[:, k]
-        data[c + "d"] = sw.QD[:, k]
-        data[c + "dd"] = sw.QDD[:, k]
+        turn = np.degrees if degrees and coordinate_kind(c) == "angle" else np.asarray
+        data[c] = turn(sw.Q[:, k])
+        data[c + "d"] = turn(sw.QD[:, k])
+        data[c + "dd"] = turn(sw.QDD[:, k])
     if mech.outputs:
         for order, suffix in enumerate(("", "d", "dd")):
             values = sw.outputs(order)

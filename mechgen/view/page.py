@@ -123,7 +123,7 @@ class Page:
 
         # the plots
         units = {q: unit_of(q, ex.mech) for q in ex.quantities}
-        units["t"] = "T: the model's time unit"
+        units["t"] = unit_of("t", ex.mech)
         options = ["t"] + ex.quantities
         self.against = Select(title="plots against", value="t", options=options, width=200,
                               name="against")

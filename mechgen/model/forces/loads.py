@@ -106,11 +106,19 @@ class LoadsMixin:
                 "mass: gravity exerts no force on it (give the bodies mass=...)"]
 
     # -- loads ------------------------------------------------------------------------
-    def gravity(self, g, direction=(0, -1)):
+    def gravity(self, g=None, direction=(0, -1)):
         """Mech's Gravity: m·g on every body at its centroid along ``direction`` (a
-        vector, made unit; downwards unless given)."""
+        vector, made unit; downwards unless given). Without ``g``, standard gravity in the
+        model's units (9.80665 m/s² in "SI", 9806.65 mm/s² in "mm-N-s")."""
         if self.gravity_vector is not None:
             raise ModelError(f"model '{self.name}' already has gravity; declare it once")
+        if g is None:
+            if not self.units.declared:
+                raise ModelError(f"model '{self.name}': m.gravity() without g takes standard "
+                                 "gravity in the model's units, and the model declares none: "
+                                 "give Model(..., units=\"SI\") (or \"mm-N-s\"), or the "
+                                 "value, m.gravity(9.81)")
+            g = self.units.gravity
         g = self._property(g, "gravity: g")
         number = g.subs({s: v for s, v in self.params.values()})
         if number.is_number and float(number) < 0:

@@ -1,0 +1,85 @@
+"""A table's header with each column's unit, for a model that declares its units
+(mechgen.units, the module's UNITS): "T [s]", "X4 [mm]", "Th3d [rad/s]", a driver's effort
+"crank driver [N·mm]", a reaction "O2 on manivela fx [N]" and its moment "... m [N·mm]"; a
+declared output keeps its bare name (its unit is the user's). Angles shown in degrees
+(``"angle": "deg"``) have their values converted. A model without a declaration keeps its
+header as it was."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..units import coordinate_kind, effort_kind
+from ..units import of as units_of
+
+
+def column_units(mech, header) -> list:
+    """The unit of each column of ``header`` (a Sweep's or ForceSweep's table), "" where
+    none is known, as (kind, order) pairs made strings by the model's Units."""
+    kinds = column_kinds(mech, header)
+    units = units_of(mech)
+    return [units.of(kind, order) if kind else "" for kind, order in kinds]
+
+
+def column_kinds(mech, header) -> list:
+    """(kind, order) of each column (mechgen.units' kinds; "" for unknown)."""
+    coords = {c: k for k, c in enumerate(mech.coordinates)}
+    efforts = _effort_kinds(mech)
+    out = []
+    for name in header:
+        if name == "T":
+            out.append(("time", 0))
+            continue
+        found = None
+        for order, suffix in ((0, ""), (1, "d"), (2, "dd")):
+            stem = name[:len(name) - len(suffix)] if suffix else name
+            if name.endswith(suffix) and stem in coords:
+                found = (coordinate_kind(stem), order)
+                break
+        if found is None:
+            if name in efforts:
+                found = (efforts[name], 0)
+            elif name.endswith((" fx", " fy")) and " on " in name:
+                found = ("force", 0)
+            elif name.endswith(" m") and " on " in name:
+                found = ("torque", 0)
+            else:
+                found = ("", 0)
+        out.append(found)
+    return out
+
+
+def _effort_kinds(mech) -> dict:
+    """The driver effort columns a force table may hold, each its kind (torque, force)."""
+    mod = mech.module
+    if not hasattr(mod, "CONSTRAINTS"):
+        return {}
+    try:
+        from .forces.lookup import column_name, effort_column, tables
+        tab = tables(mech)
+    except Exception:       # a module without force functions: no effort columns
+        return {}
+    taken = {"T", *mech.coordinates, *(c + "d" for c in mech.coordinates),
+             *(c + "dd" for c in mech.coordinates), *mech.outputs}
+    out = {}
+    for number, kind, label, _, driver in mod.CONSTRAINTS:
+        if driver:
+            out[effort_column(column_name(tab, label, kind, number), taken)] = \
+                effort_kind(kind)
+    return out
+
+
+def labelled(mech, header, data):
+    """(header, data) as the CSV file writes them: each name with its unit in brackets,
+    angles in degrees where the model shows them so; unchanged without declared units."""
+    units = units_of(mech)
+    if not units.declared:
+        return header, data
+    kinds = column_kinds(mech, header)
+    if units.degrees:
+        data = np.array(data, dtype=float, copy=True)
+        for k, (kind, _) in enumerate(kinds):
+            if kind == "angle":
+                data[:, k] = np.degrees(data[:, k])
+    names = [f"{name} [{units.of(kind, order)}]" if kind and units.of(kind, order) else name
+             for name, (kind, order) in zip(header, kinds)]
+    return names, data
