@@ -203,3 +203,23 @@ def test_a_force_solution_asked_for_a_sweep_s_quantity_says_so(fb):
         s.shaking()
     with pytest.raises(AttributeError, match="it is a solve's.*'static'"):
         sw.multipliers
+
+
+def test_the_frame_s_reaction_at_its_offset_pivot_has_its_moment_arm(fb):
+    """What pin O4 at (D, 0) applies to the frame, −F14 of the Newton–Euler solve, its
+    moment about the frame's origin (D, 0) × (−F14), and zero about the pivot itself: the
+    frame's moment sums each body's share with its arm from the origin, which a pin at the
+    origin (O2) cannot tell from none."""
+    sw = fb.sweep(0.0, 0.13, 27, level="dynamic")
+    for k in (0, 10, 26):
+        t = float(sw.t[k])
+        _, reactions, _ = newton_euler(t)
+        f = -reactions[("O4", "rocker")][:2]
+        want = [f[0], f[1], _cross(np.array([D, 0.0]), f)]
+        assert abs(want[2]) > 1.0
+        s = fb.solve(t, level="dynamic")
+        np.testing.assert_allclose(s.reaction("O4", on="base"), want, rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(sw.reaction("O4", on="base")[k], want, rtol=1e-9,
+                                   atol=1e-9)
+        np.testing.assert_allclose(s.reaction("O4", on="base", about=(D, 0.0)),
+                                   [f[0], f[1], 0.0], rtol=1e-9, atol=1e-9)
