@@ -245,7 +245,7 @@ class Mechanism:
         if isinstance(n, bool) or int(n) != n or n < 2:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
         ts = np.linspace(t0, t1, int(n))
-        q = start_at(self, guess, float(ts[0]), self.tol, self.maxit,
+        q = start_at(self.state, guess, float(ts[0]), self.tol, self.maxit,
                      self.state.method_of(None),
                      "singularities()' start")
         if module_attr(self.module, "SWITCH_TIMES", ()):     # stage by stage (kinematics.stages)

@@ -57,6 +57,14 @@ class RuntimeState:
         if not self.levels:
             self.levels = {name: k for k, name in enumerate(LEVELS) if k <= self.built_level}
 
+    def with_guess(self, q, t) -> "RuntimeState":
+        """A copy whose guess is ``q``, a configuration at time ``t`` for these parameters
+        (what set_guess makes of a Solution), with its own path, lock and scratch: the
+        way from another guess, followed without touching this state's."""
+        return RuntimeState(self.tiers, self.name, self.built_level, self.index,
+                            self.param_index, self.p, q, t, self.p, self.tol, self.xtol,
+                            self.maxit, self.method, owner=self.owner, levels=self.levels)
+
     @property
     def module(self):
         """The generated module answering now: plain Python or numba's."""

@@ -10,8 +10,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import MechgenError
+from ..kinematics.solving import sweep
 from .contact import CAM_KINDS
 from .lookup import tables
+from .solution import force_solve
 
 PULL_RTOL = 1e-12      # a force below −PULL_RTOL × its largest size pulls (not rounding)
 
@@ -78,8 +80,9 @@ def _refine(sw, name, k, f0, f1):
     near a toggle), the linear estimate where a solve fails."""
     from scipy.optimize import brentq
     mech, t0, t1 = sw.mechanism, float(sw.t[k]), float(sw.t[k + 1])
+    state = mech.state
     q0, q1 = sw.Q[k], sw.Q[k + 1]
-    last = mech.last
+    last = state.last
 
     def force(t):
         if t == t0:
@@ -87,8 +90,9 @@ def _refine(sw, name, k, f0, f1):
         if t == t1:
             return f1
         tn, qn = (t0, q0) if abs(t - t0) <= abs(t - t1) else (t1, q1)
-        q = mech.sweep(tn, t, 2, guess=qn).Q[1]
-        return mech.solve(t, guess=q, level=sw.force_level).contact(name)
+        q = sweep(state, tn, t, 2, "position", qn, None, None, None, None, None).Q[1]
+        with state.lock:
+            return force_solve(mech, t, sw.force_level, guess=q).contact(name)
 
     try:
         return float(brentq(force, t0, t1, xtol=1e-14 * max(1.0, abs(t0), abs(t1)),
@@ -96,7 +100,7 @@ def _refine(sw, name, k, f0, f1):
     except (MechgenError, ValueError):   # a solve that fails, or no change of sign
         return _linear_zero(t0, t1, f0, f1)
     finally:
-        mech.last = last
+        state.last = last
 
 
 def contact_loss(sw, name) -> ContactLoss:

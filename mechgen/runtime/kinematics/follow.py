@@ -23,19 +23,18 @@ from math import floor as _floor
 import numpy as np
 
 from ...errors import BranchJumpWarning, SolveError
-from ...protocol import (JUMP, LEVEL, METHOD, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE,
+from ...protocol import (JUMP, LEVEL, POINT_INFO_SIZE, REPORT_JUMP, REPORT_SIZE,
                         STATUS_CODE, STATUS_COLUMNS, THROUGH_SINGULAR)
 from .entry import module_attr, solve_point
 from .guesses import guess_at, turned_home
 from ..results import Solution
-from .sweeping import compiled, failure, no_rows, outside
+from .sweeping import compiled, failure, from_start, no_rows, outside
 
 CELL = 1.0 / 16.0       # time between the configurations kept on the way (a 16th of a
                         # turn of a driver at one turn per unit of time)
 MAX_CELLS = 1 << 20     # the farthest a solve follows: 65,536 units of time from the guess
 CHUNK = 4096            # cells solved by one call of the careful sweep
 _POSITION = LEVEL["position"]
-_NAMES = {index: name for name, index in METHOD.items()}
 
 
 class Path:
@@ -75,8 +74,8 @@ class Path:
         self.count[sign] = need
 
 
-def _key(mech, tol, maxit, meth):
-    return (mech.p.tobytes(), mech.guess.tobytes(), float(mech.guess_t), tol, mech.xtol,
+def _key(state, tol, maxit, meth):
+    return (state.p.tobytes(), state.guess.tobytes(), float(state.guess_t), tol, state.xtol,
             maxit, meth)      # (guess_p changes only with set_guess, which drops the path)
 
 
@@ -92,37 +91,37 @@ def _context(exc, t, t0, what=None):
     return exc
 
 
-def _start(mech, tol, maxit, meth) -> Path:
+def _start(state, tol, maxit, meth) -> Path:
     """The path of the current guess: the guess solved at its time, kept while the guess,
     parameters, tolerances and method stay the same."""
-    key = _key(mech, tol, maxit, meth)
-    path = mech.state.path
+    key = _key(state, tol, maxit, meth)
+    path = state.path
     if path is not None and path.key == key:
         return path
-    t0 = float(mech.guess_t)
+    t0 = float(state.guess_t)
     info = np.zeros(POINT_INFO_SIZE)
-    q, note = carried(mech, tol, maxit, meth, info)
+    q, note = carried(state, tol, maxit, meth, info)
     start = q.copy()
-    status = solve_point(mech.module, q, t0, mech.p, tol, mech.xtol, maxit, meth, info)
-    if status == 0 and turned_home(mech, q, start):
+    status = solve_point(state.module, q, t0, state.p, tol, state.xtol, maxit, meth, info)
+    if status == 0 and turned_home(state.owner, q, start):
         # Newton from a poor guess threw angles whole turns away (a rocker at -101 rad
         # for a guess of 1.2): the same configuration near the guess, as solve(t, guess=)
         # gives it, solved again to full precision
-        status = solve_point(mech.module, q, t0, mech.p, tol, mech.xtol, maxit, meth, info)
+        status = solve_point(state.module, q, t0, state.p, tol, state.xtol, maxit, meth, info)
     if status != 0:
         from ..analysis.locks import convergence_error     # an error path: imported when needed
-        exc = convergence_error(mech, status, t0, q, info)
+        exc = convergence_error(state.owner, status, t0, q, info)
         exc.args = (f"the guess does not assemble at its time t={t0:.10g}, from which "
                     f"solve(t) follows the motion (pass guess= to solve from a guess at t, "
                     f"or set_guess() a configuration): {exc.args[0]}",)
         raise exc
     if note is not None:
         warnings.warn(note, BranchJumpWarning, stacklevel=outside())
-    path = mech.state.path = Path(key, t0, q)
+    path = state.path = Path(key, t0, q)
     return path
 
 
-def start_at(mech, guess, t, tol, maxit, meth, what) -> np.ndarray:
+def start_at(state, guess, t, tol, maxit, meth, what) -> np.ndarray:
     """The start vector at t of a guess given to a sweep or a search from t: a Solution
     at another time is a configuration at its own time (as set_guess takes it), its mode
     followed to t as solve(t) follows it, not a Newton from it at t, which may fall into
@@ -130,23 +129,22 @@ def start_at(mech, guess, t, tol, maxit, meth, what) -> np.ndarray:
     (the mechanism's guess followed to t: a Newton from it at t could start on another
     mode than solve's); any other guess, the Newton start at t (guesses.guess_at)."""
     if guess is None:
-        with mech.state.lock:    # (the way is kept on the mechanism, as solve's)
-            return follow(mech, float(t), tol, maxit, meth, what=what)
+        with state.lock:    # (the way is kept on the mechanism, as solve's)
+            return follow(state, float(t), tol, maxit, meth, what=what)
     if not isinstance(guess, Solution) or float(guess.t) == float(t):
-        return guess_at(mech, guess, t)
-    ref = mech.with_params()
-    ref.set_guess(guess)
+        return guess_at(state.owner, guess, t)
+    ref = state.with_guess(guess.q.copy(), float(guess.t))   # (its own path)
     return follow(ref, float(t), tol, maxit, meth, what=what)
 
 
-def at_guess_params(mech) -> bool:
+def at_guess_params(state) -> bool:
     """Whether the mechanism's parameters are those its guess was given for (guess_p):
     then the guess needs no carrying."""
-    p0, p = mech.guess_p, mech.p
+    p0, p = state.guess_p, state.p
     return p0 is p or p0.tobytes() == p.tobytes()
 
 
-def carried(mech, tol, maxit, meth, info):
+def carried(state, tol, maxit, meth, info):
     """(start vector, note): a start at the mechanism's parameters for its guess, a
     configuration at time guess_t with parameters guess_p. The guess itself where those
     are the mechanism's (at_guess_params); else the guess solved at p0 and carried along
@@ -155,69 +153,73 @@ def carried(mech, tol, maxit, meth, info):
     does not assemble) the guess itself, and ``note`` says so (a solve from it may land
     in another mode); where the guess does not assemble at p0, the guess itself: there is
     no mode to carry."""
-    guess, t0, p0, p = mech.guess, float(mech.guess_t), mech.guess_p, mech.p
-    mod = mech.module
-    if at_guess_params(mech):
+    guess, t0, p0, p = state.guess, float(state.guess_t), state.guess_p, state.p
+    mod = state.module
+    if at_guess_params(state):
         return guess.copy(), None
     carry = module_attr(mod, "carry_params")
     q = guess.copy()
-    if carry is None or solve_point(mod, q, t0, p0, tol, mech.xtol, maxit, meth, info) != 0:
+    if carry is None or solve_point(mod, q, t0, p0, tol, state.xtol, maxit, meth, info) != 0:
         return guess.copy(), None
-    if turned_home(mech, q, guess):     # (its angles near the guess's, as _start keeps them)
-        solve_point(mod, q, t0, p0, tol, mech.xtol, maxit, meth, info)
-    status = int(carry(q, t0, p0, p, tol, mech.xtol, maxit, meth, info))
+    if turned_home(state.owner, q, guess):     # (its angles near the guess's, as _start keeps them)
+        solve_point(mod, q, t0, p0, tol, state.xtol, maxit, meth, info)
+    status = int(carry(q, t0, p0, p, tol, state.xtol, maxit, meth, info))
     if status == 0:
         return q, None
     why = "a singular configuration" if status == THROUGH_SINGULAR else \
         "parameters at which it does not assemble"
     return guess.copy(), (
-        f"'{mech.name}' with {_changed(mech, p0)}: the assembly mode of the guess (a "
-        f"configuration at t={t0:.10g} for {_changed(mech, p0, p0)}) could not be carried to "
+        f"'{state.name}' with {_changed(state, p0)}: the assembly mode of the guess (a "
+        f"configuration at t={t0:.10g} for {_changed(state, p0, p0)}) could not be carried to "
         f"these parameters ({why} on the way): solved from the guess itself, which may "
         "reach another assembly mode (set_guess() a configuration of these parameters to "
         "choose one)")
 
 
-def _changed(mech, p0, values=None) -> str:
+def _changed(state, p0, values=None) -> str:
     """The parameters where the mechanism's differ from p0, with the mechanism's values
     (or those of ``values``)."""
-    values = mech.p if values is None else values
-    return ", ".join(f"{name}={values[k]:.6g}" for k, name in enumerate(mech.parameter_names)
-                     if mech.p[k] != p0[k]) or "its parameters"
+    values = state.p if values is None else values
+    return ", ".join(f"{name}={values[k]:.6g}" for k, name in enumerate(tuple(state.param_index))
+                     if state.p[k] != p0[k]) or "its parameters"
 
 
-def _segment(mech, ts, q0, tol, maxit, meth):
+def _segment(state, ts, q0, tol, maxit, meth):
     """The careful sweep over ts from q0 (a configuration at ts[0]): (Q, count solved,
     status rows, report). A module with stages goes two times at a time (the ends)."""
-    N, n = ts.shape[0], mech.n
+    N, n = ts.shape[0], state.guess.shape[0]
     Q = np.empty((N, n))
     S = np.zeros((N, STATUS_COLUMNS), dtype=np.int16)
     report = np.zeros(REPORT_SIZE)
-    if module_attr(mech.module, "SWITCH_TIMES", ()):
-        # stages: Mechanism.sweep runs each stage's piece on its own (runtime.kinematics.stages)
-        state = mech.state
-        last = state.last
+    if module_attr(state.module, "SWITCH_TIMES", ()):
+        # stages: each stage's piece swept on its own (stages.staged_sweep)
+        owner = state.owner.state           # (run() makes the pieces' ends its last)
+        last = owner.last
+
+        def piece(times, q):
+            return from_start(state.owner, times, q, _POSITION, tol, maxit, meth)
+        from .stages import staged_sweep        # (stages: imported where a model has them)
         try:
-            sw = mech.sweep(float(ts[0]), float(ts[-1]), N, times=ts, guess=q0,
-                            level="position", method=_NAMES[meth], tol=tol,
-                            maxit=maxit)
+            sw = staged_sweep(state.owner, ts, q0, piece, tol)
+            if sw is None:
+                sw = piece(ts, q0)
         finally:
-            state.last = last
+            owner.last = last
         return sw.Q[[0, -1]], N, S[[0, -1]], report      # (two times: the ends)
     none = no_rows(n)
-    done, _ = compiled(mech, ts, q0.copy(), _POSITION, tol, maxit, meth, Q, none, none, S,
+    done, _ = compiled(state.owner, ts, q0.copy(), _POSITION, tol, maxit, meth, Q, none, none, S,
                        report, unwrap=False)
     return Q, done, S, report
 
 
-def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth, what=None):
+def _extend(state, path, ts, q0, sign, t, tol, maxit, meth, what=None):
     """Solve along ts from q0 (the last known cell, at ts[0]); the rows after the first
     are the next cells when ``sign`` is nonzero. Returns the configuration at ts[-1].
     A step between two cells that the careful sweep could take only by a jump is taken
     again in REFINE substeps (and REFINE² where those jump too) before it counts as one:
     a fast driver turns a crank many times in one cell (CELL is a time, not an angle)."""
     while True:
-        Q, done, S, report = _segment(mech, ts, q0, tol, maxit, meth)
+        Q, done, S, report = _segment(state, ts, q0, tol, maxit, meth)
         code = S[:done, STATUS_CODE]
         if done == ts.shape[0] and not np.count_nonzero(code):    # the usual case, in short
             if sign:
@@ -230,7 +232,7 @@ def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth, what=None):
         _crossed(path, ts, code[:ok])
         if jumped.size:
             k = int(jumped[0])
-            qk = _refined(mech, path, ts[k - 1], ts[k], Q[k - 1], tol, maxit, meth) \
+            qk = _refined(state, path, ts[k - 1], ts[k], Q[k - 1], tol, maxit, meth) \
                 if k >= 1 else None
             if qk is not None:
                 if sign:
@@ -243,12 +245,12 @@ def _extend(mech, path, ts, q0, sign, t, tol, maxit, meth, what=None):
                 f"the continuation could not keep the assembly mode on the way to "
                 f"t={ts[k]:.10g} (a jump of {report[REPORT_JUMP]:.3g} the smallest step "
                 "could not avoid): the configuration there may lie on another assembly mode "
-                "(mech.singularities locates singular configurations on the way; guess= "
+                "(state.singularities locates singular configurations on the way; guess= "
                 "solves from a guess at t)")
             exc.t = float(ts[k])
             raise _context(exc, t, path.t0, what)
         if done < ts.shape[0]:
-            exc = failure(mech, ts, done, Q, report, q0)
+            exc = failure(state.owner, ts, done, Q, report, q0)
             raise _context(exc, t, path.t0, what)
         return Q[-1]
 
@@ -263,14 +265,14 @@ def _crossed(path, ts, code):
             path.crossings.append(float(ts[k]))
 
 
-def _refined(mech, path, ta, tb, qa, tol, maxit, meth, depth=2):
+def _refined(state, path, ta, tb, qa, tol, maxit, meth, depth=2):
     """The configuration at tb from qa at ta by the careful sweep in REFINE substeps (each
     taken again in REFINE where it jumps, ``depth`` levels), or None where a jump remains
     or a substep fails (the caller then reports the jump)."""
     ts = np.linspace(ta, tb, REFINE + 1)
     q = qa
     while True:
-        Q, done, S, _report = _segment(mech, ts, q, tol, maxit, meth)
+        Q, done, S, _report = _segment(state, ts, q, tol, maxit, meth)
         code = S[:done, STATUS_CODE]
         jumped = np.flatnonzero(code == JUMP)
         ok = done if not jumped.size else int(jumped[0])
@@ -280,7 +282,7 @@ def _refined(mech, path, ta, tb, qa, tol, maxit, meth, depth=2):
             return Q[-1].copy()
         if not jumped.size or depth <= 1 or ok < 1:
             return None
-        qk = _refined(mech, path, ts[ok - 1], ts[ok], Q[ok - 1], tol, maxit, meth, depth - 1)
+        qk = _refined(state, path, ts[ok - 1], ts[ok], Q[ok - 1], tol, maxit, meth, depth - 1)
         if qk is None:
             return None
         if ok == ts.shape[0] - 1:
@@ -288,21 +290,21 @@ def _refined(mech, path, ta, tb, qa, tol, maxit, meth, depth=2):
         ts, q = ts[ok:], qk
 
 
-def _last_step(mech, path, tc, qc, t, tol, maxit, meth, what=None) -> np.ndarray:
+def _last_step(state, path, tc, qc, t, tol, maxit, meth, what=None) -> np.ndarray:
     """The careful sweep from the cell (tc, qc) to t, in the path's own two-point arrays
     when nothing is in the way (the cost of a solve once the way is known)."""
-    mod = mech.module
+    mod = state.module
     if not module_attr(mod, "SWITCH_TIMES", ()):
         step = path.step
         if step is None:
-            step = path.step = _step_arrays(mech.n)
+            step = path.step = _step_arrays(state.guess.shape[0])
         ts, Q, S, report, none, times, codes, last = step
         times[0], times[1] = tc, t
-        done, _ = compiled(mech, ts, qc.copy(), _POSITION, tol, maxit, meth, Q, none, none,
+        done, _ = compiled(state.owner, ts, qc.copy(), _POSITION, tol, maxit, meth, Q, none, none,
                            S, report, unwrap=False)
         if done == 2 and codes[0] == 0 and codes[1] == 0:
             return last.copy()
-    return _extend(mech, path, np.array([tc, t]), qc, 0, t, tol, maxit, meth, what).copy()
+    return _extend(state, path, np.array([tc, t]), qc, 0, t, tol, maxit, meth, what).copy()
 
 
 def _step_arrays(n):
@@ -315,7 +317,7 @@ def _step_arrays(n):
             memoryview(S[:, STATUS_CODE]), Q[1])
 
 
-def follow(mech, t, tol, maxit, meth, what=None) -> np.ndarray:
+def follow(state, t, tol, maxit, meth, what=None) -> np.ndarray:
     """The configuration at t on the assembly mode of the guess, reached by continuation
     from the guess's time (see the module docstring): a position that solves Φ to the
     sweep's tolerance, to be polished by the caller's solve at t. Raises the blocked
@@ -323,10 +325,10 @@ def follow(mech, t, tol, maxit, meth, what=None) -> np.ndarray:
     ``what`` names the caller's solve in it (default "solve(t=...)")."""
     # (a solve's own cost once the way is known: the path's key compared, the last cell
     # before t found and the one short continuation from it; see _start and Path)
-    path = mech.state.path
-    if path is None or path.key != (mech.p.tobytes(), mech.guess.tobytes(),   # (_key)
-                                    float(mech.guess_t), tol, mech.xtol, maxit, meth):
-        path = _start(mech, tol, maxit, meth)
+    path = state.path
+    if path is None or path.key != (state.p.tobytes(), state.guess.tobytes(),   # (_key)
+                                    float(state.guess_t), tol, state.xtol, maxit, meth):
+        path = _start(state, tol, maxit, meth)
     t0 = path.t0
     if t == t0:
         return path.q0.copy()
@@ -347,26 +349,26 @@ def follow(mech, t, tol, maxit, meth, what=None) -> np.ndarray:
         tc = t0 + (sign * m) * CELL
     have = path.count[sign]
     if m > have:                                # the cells still missing, CHUNK at a time
-        mech.state.tiers.expect(mech, m - have)
-        chunk = 1 if module_attr(mech.module, "SWITCH_TIMES", ()) else CHUNK
+        state.tiers.expect(state.owner, m - have)
+        chunk = 1 if module_attr(state.module, "SWITCH_TIMES", ()) else CHUNK
         while have < m:
             ks = np.arange(have, min(m, have + chunk) + 1)
             ts = path.t0 + (sign * ks) * CELL
-            _extend(mech, path, ts, path.cell(sign * have), sign, t, tol, maxit, meth, what)
+            _extend(state, path, ts, path.cell(sign * have), sign, t, tol, maxit, meth, what)
             have = path.count[sign]
     qc = path.side[sign][m - 1] if m else path.q0   # path.cell(sign * m)
     if tc == t:
         q = qc.copy()
     else:
-        q = _last_step(mech, path, tc, qc, t, tol, maxit, meth, what)
+        q = _last_step(state, path, tc, qc, t, tol, maxit, meth, what)
     crossings = path.crossings
     passed = [c for c in crossings if min(t0, t) < c <= max(t0, t)] if crossings else None
     if passed:
         warnings.warn(
-            f"{_said(t, what)} of '{mech.name}': the way from the guess at t={t0:.10g} "
+            f"{_said(t, what)} of '{state.name}': the way from the guess at t={t0:.10g} "
             f"passes a singular configuration (dead centre, lock or branch point) near "
             f"t={passed[0]:.10g}: there the mechanism may continue in another assembly "
-            "mode (mech.singularities locates it)", BranchJumpWarning, stacklevel=3)
+            "mode (state.singularities locates it)", BranchJumpWarning, stacklevel=3)
     else:
         path.last = (t, q.copy())
     return q

@@ -38,7 +38,7 @@ def solve(state, t, guess, level, method, tol, maxit, fused=None, lev=None) -> S
     maxit = state.maxit_of(maxit)
     mech = state.owner
     if guess is None:
-        q = follow(mech, t, tol, maxit, meth)
+        q = follow(state, t, tol, maxit, meth)
         qd, qdd, info = solve_point(state, t, q, lev, meth, tol, maxit, fused)
     else:
         q = guess_at(mech, guess, t)
@@ -115,10 +115,14 @@ def sweep(state, t0, t1, n, level, guess, method, tol, maxit, times, out, forces
     way (sweeping.compiled), where the module has it."""
     mech = state.owner
     if module_attr(state.module, "SWITCH_TIMES", ()):
-        # a model with stages: a sweep across a switch runs stage by stage
+        # a model with stages: a sweep across a switch runs stage by stage, each piece
+        # this sweep over its own times (which cross no switch)
         from .stages import staged_sweep
-        staged = staged_sweep(mech, t0, t1, n, times, guess=guess, level=level,
-                              method=method, tol=tol, maxit=maxit)
+
+        def piece(solved, start):
+            return sweep(state, solved[0], solved[-1], len(solved), level, start, method,
+                         tol, maxit, solved, None)
+        staged = staged_sweep(mech, sweep_times(t0, t1, n, times), guess, piece, tol)
         if staged is not None:
             return staged
     lev = state.level_of(level)
@@ -134,15 +138,15 @@ def sweep(state, t0, t1, n, level, guess, method, tol, maxit, times, out, forces
     tol = state.tol_of(tol)
     maxit = state.maxit_of(maxit)
     state.tiers.expect(mech, ts.shape[0])
-    if guess is None and ts[0] == state.guess_t and at_guess_params(mech):
+    if guess is None and ts[0] == state.guess_t and at_guess_params(state):
         try:                # the guess solved where it was given, its angles kept
             with state.lock:    # near it as solve(t) keeps them (kinematics.follow)
-                q0 = follow(mech, float(ts[0]), tol, maxit, meth)
+                q0 = follow(state, float(ts[0]), tol, maxit, meth)
         except MechgenError:    # the sweep says why, from the guess itself
             q0 = state.guess.copy()
     else:       # where solve(ts[0]) is (no guess: the guess's mode followed there), or
         try:    # a Solution at another time, its mode followed to ts[0] (start_at)
-            q0 = start_at(mech, guess, float(ts[0]), tol, maxit, meth, "the sweep's start")
+            q0 = start_at(state, guess, float(ts[0]), tol, maxit, meth, "the sweep's start")
         except MechgenError as exc:
             exc.sweep = no_points(mech, ts, lev)
             raise

@@ -23,11 +23,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import MechgenError, ModelError
+from ...protocol import LEVEL
 from ..analysis.events import Event, Events
 from ..analysis.locks import singularities as find_singularities
 from ..quantity import Quantity
 from ..results import Sweep
+from .sweeping import from_start
 
+_POSITION = LEVEL["position"]
 POSITION_AGREEMENT = 1e-8   # largest |Φ| of the next stage at the reached configuration
 
 
@@ -96,11 +99,12 @@ def pieces(ts, switches):
     return out if forward else out[::-1]
 
 
-def staged_sweep(mech, t0, t1, n, times=None, guess=None, **kw):
-    """Mechanism.sweep across stage switches (see the module docstring), or None when the
-    sweep's times cross no switch."""
-    from ..guards import sweep_times
-    ts = sweep_times(t0, t1, n, times)
+def staged_sweep(mech, ts, guess, piece, tol=None):
+    """A sweep over the times ts across stage switches (see the module docstring), or None
+    when they cross no switch. ``piece(times, guess)`` sweeps one stage's piece (times that
+    cross no switch) from ``guess`` (the caller's for the first piece, then the
+    configuration the previous piece reached); ``tol``: the sweep's tolerance (None: the
+    mechanism's), which bounds the disagreement of two stages at a switch."""
     split = pieces(ts, switch_times(mech))
     if split is None:
         return None
@@ -110,8 +114,8 @@ def staged_sweep(mech, t0, t1, n, times=None, guess=None, **kw):
         try:
             if j:
                 _check_agreement(mech, parts[-1][1], split[j - 1][0], k, float(solved[0]),
-                                 names, kw.get("tol"))
-            sw = mech.sweep(solved[0], solved[-1], len(solved), times=solved, guess=q, **kw)
+                                 names, tol)
+            sw = piece(solved, q)
         except MechgenError as exc:
             # the error carries what was solved before it, every stage's piece included
             part = getattr(exc, "sweep", None)
@@ -149,7 +153,10 @@ def _check_agreement(mech, sw, before, after, t_next, names, tol):
 def staged_singularities(mech, ts, q):
     """Mechanism.singularities stage by stage: Φ_q changes from one stage to the next, so
     that det Φ_q may change sign at a switch without any loss of rank there. Each stage's
-    piece starts from the configuration the previous one reached (a position sweep)."""
+    piece starts from the configuration the previous one reached (a position sweep at the
+    mechanism's tolerances)."""
+    state = mech.state
+    tol, maxit, meth = state.tol, state.maxit, state.method_of(None)
     split = pieces(ts, switch_times(mech))
     if split is None:
         return find_singularities(mech, ts, q)
@@ -158,7 +165,7 @@ def staged_singularities(mech, ts, q):
         found += find_singularities(mech, solved, q)
         if j + 1 < len(split):
             try:
-                q = mech.sweep(solved[0], solved[-1], len(solved), times=solved, guess=q).Q[-1]
+                q = from_start(mech, solved, q, _POSITION, tol, maxit, meth).Q[-1]
             except MechgenError:
                 break          # the branch ends in this stage (a lock): nothing beyond it
     return found

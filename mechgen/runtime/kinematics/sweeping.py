@@ -252,6 +252,13 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
                      report), 0
 
 
+def from_start(mech, ts, q0, lev, tol, maxit, meth) -> Sweep:
+    """The sweep over ts (checked times) from q0, a start vector at ts[0] (not changed):
+    run() after the tier's look at its size (runtime.loading.tiers)."""
+    mech.state.tiers.expect(mech, ts.shape[0])
+    return run(mech, ts, np.array(q0, dtype=np.float64), lev, tol, maxit, meth)
+
+
 def divides(mech, ts, what, **where) -> SingularError:
     """The SingularError of ``what`` (a sweep, a design table) whose equations divide by
     zero at one of its times ts: Python's float division and numba's default error model

@@ -75,7 +75,7 @@ def _starts(mech, ts, P, tol, maxit, meth, workers, followed):
         # parameters (stage by stage: runtime.kinematics.follow), then carried to each design there
         ref = quiet_params(mech, dict(zip(mech.parameter_names, map(float, p_ref))))
         try:
-            g = follow(ref, float(ts[0]), tol, maxit, meth, what="the table's start")
+            g = follow(ref.state, float(ts[0]), tol, maxit, meth, what="the table's start")
         except MechgenError:
             return np.tile(g, (D, 1)), np.zeros(D, dtype=np.int64)
         q, t_ref = g.copy(), float(ts[0])
