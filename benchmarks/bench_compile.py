@@ -109,7 +109,10 @@ else:
             own = resource.getrusage(resource.RUSAGE_SELF)
             res["total"] = own.ru_utime + own.ru_stime
             res["tier"] = mech.tier
-            mech._tiers.stop_worker() if hasattr(mech, "_tiers") else None
+            state = getattr(mech, "state", None)
+            tiers = state.tiers if state is not None else getattr(mech, "_tiers", None)
+            if tiers is not None:
+                tiers.stop_worker()
     else:
         from mechgen.runtime.loading.warm import STAGES, warm
         t1 = cpu()

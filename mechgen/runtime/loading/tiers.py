@@ -10,9 +10,9 @@ plain-Python calls of this process have cost SWITCH_AFTER seconds, the next call
 the compiled module (from the cache, no compiling) and the Mechanism uses it from then
 on. A call too large for Python (a long sweep, a design table: ``expect``) switches at
 once: from the cache when it is ready, else by compiling what the call needs in this
-process (the worker, if it is ours, is stopped first, and a lock keeps two processes
-from writing one module's cache at once; a worker of another process is waited for),
-then starts a worker again for the rest.
+process (the worker, if it is ours, is stopped first; a worker of another process is
+never waited for: this process compiles, or loads from the cache, just what the call
+needs), then starts a worker again for the rest.
 
 ``tier="python"`` never compiles; ``tier="compiled"`` imports with numba at once and
 compiles what each call needs on first use (no worker).
@@ -279,9 +279,14 @@ class Tiers:
             self.start_worker()
 
     def _compile_here(self, mech, kind):
-        """Compile in this process, under the module's lock, what a ``kind`` call needs."""
+        """Compile in this process what a ``kind`` call needs (numba loads from its cache
+        what is there already). The module's lock is taken when it is free, never waited
+        for: a worker of another process may be compiling the whole module, and this
+        call needs a few of its functions (numba writes each cache file whole, by a
+        rename, so that two processes compiling one function at once both leave a good
+        one)."""
         lock = Lock(state_paths(self.path)[1])
-        lock.acquire(wait=True)      # a worker of another process: wait for it
+        held = lock.acquire(wait=False)
         try:
             if not cache_ready(self.path):
                 from .warm import STAGES_FOR, warm
@@ -289,7 +294,8 @@ class Tiers:
                 check_version(module)
                 warm(type(mech)(module), STAGES_FOR[kind])
         finally:
-            lock.release()
+            if held:
+                lock.release()
 
 
 def dump_mark(path: str, stages) -> None:

@@ -1,0 +1,91 @@
+"""numba compiles what a call needs, when it needs it: a process whose large sweep cannot
+wait for the background worker compiles (or loads from numba's cache) just the sweep's
+functions, and never waits for a worker of another process that holds the module's lock
+(mechgen.runtime.loading.tiers); the worker itself runs at the lowest priority on one
+core (mechgen.runtime.loading.warmup)."""
+from __future__ import annotations
+
+import glob
+import json
+import os
+import shutil
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+import mechgen
+from conftest import GENERATED, ROOT
+
+SECOND = textwrap.dedent("""
+    import json, sys
+    import mechgen
+    mech = mechgen.load(sys.argv[1], tier="auto")
+    sw = mech.sweep(0.0, 1.0, 100000, level="acceleration")
+    k = [0, 31234, 99999]
+    print(json.dumps({"tier": mech.tier, "t": sw.t[k].tolist(), "q": sw.Q[k].tolist(),
+                      "qdd": sw.QDD[k].tolist()}))
+    state = getattr(mech, "state", None)      # (the runtime's state, or older: _tiers)
+    (state.tiers if state is not None else mech._tiers).stop_worker()
+""")
+
+
+@pytest.fixture
+def fresh(tmp_path, monkeypatch):
+    """A copy of the four-bar's module and an empty numba cache: (path, environment)."""
+    folder = tmp_path / "mod"
+    folder.mkdir()
+    path = str(folder / "fourbar.py")
+    shutil.copy(os.path.join(GENERATED, "fourbar.py"), path)
+    cache = str(tmp_path / "nc")
+    monkeypatch.setenv("NUMBA_CACHE_DIR", cache)
+    env = dict(os.environ, NUMBA_CACHE_DIR=cache, PYTHONPATH=ROOT)
+    env.pop("MECHGEN_TIER", None)
+    return path, env
+
+
+def test_second_process_never_waits_for_anothers_worker(fresh):
+    """The module's lock held by another process (a worker compiling everything): a
+    10^5-point sweep still compiles what it needs and answers, with the plain tier's
+    numbers, and writes the sweep's functions to the cache, not the design table's."""
+    from mechgen.runtime.loading.tiers import Lock, cache_ready, state_paths
+    path, env = fresh
+    lock = Lock(state_paths(path)[1])
+    assert lock.acquire(wait=False)
+    try:
+        res = subprocess.run([sys.executable, "-c", SECOND, path], env=env, cwd=ROOT,
+                             capture_output=True, text=True, timeout=300)
+        assert res.returncode == 0, res.stderr[-2000:]
+        assert not cache_ready(path)        # the whole module is the worker's to mark
+    finally:
+        lock.release()
+    got = json.loads(res.stdout.strip().splitlines()[-1])
+    assert got["tier"] == "compiled"
+    plain = mechgen.load(path, tier="python")
+    for t, q, qdd in zip(got["t"], got["q"], got["qdd"]):
+        ref = plain.solve(t, level="acceleration")
+        assert np.allclose(ref.q, q, rtol=0, atol=1e-9)
+        assert np.allclose(ref.qdd, qdd, rtol=1e-8, atol=1e-8)
+    cached = {os.path.basename(f).split("-")[0].split(".", 1)[1]
+              for f in glob.glob(os.path.join(env["NUMBA_CACHE_DIR"], "**", "*.nbi"),
+                                 recursive=True)}
+    assert "sweep_fast" in cached
+    assert not cached & {"start_designs", "sweep_designs", "_carry", "newton_full"}, cached
+
+
+def test_worker_yields_the_machine():
+    """The worker's process: nice 19, one core (where the system has several)."""
+    code = textwrap.dedent("""
+        import os
+        from mechgen.runtime.loading.warmup import yield_machine
+        before = len(os.sched_getaffinity(0))
+        yield_machine()
+        print(os.nice(0), before, len(os.sched_getaffinity(0)))
+    """)
+    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True,
+                         text=True, env=dict(os.environ, PYTHONPATH=ROOT), check=True)
+    nice, before, after = map(int, out.stdout.split())
+    assert nice == 19
+    assert after == min(before, 1)
