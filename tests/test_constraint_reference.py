@@ -98,10 +98,12 @@ def test_the_printed_rows_are_the_equations(models):
     assert len(eq.phi) == 2 and sp.simplify(eq.phi[0] - 8 * sp.sin(th2)) == 0
 
 
-def test_readme_links_the_reference():
-    readme = open(os.path.join(ROOT, "README.md"), encoding="utf-8").read()
-    assert "docs/constraints.md" in readme
-    assert "load_model" in readme and "MECHGEN_CACHE" in readme
+def test_the_site_links_the_reference():
+    from docs_pages import page
+    assert "../constraints" in page("reference/index.md")           # in the reference's toc
+    assert "constraints.md" in page("guide/model.md")
+    analysis = page("guide/analysis.md")
+    assert "load_model" in analysis and "MECHGEN_CACHE" in analysis
 
 
 PUBLIC = [language.Model, geometry.Body, geometry.Point, geometry.Line, constraints.Constraint,

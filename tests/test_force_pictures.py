@@ -401,12 +401,12 @@ m.force(slider[1], (-500.0, 120.0), name="press")
 
 
 # -- the worked example ------------------------------------------------------------------
-def test_readme_quotes_the_worked_example(capsys, monkeypatch, tmp_path):
-    """README's Forces section gives the numbers examples/quick_return_forces_demo.py
-    prints (run here in the plain tier; the numbers are the compiled tier's bit for bit)."""
+def test_the_guide_quotes_the_worked_example(capsys, monkeypatch, tmp_path):
+    """The user guide's forces page (docs/guide/forces.md) gives the numbers
+    examples/quick_return_forces_demo.py prints (run here in the plain tier; the numbers
+    are the compiled tier's bit for bit)."""
     import importlib.util
     import re
-    from conftest import ROOT
     monkeypatch.setenv("MECHGEN_CACHE", str(tmp_path))
     spec = importlib.util.spec_from_file_location(
         "qr_forces_demo", os.path.join(EXAMPLES, "quick_return_forces_demo.py"))
@@ -416,13 +416,13 @@ def test_readme_quotes_the_worked_example(capsys, monkeypatch, tmp_path):
                            outdir=str(tmp_path), tier="python")
     demo.analyse(mech)
     out = capsys.readouterr().out
-    text = open(os.path.join(ROOT, "README.md"), encoding="utf-8").read()
-    section = text.split("\n## Forces\n", 1)[1].split("\n## ", 1)[0].replace("−", "-")
+    from docs_pages import page
+    section = page("guide/forces.md").replace("−", "-")
     # every figure but the power balance's rounding (4e-16 here, machine-dependent)
     figures = [x for x in re.findall(r"-?\d+\.\d+(?:e-?\d+)?", out) if "e" not in x]
     assert len(figures) >= 16
     missing = [x for x in figures if x not in section]
-    assert not missing, f"README does not quote the demo's {missing}"
+    assert not missing, f"docs/guide/forces.md does not quote the demo's {missing}"
     ratio = float(re.search(r"at most (\S+) of the largest", out).group(1))
     assert ratio < 1e-12
 

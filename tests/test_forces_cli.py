@@ -79,13 +79,11 @@ def test_constraint_reference_forces_example_is_what_the_printer_gives():
     assert f"[Th2, Th2]  {1.2 * (0.15 ** 2 + 0.02 ** 2) + 0.01:g}" in quoted
 
 
-def test_readme_forces_snippet_prints_its_numbers(tmp_path, monkeypatch, capsys):
+def test_the_guide_forces_snippet_prints_its_numbers(tmp_path, monkeypatch, capsys):
     import os
-    import re
+    from docs_pages import page, python_blocks
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    text = open(os.path.join(root, "README.md"), encoding="utf-8").read()
-    section = text.split("\n## Forces\n", 1)[1].split("\n## ", 1)[0]
-    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    code = python_blocks(page("guide/forces.md"))[0]     # docs/guide/forces.md's first
     monkeypatch.chdir(root)
     monkeypatch.setenv("MECHGEN_CACHE", str(tmp_path))
     monkeypatch.setenv("MECHGEN_TIER", "python")

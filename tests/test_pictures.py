@@ -340,10 +340,12 @@ def test_solution_shows_declared_outputs(qr):
     assert "-> -0" not in repr(zero) and ">-0<" not in zero._repr_html_()   # no minus zero
 
 
-# -- the README's files ---------------------------------------------------------------------------
+# -- the files the README's and the site's examples write -----------------------------------------
 def _readme_outputs():
-    """Files the README's commands and snippets write: -o / --csv / savefig / animate."""
-    text = open(os.path.join(ROOT, "README.md"), encoding="utf-8").read()
+    """Files the README's and the documentation site's commands and snippets write: -o /
+    --csv / savefig / animate."""
+    from docs_pages import all_pages_text
+    text = all_pages_text()
     found = set(re.findall(r"^mechgen (?:draw|animate|plot|sweep)\b.*?(?:-o|--csv) (\S+)",
                            text, re.M))
     found |= set(re.findall(r"savefig\(\"([^\"/]+)\"\)", text))

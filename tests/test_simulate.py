@@ -243,9 +243,10 @@ def test_a_released_driver_has_no_force_columns(tmp_path):
     assert any(h.startswith("1 on bar") for h in header)
 
 
-def test_readme_quotes_the_press_example(capsys, monkeypatch, tmp_path):
-    """The README's press figures are what examples/press_motor_demo.py prints (its large
-    flywheel, run here in the plain tier: the same numbers)."""
+def test_the_guide_quotes_the_press_example(capsys, monkeypatch, tmp_path):
+    """The user guide's press figures (docs/guide/simulation.md) are what
+    examples/press_motor_demo.py prints (its large flywheel, run here in the plain tier:
+    the same numbers)."""
     import importlib.util
     import os
     import re
@@ -259,12 +260,12 @@ def test_readme_quotes_the_press_example(capsys, monkeypatch, tmp_path):
                            outdir=str(tmp_path), tier="python")
     demo.run(mech, 2.0)
     out = capsys.readouterr().out
-    text = open(os.path.join(ROOT, "README.md"), encoding="utf-8").read()
-    section = text.split("\n## Motion under forces\n", 1)[1].split("\n## ", 1)[0]
+    from docs_pages import page
+    section = page("guide/simulation.md")
     figures = re.findall(r"\d+\.\d+", out.split(";", 1)[1])
     assert len(figures) >= 5
     missing = [x for x in figures if x not in section]
-    assert not missing, f"README does not quote the demo's {missing}"
+    assert not missing, f"docs/guide/simulation.md does not quote the demo's {missing}"
 
 
 def test_a_stalling_press_stops_with_a_clear_error(monkeypatch, tmp_path):

@@ -28,7 +28,8 @@ loop = mechgen.compile(os.path.join(EXAMPLES, "fourbar_loop.py"))
 s_loop, s_bodies = loop.solve(0.0), bodies.solve(0.0)
 print("loop:", loop.coordinates, [round(s_loop[c], 6) for c in loop.coordinates])
 print("bodies: Th3, Th4 =", round(s_bodies["Th3"], 6), round(s_bodies["Th4"], 6))
-print("difference:", abs(s_loop["theta3"] - s_bodies["Th3"]) + abs(s_loop["theta4"] - s_bodies["Th4"]))
+print("difference:", abs(s_loop["theta3"] - s_bodies["Th3"])
+      + abs(s_loop["theta4"] - s_bodies["Th4"]))
 
 # %%
 # The joints with their own coordinate: the crank's angle and the slider's travel are

@@ -1,9 +1,9 @@
-"""The README's Analysis snippet runs as printed (from the top of the repository, in a fresh
-interpreter), and mechgen.compile writes where the README says and keeps its module (and
+"""The user guide's analysis snippet (docs/guide/analysis.md) runs as printed (from the
+top of the repository, in a fresh interpreter), and mechgen.compile writes where the guide
+says and keeps its module (and
 numba's cache beside it) when nothing changed."""
 import glob
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -11,17 +11,12 @@ import sys
 import mechgen
 from mechgen.bridge import cache_folder
 from conftest import GENERATED, ROOT, example_model
-
-
-def readme_block(title):
-    """The first python block under the README heading ``## title``."""
-    text = open(os.path.join(ROOT, "README.md"), encoding="utf-8").read()
-    section = text.split(f"\n## {title}\n", 1)[1].split("\n## ", 1)[0]
-    return re.search(r"```python\n(.*?)```", section, re.S).group(1)
+from docs_pages import python_blocks, section
 
 
 def test_analysis_snippet_runs_as_printed(tmp_path):
-    code = readme_block("Analysis")
+    code = python_blocks(section("guide/analysis.md",
+                                 "Everything seed 001 does after SolveMech"))[0]
     assert code.lstrip().startswith("import mechgen")
     assert 'mechgen.load_model("examples/quick_return.py")' in code
     # print what the snippet's bare expressions show in a notebook, to check the numbers

@@ -1,21 +1,19 @@
-"""The README's sensitivity snippet runs as printed (from the top of the repository, in a
-fresh interpreter, plain-Python tier), and its number is the derivative: ∂X4/∂longitud
+"""The user guide's sensitivity snippet (docs/guide/sensitivities.md) runs as printed (from
+the top of the repository, in a fresh interpreter, plain-Python tier), and its number is the derivative: ∂X4/∂longitud
 against a central difference of the slider's closed form written here (examples/
 quick_return.py: the crank's pivot 5 above the lever's, the lever 9 long, the slider 5 from
 its tip on the guide y = 10, ahead of it)."""
 import math
 import os
-import re
 import subprocess
 import sys
 
 from conftest import ROOT
+from docs_pages import page, python_blocks
 
 
 def test_sensitivity_snippet_runs_as_printed(tmp_path):
-    text = open(os.path.join(ROOT, "README.md"), encoding="utf-8").read()
-    section = text.split("\n## Sensitivities, tolerances and path fitting\n", 1)[1]
-    code = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+    code = python_blocks(page("guide/sensitivities.md"))[0]
     assert code.lstrip().startswith("import mechgen")
     probe = code + ("\nprint('dX4', s.sensitivity('X4', 'longitud'))"
                     "\nprint('shape', s.dq_dp.shape, sw.sensitivity('X4', 'longitud').shape)\n")
