@@ -101,28 +101,36 @@ def warn_shared(mech, name, indeterminate, stacklevel):
 def _reaction(tab, mech, name, on, about, J, lam, q, point_xy):
     """(fx, fy, moment) that constraint ``name`` applies to body ``on`` at one point;
     the moment about the body's origin, or about ``about``."""
-    label, rows, _ = tab.constraint(name, mech)
-    rows = list(rows)
+    rows = list(tab.constraint(name, mech)[1])
     gen = -J[rows].T @ lam[rows]         # the constraint's generalized force on the system
+    xy = None if about is None else point_xy(about)[None]
+    return on_body(tab, mech, on, gen[None], q[None], xy)[0]
+
+
+def on_body(tab, mech, on, gen, Q, about_xy=None):
+    """(N, 3): (fx, fy, moment) on body ``on`` at N points from a constraint's generalized
+    forces ``gen`` (N, coordinates) at the configurations Q; the moment about the body's
+    origin, or about the points ``about_xy`` (N, 2)."""
     body = tab.body(on, mech)
+    N = gen.shape[0]
     if body is None:                     # the ground: Newton's third law, about the origin
-        f = np.zeros(2)
-        moment = 0.0
+        f = np.zeros((N, 2))
+        moment = np.zeros(N)
         for idx in tab.bodies.values():
             if idx is None:
                 continue
-            fb = gen[list(idx[:2])]
+            fb = gen[:, list(idx[:2])]
             f -= fb
-            moment -= gen[idx[2]] + q[idx[0]] * fb[1] - q[idx[1]] * fb[0]
-        origin = np.zeros(2)
+            moment -= gen[:, idx[2]] + Q[:, idx[0]] * fb[:, 1] - Q[:, idx[1]] * fb[:, 0]
+        origin = np.zeros((N, 2))
     else:
-        f = gen[list(body[:2])].copy()
-        moment = gen[body[2]]
-        origin = q[list(body[:2])]
-    if about is not None:
-        d = origin - point_xy(about)
-        moment += d[0] * f[1] - d[1] * f[0]
-    return np.array([f[0], f[1], moment])
+        f = gen[:, list(body[:2])].copy()
+        moment = gen[:, body[2]].copy()
+        origin = Q[:, list(body[:2])]
+    if about_xy is not None:
+        d = origin - about_xy
+        moment += d[:, 0] * f[:, 1] - d[:, 1] * f[:, 0]
+    return np.column_stack([f[:, 0], f[:, 1], moment])
 
 
 def _point_xy(mech, q, t):

@@ -15,7 +15,7 @@ from .contact_loss import contact_loss, pulling
 from .directions import load_ends, mark
 from .lookup import _constraints_of, column_name, effort_column, loads_guarded, tables
 from .points import PointForces, solve_points
-from .solution import ForceSolution, _effort, _point_xy, _reaction, warn_shared
+from .solution import ForceSolution, _effort, _point_xy, on_body, warn_shared
 
 def _largest(r) -> float:
     """The largest size in a reaction array, NaN (unsolved points) left out; 0 if none."""
@@ -69,12 +69,16 @@ class ForceSweep(Sweep):
         """(n, 3): (fx, fy, moment) that constraint ``name`` applies to body ``on``."""
         mech = self.mechanism
         tab = tables(mech)
-        out = np.empty((len(self), 3))
-        for k in range(len(self)):
-            q, t = self.Q[k], float(self.solved_t[k])
-            out[k] = _reaction(tab, mech, name, on, about, mech.jacobian(q, t), self.LAM[k],
-                               q, _point_xy(mech, q, t))
-        return out
+        rows = list(tab.constraint(name, mech)[1])
+        mod, p, Q, LAM, ts = mech.module, mech.p, self.Q, self.LAM, self.solved_t
+        N = len(self)
+        J, gen = np.empty((mech.m, mech.n)), np.empty((N, mech.n))
+        for k in range(N):          # Φ_q point by point (compiled), the rest on whole arrays
+            mod.phi_q(Q[k], float(ts[k]), p, J)
+            gen[k] = -J[rows].T @ LAM[k][rows]
+        xy = None if about is None else \
+            np.array([_point_xy(mech, Q[k], float(ts[k]))(about) for k in range(N)]).reshape(N, 2)
+        return on_body(tab, mech, on, gen, Q, xy)
 
     def contact(self, name) -> np.ndarray:
         """(n,): the scalar force constraint ``name`` transmits at every point

@@ -308,8 +308,8 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False, forces=None
         if mech.m > n:
             report_redundancy(mech.state, Q[0], ts[0])
         k = done - 1                        # the last point, a Solution when asked for
-        mech.last = (ts[k], Q[k].copy(), QD[k].copy() if lev >= _VEL else None,
-                     QDD[k].copy() if lev >= _ACC else None)
+        mech.state.last = (ts[k], Q[k].copy(), QD[k].copy() if lev >= _VEL else None,
+                           QDD[k].copy() if lev >= _ACC else None)
     return sw
 
 
