@@ -91,8 +91,21 @@ def _axis(value, what) -> Line:
 
 
 def location(p, local=None) -> sp.Matrix:
-    """Global position of a point: ``location(body[2])``, ``location(body, 2)`` or
-    ``location(body, (3, 8))`` (a point at local coordinates)."""
+    """Global position of a point (Mech's Location).
+
+    Parameters
+    ----------
+    p : Point or Body
+        The point (``body[2]``, ``body.at(3, 8)``), or a body whose point ``local`` names.
+    local : int or (x, y), optional
+        With a body: its k-th point, or a point at local coordinates (``location(body,
+        (3, 8))``); without, the body's origin ``body[0]``.
+
+    Returns
+    -------
+    sympy.Matrix
+        (x, y), expressions in the coordinates.
+    """
     return _point_of(p, local, "location").r
 
 
@@ -119,8 +132,21 @@ class _GlobalPoint:
 
 
 def distance(p1, p2):
-    """Distance between two points; between two points of one body, the constant
-    local distance (Mech prints 3 for the crank's two points, not a square root of sines)."""
+    """Distance between two points (Mech's Distance).
+
+    Between two points of one body it is the constant local distance (Mech prints 3 for
+    the crank's two points, not a square root of sines).
+
+    Parameters
+    ----------
+    p1, p2 : Point or (x, y)
+        Points of any bodies, or global points given as pairs.
+
+    Returns
+    -------
+    sympy.Expr
+        The distance, an expression in the coordinates.
+    """
     if isinstance(p1, Point) and isinstance(p2, Point) and p1.body is p2.body:
         dx, dy = p2.local[0] - p1.local[0], p2.local[1] - p1.local[1]
         return sp.sqrt(dx ** 2 + dy ** 2)
@@ -129,19 +155,57 @@ def distance(p1, p2):
 
 
 def point_to_line_distance(p, a):
-    """Signed distance of p from the axis, (a.first − r(p)) × u / ‖u‖ as Mech prints it:
-    positive when p lies to the left of the axis (seen looking along u)."""
+    """Signed distance of a point from an axis (Mech's PointToLineDistance).
+
+    (a.first − r(p)) × u / ‖u‖ as Mech prints it: positive when p lies to the left of the
+    axis (seen looking along u).
+
+    Parameters
+    ----------
+    p : Point or (x, y)
+        The point.
+    a : Line
+        The axis (``body.line(1, 2)``, ``Line(p1, p2)``).
+
+    Returns
+    -------
+    sympy.Expr
+        The signed distance.
+    """
     a = _axis(a, "point_to_line_distance")
     return cross2(a.first.r - _pt(p, "point_to_line_distance"), a.u) / a.length
 
 
 def angle(a):
-    """Direction angle of an axis or vector against the global X axis (atan2, radians)."""
+    """Direction angle of an axis or vector against the global X axis (Mech's Angle).
+
+    Parameters
+    ----------
+    a : Line or (dx, dy)
+        An axis, or a vector.
+
+    Returns
+    -------
+    sympy.Expr
+        ``atan2(u_y, u_x)`` in radians.
+    """
     u = _vec(a, "angle")
     return sp.atan2(u[1], u[0])
 
 
 def rotation(body):
+    """A body's rotation angle (Mech's Rotation): its coordinate ``Th<n>``.
+
+    Parameters
+    ----------
+    body : Body
+        A body of the model (the ground's is 0).
+
+    Returns
+    -------
+    sympy.Symbol or 0
+        The body's angle coordinate.
+    """
     if not isinstance(body, Body):
         raise ModelError(f"rotation: expected a body, got {body!r}")
     return body.th
@@ -191,9 +255,21 @@ class unless_parallel(sp.Function):
 
 
 def intersection(a1, a2) -> sp.Matrix:
-    """The intersection point of two axes; NaN (as are its time derivatives) while they
-    are parallel (the sine of their angle below PARALLEL_SINE); two axes that are always
-    parallel are a ModelError."""
+    """The intersection point of two axes (Mech's IntersectionPoint).
+
+    NaN (as are its time derivatives) while they are parallel (the sine of their angle
+    below PARALLEL_SINE); two axes that are always parallel are a ModelError.
+
+    Parameters
+    ----------
+    a1, a2 : Line
+        The two axes.
+
+    Returns
+    -------
+    sympy.Matrix
+        (x, y) of the point.
+    """
     a1, a2 = _axis(a1, "intersection"), _axis(a2, "intersection")
     p, u = a1.first.r, a1.u
     r, v = a2.first.r, a2.u
@@ -210,7 +286,20 @@ def intersection(a1, a2) -> sp.Matrix:
 
 
 def project_on_line(p, a) -> sp.Matrix:
-    """Orthogonal projection of a point onto an axis."""
+    """Orthogonal projection of a point onto an axis (Mech's ProjectOnLine).
+
+    Parameters
+    ----------
+    p : Point or (x, y)
+        The point.
+    a : Line
+        The axis.
+
+    Returns
+    -------
+    sympy.Matrix
+        (x, y) of the projection.
+    """
     a = _axis(a, "project_on_line")
     base, u = a.first.r, a.u
     s = dot2(_pt(p, "project_on_line") - base, u) / a.length ** 2
@@ -218,11 +307,34 @@ def project_on_line(p, a) -> sp.Matrix:
 
 
 def direction(a) -> sp.Matrix:
+    """An axis's direction vector u, its second point minus its first (Mech's Direction).
+
+    Parameters
+    ----------
+    a : Line or (dx, dy)
+        An axis, or a vector (returned as it is).
+
+    Returns
+    -------
+    sympy.Matrix
+        (u_x, u_y), not normalised.
+    """
     return _vec(a, "direction")
 
 
 def magnitude(a):
-    """Length of an axis's direction vector or of a vector."""
+    """Length of an axis's direction vector or of a vector (Mech's Magnitude).
+
+    Parameters
+    ----------
+    a : Line or (dx, dy)
+        An axis, or a vector.
+
+    Returns
+    -------
+    sympy.Expr
+        ‖u‖.
+    """
     if isinstance(a, Line):
         return a.length
     u = _vec(a, "magnitude")
@@ -230,23 +342,70 @@ def magnitude(a):
 
 
 def unit(a) -> sp.Matrix:
-    """The unit vector along an axis or a vector."""
+    """The unit vector along an axis or a vector (Mech's Unit).
+
+    Parameters
+    ----------
+    a : Line or (dx, dy)
+        An axis, or a vector.
+
+    Returns
+    -------
+    sympy.Matrix
+        u / ‖u‖.
+    """
     return _vec(a, "unit") / magnitude(a)
 
 
 def cross(a, b):
-    """Planar cross product of two axes or vectors, a_x b_y − a_y b_x."""
+    """Planar cross product of two axes or vectors, a_x b_y − a_y b_x (Mech's Cross).
+
+    Parameters
+    ----------
+    a, b : Line or (dx, dy)
+        Axes (their direction vectors) or vectors.
+
+    Returns
+    -------
+    sympy.Expr
+        The scalar cross product.
+    """
     return cross2(_vec(a, "cross"), _vec(b, "cross"))
 
 
 def rotation_matrix(body) -> sp.Matrix:
+    """A body's rotation matrix (Mech's RotationMatrix): local to global directions.
+
+    Parameters
+    ----------
+    body : Body
+        A body of the model.
+
+    Returns
+    -------
+    sympy.Matrix
+        [[cos Th, −sin Th], [sin Th, cos Th]] of the body's angle.
+    """
     if not isinstance(body, Body):
         raise ModelError(f"rotation_matrix: expected a body, got {body!r}")
     return body.rotation()
 
 
 def point_to_local(body, xy) -> sp.Matrix:
-    """Local coordinates, in ``body``'s frame, of a global point."""
+    """Local coordinates, in ``body``'s frame, of a global point (Mech's PointToLocal).
+
+    Parameters
+    ----------
+    body : Body
+        The body whose frame.
+    xy : Point or (x, y)
+        The point, global.
+
+    Returns
+    -------
+    sympy.Matrix
+        (x, y) in the body's frame.
+    """
     if not isinstance(body, Body):
         raise ModelError(f"point_to_local: expected a body first, got {body!r}")
     g = _pt(xy, "point_to_local")
@@ -255,6 +414,20 @@ def point_to_local(body, xy) -> sp.Matrix:
 
 
 def polar_to_xy(r, ang=None) -> sp.Matrix:
+    """Cartesian components of a polar pair (Mech's PolarToXY).
+
+    Parameters
+    ----------
+    r : expression or (r, angle)
+        The radius, or the pair.
+    ang : expression, optional
+        The angle in radians, when ``r`` is the radius alone.
+
+    Returns
+    -------
+    sympy.Matrix
+        (r cos angle, r sin angle).
+    """
     if ang is None:
         r, ang = as_pair(r, "polar_to_xy")
     r, ang = sp.sympify(r), sp.sympify(ang)
@@ -262,6 +435,20 @@ def polar_to_xy(r, ang=None) -> sp.Matrix:
 
 
 def xy_to_polar(x, y=None) -> sp.Matrix:
+    """Polar pair of Cartesian components (Mech's XYToPolar).
+
+    Parameters
+    ----------
+    x : expression, (x, y) or Line
+        The x component, or a vector or axis.
+    y : expression, optional
+        The y component, when ``x`` is the x component alone.
+
+    Returns
+    -------
+    sympy.Matrix
+        (sqrt(x² + y²), atan2(y, x)).
+    """
     if y is None:
         x, y = as_pair(_vec(x, "xy_to_polar"), "xy_to_polar")
     x, y = sp.sympify(x), sp.sympify(y)
@@ -269,7 +456,22 @@ def xy_to_polar(x, y=None) -> sp.Matrix:
 
 
 def dt(expr, order: int = 1, model=None):
-    """Total time derivative (Mech's Dt[expr, T]) through q, q̇ and T."""
+    """Total time derivative (Mech's Dt[expr, T]) through q, q̇ and T.
+
+    Parameters
+    ----------
+    expr : sympy expression, Matrix or list
+        Any quantity in the coordinates, their rates, parameters and ``T``.
+    order : int, default 1
+        How many times to differentiate (0 returns ``expr``).
+    model : Model, optional
+        Whose coordinates; by default those the expression's symbols name.
+
+    Returns
+    -------
+    sympy.Expr or sympy.Matrix
+        The derivative, in the coordinates and their rates (``X4d``, ``Th3dd``).
+    """
     if not isinstance(order, int) or order < 0:
         raise ModelError(f"dt: order must be a non-negative integer, got {order!r}")
     if isinstance(expr, (list, tuple)):
@@ -283,13 +485,39 @@ def dt(expr, order: int = 1, model=None):
 
 
 def velocity(p, local=None) -> sp.Matrix:
-    """Global velocity of a point: ``velocity(body[2])`` or ``velocity(body, 2)``."""
+    """Global velocity of a point (Mech's Velocity).
+
+    Parameters
+    ----------
+    p : Point or Body
+        The point, or a body whose point ``local`` names (as for :func:`location`).
+    local : int or (x, y), optional
+        With a body: its k-th point or a point at local coordinates.
+
+    Returns
+    -------
+    sympy.Matrix
+        (vx, vy), in the coordinates and their rates.
+    """
     point = _point_of(p, local, "velocity")
     return dt(point.r, 1, model=getattr(getattr(point, "body", None), "model", None))
 
 
 def acceleration(p, local=None) -> sp.Matrix:
-    """Global acceleration of a point: ``acceleration(body[2])`` or ``acceleration(body, 2)``."""
+    """Global acceleration of a point (Mech's Acceleration).
+
+    Parameters
+    ----------
+    p : Point or Body
+        The point, or a body whose point ``local`` names (as for :func:`location`).
+    local : int or (x, y), optional
+        With a body: its k-th point or a point at local coordinates.
+
+    Returns
+    -------
+    sympy.Matrix
+        (ax, ay), in the coordinates, their rates and accelerations.
+    """
     point = _point_of(p, local, "acceleration")
     return dt(point.r, 2, model=getattr(getattr(point, "body", None), "model", None))
 
