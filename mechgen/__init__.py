@@ -56,18 +56,49 @@ def __dir__():
 
 
 def load(path_or_module, **kwargs):
-    """Load a generated module (a path or an imported module) as a :class:`Mechanism`.
+    """Load a generated module as a :class:`Mechanism`.
 
-    ``tier="auto"`` (default, or $MECHGEN_TIER) answers at once in plain Python while a
-    background process compiles; "python" or "compiled" force one (``mech.tier``)."""
+    Parameters
+    ----------
+    path_or_module : str or module
+        The module's file (``generated/quick_return.py``) or the module, imported.
+    **kwargs
+        ``tier="auto"`` (default, or $MECHGEN_TIER) answers at once in plain Python while a
+        background process compiles; "python" or "compiled" force one (``mech.tier``).
+        ``tol``, ``xtol``, ``maxit`` and ``method`` set the Newton solver's defaults.
+
+    Returns
+    -------
+    Mechanism
+        Ready to solve, sweep and draw.
+    """
     from .runtime.mechanism import load as _load
     return _load(path_or_module, **kwargs)
 
 
 def compile(model, **kwargs):  # noqa: A001 - the API name
-    """Build ``model`` (a Model, or a model file's path: loaded without sympy when its
-    module is up to date) into a module and load it, keeping the symbolic side for
-    evaluate(). ``tier=`` as for :func:`load`."""
+    """Build a model into a module and load it, keeping the symbolic side.
+
+    The module, ``<model name>.py``, is written into ``$MECHGEN_CACHE`` when that is set,
+    else ``~/.cache/mechgen``; a module whose text has not changed is not rewritten, so
+    numba's compiled cache beside it stays valid.
+
+    Parameters
+    ----------
+    model : Model or str
+        A Model, or a model file's path (loaded without sympy when its module is up to
+        date).
+    **kwargs
+        ``outdir=`` another folder for the module; ``name=`` the model of a file holding
+        several; ``tier=`` as for :func:`load`; ``sensitivities=True`` builds the
+        sensitivity module now; the build's options (``level=``, ...).
+
+    Returns
+    -------
+    Mechanism
+        The loaded mechanism, whose ``evaluate(expr, s)`` evaluates any symbolic quantity
+        on a solution or a sweep.
+    """
     from .bridge import compile_model
     return compile_model(model, **kwargs)
 

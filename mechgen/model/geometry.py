@@ -152,8 +152,22 @@ class Point:
 
 
 class Line:
-    """An axis: ``Line(p1, p2)`` from p1 to p2 (any bodies), or ``Line(p, direction=(dx, dy))``
-    through p with a direction fixed in p's body. Its direction u is not normalised."""
+    """An axis: from one point to another, or through a point with a fixed direction.
+
+    ``Line(p1, p2)`` runs from p1 to p2 (points of any bodies: it turns and stretches as
+    they move); ``Line(p, direction=(dx, dy))`` passes through p with a direction fixed in
+    p's body. Its direction u is not normalised. ``body.line(i, j)`` is
+    ``Line(body[i], body[j])``.
+
+    Parameters
+    ----------
+    p1 : Point
+        The axis' first point (``body[1]``, ``body.at(x, y)``).
+    p2 : Point, optional
+        Its second point; give this or ``direction``, not both.
+    direction : (dx, dy), optional
+        A direction in p1's body's local frame.
+    """
 
     def __init__(self, p1, p2=None, *, direction=None):
         if not isinstance(p1, Point):

@@ -66,9 +66,22 @@ _DERIVED = {"coordinate": ("velocity", "acceleration"),
 
 
 class Model(CamsMixin, LoadsMixin, Mech2D, StageMixin):
-    """A planar mechanism. Every ``Model`` defined at module level of a model file is built.
-    ``units``: what its numbers are measured in ("SI", "mm-N-s" or a mapping of length,
-    mass, time and angle; API.md §1 "Units", mechgen.units); None: "model units"."""
+    """A planar mechanism: bodies, constraints, parameters, loads.
+
+    Every ``Model`` defined at module level of a model file is built. Bodies, joints,
+    drivers and parameters are declared with its methods (below, and on the constraint
+    reference); ``m.equations()`` expands them into Φ, Φ_q, ν and γ.
+
+    Parameters
+    ----------
+    name : str
+        The name of the generated module (a Python identifier, not a keyword nor the name
+        of a module mechgen imports).
+    units : str or mapping, optional
+        What its numbers are measured in: "SI", "mm-N-s" or a mapping of length, mass,
+        time and angle (docs/reference/model.md "Units", mechgen.units); None: "model
+        units".
+    """
 
     def __init__(self, name: str, units=None):
         if not _is_identifier(name) or keyword.iskeyword(name):

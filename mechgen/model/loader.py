@@ -162,5 +162,23 @@ def pick_model(models: list[Model], name: str | None, path: str = "") -> Model:
 
 
 def load_model(path: str, name: str | None = None) -> Model:
-    """The Model defined in the model file at ``path`` (``name=`` picks one of several)."""
+    """The Model defined in a model file.
+
+    Parameters
+    ----------
+    path : str
+        The model file (plain Python defining ``mechgen.Model`` objects at module level).
+    name : str, optional
+        Which model, when the file defines several.
+
+    Returns
+    -------
+    Model
+        The model, not yet built (``mechgen.compile(model)`` builds and loads it).
+
+    Raises
+    ------
+    ModelError
+        The file is missing, fails, defines no model, or several without ``name``.
+    """
     return pick_model(load_models(path), name, path)
