@@ -138,11 +138,20 @@ class Mechanism:
         return p
 
     def with_params(self, /, **values) -> "Mechanism":
-        """A copy with some parameters changed (``mech.with_params(longitud=1.5)``). It
-        keeps the guess and the assembly mode the guess has at the parameters it was given
-        for (the model's own, or those of set_guess): its solves and sweeps start where
-        that mode goes as the parameters move from those to the new ones (the library's
-        carry_params; mechgen.runtime.kinematics.follow)."""
+        """A copy with some parameters changed (``mech.with_params(longitud=1.5)``).
+
+        It keeps the guess and its assembly mode: solves and sweeps start where that mode goes
+        as the parameters move from the guess's to the new ones (kinematics.follow).
+
+        Parameters
+        ----------
+        **values : float
+            New values by parameter name.
+
+        Returns
+        -------
+        Mechanism
+        """
         other = Mechanism(self.state.tiers, tol=self.tol, xtol=self.xtol, maxit=self.maxit,
                           method=self.method)
         other.p = self._params_array(values)
@@ -155,12 +164,18 @@ class Mechanism:
 
     # -- guesses ----------------------------------------------------------------------
     def set_guess(self, guess=None, t=None):
-        """Mech's SetGuess[]: the start of later solves becomes ``guess`` (a dict of
-        coordinates, an array or a Solution), or the model's own guess when None. The
-        guess is a configuration at time ``t``: a Solution's own time, else 0 (the
-        model's guess is one at t = 0); solve(t) follows the motion from there. Its
-        parameters are this mechanism's (the model's own for its own guess): a mechanism
-        with others (with_params) carries its assembly mode to them."""
+        """Mech's SetGuess[]: the start of later solves.
+
+        Its parameters are this mechanism's (the model's own for its own guess): a mechanism
+        with others (with_params) carries its assembly mode to them.
+
+        Parameters
+        ----------
+        guess : dict, array or Solution, optional
+            Coordinates by name, all of them, or a Solution; None: the model's own guess.
+        t : float, optional
+            The time ``guess`` is a configuration for: by default a Solution's own, else 0.
+        """
         if guess is not None:
             self.guess = start_vector(self, guess)
             self.guess_p = self.p       # (p is never changed in place: shared, not copied)
@@ -177,17 +192,34 @@ class Mechanism:
     # -- solving ----------------------------------------------------------------------
     def solve(self, t, guess=None, level="position", method=None, tol=None, maxit=None,
               sensitivities=None) -> Solution:
-        """Solve at time t (Mech's SolveMech[t]). Without ``guess``: the configuration the
-        mechanism reaches by moving from its guess (the model's, a configuration at t = 0,
-        or set_guess()'s at its time) to t, on the assembly mode connected to it
-        (runtime.kinematics.follow); a way blocked by a lock raises, naming where. With
-        ``guess`` (some or all coordinates, or a Solution such as ``mech.last``): Newton
-        from it at t. Angles are taken modulo 2π as the drivers ask. The result becomes
-        ``last``. Raises ConvergenceError or SingularError rather than returning a
-        configuration that does not satisfy the constraints. level="static" or "dynamic"
-        adds the multipliers, the driver efforts and the reactions
-        (mechgen.runtime.forces). ``sensitivities`` (True, or parameter names) adds
-        the derivatives with respect to the parameters (mechgen.runtime.sensitivity)."""
+        """Solve at one time (Mech's SolveMech[t]); the result becomes ``last``.
+
+        Without ``guess``, the configuration reached by moving from the guess to t on its
+        assembly mode (a lock on the way raises, naming where); with one, Newton from it at t.
+        Never returns a configuration that does not satisfy the constraints.
+
+        Parameters
+        ----------
+        t : float
+            The time.
+        guess : dict, array or Solution, optional
+            Start of a Newton solve at t (some or all coordinates); picks an assembly mode.
+        level : str, default "position"
+            "position", "velocity", "acceleration"; "static" or "dynamic" add the
+            multipliers, driver efforts and reactions (docs/reference/forces.md).
+        method, tol, maxit : optional
+            The solver ("auto", "sorted", "full") and its tolerance and iterations.
+        sensitivities : bool or list of str, optional
+            Derivatives with respect to these parameters (True: all).
+
+        Returns
+        -------
+        Solution
+
+        Raises
+        ------
+        ConvergenceError, SingularError
+        """
         # the usual arguments pass with a look-up each, anything else through guards' checks
         state = self.state
         lev = state.levels.get(level) if level.__class__ is str else None
@@ -217,7 +249,8 @@ class Mechanism:
         return float(self.module.pivot_ratio(np.asarray(q, dtype=np.float64), float(t), self.p))
 
     def residual(self, q, t) -> float:
-        """max |Φ(q, t)| (NaN when an equation is not finite)."""
+        """‖Φ(q, t)‖∞ (NaN when an equation is not finite).
+        """
         r = np.empty(self.m)
         self.module.phi(np.asarray(q, dtype=np.float64), float(t), self.p, r)
         return float(np.abs(r).max()) if self.m else 0.0
@@ -237,10 +270,25 @@ class Mechanism:
         return null.rank, null.constraints
 
     def singularities(self, t0, t1, n=201, guess=None):
-        """Times in [t0, t1] where the Jacobian loses rank along the branch the guess starts
-        on: lock (toggle) positions, located to ~1e-12 in t by Newton on Φ = 0, det Φ_q = 0,
-        and crossings of dead centres. Each is a float (the time) carrying ``q``,
-        ``solution``, ``kind``, ``constraints`` and ``coordinates`` (mechgen.runtime.analysis.locks)."""
+        """Lock (toggle) positions and dead centres in [t0, t1] on the guess's branch.
+
+        Located to ~1e-12 in t by Newton on Φ = 0, det Φ_q = 0 (runtime.analysis.locks).
+
+        Parameters
+        ----------
+        t0, t1 : float
+            The time range.
+        n : int, default 201
+            Points of the sweep that brackets them.
+        guess : optional
+            As for :meth:`solve`.
+
+        Returns
+        -------
+        list of float
+            The times, each carrying ``q``, ``solution``, ``kind``, ``constraints`` and
+            ``coordinates``.
+        """
         t0, t1 = finite(t0, "t0"), finite(t1, "t1")
         if isinstance(n, bool) or int(n) != n or n < 2:
             raise ValueError(f"n must be an integer >= 2, got {n!r}")
@@ -258,22 +306,40 @@ class Mechanism:
     def sweep(self, t0, t1, n, level="position", guess=None, method=None, tol=None,
               maxit=None, times=None, params=None, out=None, backend="cpu", workers=None,
               client=None, reduce=None, sensitivities=None, **table_options) -> Sweep:
-        """Solve at n times from t0 to t1, both ends included (Mech's SolveMech[{t0, t1}, n]),
-        each warm-started from the previous one. Raises on the first failure; the error
-        carries the points solved before it as ``.sweep``. With ``params`` (a dict in which a
-        sequence varies a parameter) it returns a design table (see design_sweep, which
-        also says what backend, workers, client, reduce and the other options do).
+        """Solve at n times from t0 to t1, both ends included (Mech's SolveMech[{t0, t1}, n]).
 
-        Only the level's arrays are filled: a position sweep has no velocities (``sw.QD``
-        is None, ``sw["X4d"]`` raises KeyError). ``out`` writes the results into arrays
-        the caller owns instead of fresh ones: a dict ``{"q": Q, "qd": QD, "qdd": QDD,
-        "status": S}`` (any of them; Q, QD, QDD float64 of shape (n, coordinates), S int16
-        of shape (n, 3): status code, iterations, substeps, or its first 1 or 2 columns;
-        all C-contiguous), a tuple ``(Q,)``, ``(Q, QD)`` or ``(Q, QD, QDD)``, or a Sweep
-        of as many points and at least this level from an earlier call, overwritten (the
-        result's arrays are views of them). level="static" or "dynamic" sweeps the
-        kinematics, then solves the multipliers at every point (mechgen.runtime.forces).
-        ``sensitivities``: as solve()."""
+        Each point starts from the one before, on one assembly mode. Raises on the first
+        failure, the points solved before it on the error's ``.sweep``. Only the level's
+        arrays are filled (a position sweep has no ``sw["X4d"]``).
+
+        Parameters
+        ----------
+        t0, t1 : float
+            First and last time.
+        n : int
+            Number of times.
+        level : str, default "position"
+            As for :meth:`solve`; "static" or "dynamic" solve the multipliers at every point.
+        guess, method, tol, maxit : optional
+            As for :meth:`solve`.
+        times : array, optional
+            Times of one's own instead of the even grid.
+        params : dict, optional
+            {name: values}: a design table over every combination (see :meth:`design_sweep`
+            and ``**table_options``).
+        out : dict, tuple or Sweep, optional
+            Arrays the caller owns to write into (``{"q": Q, "qd": QD, "qdd": QDD, "status":
+            S}``, float64 (n, coordinates), int16 (n, 3); C-contiguous).
+        backend, workers, client, reduce : optional
+            Where a design table runs ("cpu", "dask", "cuda") and the quantities whose
+            extremes alone it keeps.
+        sensitivities : bool or list of str, optional
+            As for :meth:`solve`.
+
+        Returns
+        -------
+        Sweep or DesignTable
+        """
         if sensitivities:
             result = self.sweep(t0, t1, n, level, guess, method, tol, maxit, times, params,
                                 out, backend, workers, client, reduce, **table_options)
@@ -302,21 +368,34 @@ class Mechanism:
 
     def simulate(self, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10,
                  method="dopri5", max_step=float("inf"), progress=None):
-        """Motion under forces (API.md §6): the drivers named in ``free`` stop
-        prescribing their motion at t0, and from the state there (the kinematic solution
-        at t0, or ``q0``/``qd0``, made consistent with the constraints still acting; each
-        takes an array or a dict by name, ``qd0={"Th2d": 5.0}``, whose values are kept where
-        the others can satisfy the constraints) the
-        mechanism moves under its masses and loads, the other drivers still prescribing
-        theirs; n output times from t0 to t1. ``rtol``, ``atol``, ``method`` set the
-        integration: "dopri5" (the default: the Dormand–Prince 5(4) pair of scipy's RK45,
-        compiled into the module with its right side, one call an output interval) or
-        any of scipy's solve_ivp ("DOP853", "RK45", "Radau" and "BDF" for stiff loads). Returns a
-        Sweep at level "dynamic" (mechgen.runtime.forces.simulate): power() and energy()
-        show what the integration conserved. A model built without a driver for every
-        degree of freedom has its free coordinates held at the guess (``hold`` rows,
-        mechgen.model.forces.holds): simulate always lets those go. ``progress(t)`` is called
-        after each output time is reached."""
+        """Motion under forces (docs/reference/simulation.md).
+
+        The drivers named in ``free`` stop prescribing their motion at t0; from the state
+        there the mechanism moves under its masses and loads, the other drivers prescribing
+        theirs. A model's ``hold`` rows (free coordinates held at the guess) always go.
+
+        Parameters
+        ----------
+        t0, t1 : float
+            Start and end of the motion.
+        n : int
+            Output times from t0 to t1.
+        free : list of str
+            Driver names to release.
+        q0, qd0 : array or dict, optional
+            The state at t0 (made consistent with the constraints); by default the kinematic
+            solution there.
+        rtol, atol, method, max_step : optional
+            The integration: "dopri5" (compiled Dormand–Prince 5(4), the default) or any of
+            scipy's solve_ivp ("DOP853", "RK45", "Radau", "BDF").
+        progress : callable, optional
+            Called with each output time reached.
+
+        Returns
+        -------
+        Sweep
+            At level "dynamic"; ``power()`` and ``energy()`` show what was conserved.
+        """
         from .forces.simulate import simulate
         return simulate(self, t0, t1, n, free=free, q0=q0, qd0=qd0, rtol=rtol, atol=atol,
                         method=method, max_step=max_step, progress=progress)
@@ -341,40 +420,102 @@ class Mechanism:
 
     def optimize(self, objective, bounds, t0, t1, n, backend="cpu", level="position",
                  **options):
-        """Dimensional synthesis: the parameter values within ``bounds`` ({name: (low,
-        high)}) that minimise ``objective`` (a function of a design table returning one
-        number per design, or {quantity: targets at the n times}, a sum of squares):
-        differential evolution, each generation one design table on ``backend``, then a
-        polish ("gradient": Levenberg-Marquardt on the exact sensitivities, the default
-        for a sum of squares; True: Nelder-Mead; False: none). Designs that cannot be
-        solved at every time are rejected. Returns an OptimizeResult
-        (mechgen.runtime.tables.synthesis, which lists the options)."""
+        """Dimensional synthesis: parameters within ``bounds`` minimising ``objective``.
+
+        Differential evolution, each generation one design table, then a polish ("gradient":
+        Levenberg-Marquardt on exact sensitivities, the default for a sum of squares; True:
+        Nelder-Mead). Designs not solved at every time are rejected (tables.synthesis).
+
+        Parameters
+        ----------
+        objective : callable or dict
+            A function of a design table giving one number per design, or {quantity:
+            targets at the n times} (a sum of squares).
+        bounds : dict
+            {name: (low, high)}.
+        t0, t1, n : float, float, int
+            Each design's sweep.
+        backend, level : str
+            As for :meth:`sweep`.
+
+        Returns
+        -------
+        OptimizeResult
+        """
         from .tables.synthesis import optimize
         return optimize(self, objective, bounds, t0, t1, n, backend=backend, level=level,
                         **options)
 
     def tolerance(self, result, tolerances=None, clearance=None, method="worst", **options):
-        """Tolerance and clearance bands over a sweep or at a solution (API.md §8):
-        "worst", "rss" or "montecarlo"; mechgen.runtime.sensitivity.tolerance."""
+        """Tolerance and clearance bands (docs/reference/sensitivities.md).
+
+        Parameters
+        ----------
+        result : Sweep or Solution
+            Solved with ``sensitivities=``.
+        tolerances : dict
+            {parameter: t (±t) or (low, high)}.
+        clearance : dict, optional
+            {revolute name: radial clearance c}.
+        method : str, default "worst"
+            "worst", "rss" or "montecarlo" (``samples=``, ``seed=``, ``backend=``).
+
+        Returns
+        -------
+        Bands
+            ``band["X4"]``: "nominal", "low", "high"; ``band.contributions("X4")``.
+        """
         from .sensitivity.tolerance import tolerance
         return tolerance(self, result, tolerances, clearance=clearance, method=method,
                          **options)
 
     def fit(self, point, target, params, timing=None, **options):
-        """Path fitting (API.md §8): the parameters within ``params``' bounds that take
-        ``point`` through the (k, 2) ``target`` points, timing free (None) or the k times;
-        a design-table search, then Levenberg-Marquardt on the exact derivatives
-        (mechgen.runtime.fitting, which lists the options)."""
+        """Path fitting: the parameters that take a point through target points.
+
+        A design-table search, then Levenberg-Marquardt on the exact derivatives.
+
+        Parameters
+        ----------
+        point : Point name
+            The point to fit (``"coupler[3]"``).
+        target : (k, 2) array
+            The points it should pass.
+        params : dict
+            {name: (low, high)} of the parameters to choose.
+        timing : None or k times
+            None: the phase at each target is free; else the times it is reached.
+
+        Returns
+        -------
+        FitResult
+            ``params``, ``error`` (RMS distance), ``times``, ``mechanism``.
+        """
         from .fitting import fit
         return fit(self, point, target, params, timing=timing, **options)
 
     # -- assembly modes ---------------------------------------------------------------
     def assemblies(self, t, starts=256, guess=None, level="position", flips=False):
-        """Every distinct real assembly mode at time t (angles equal modulo 2π count once,
-        reported in (−π, π]), from the guess and from quasi-random starts; the mode the
-        guess reaches comes first. Follow one with ``sweep(..., guess=mode)`` (a Solution is
-        a configuration at its own time: a sweep from another time starts where its mode
-        goes). A body only turned half a turn (a slider reversed) counts if flips=True."""
+        """Every distinct real assembly mode at time t, the guess's first.
+
+        Angles equal modulo 2π count once. Follow one with ``sweep(..., guess=mode)``.
+
+        Parameters
+        ----------
+        t : float
+            The time.
+        starts : int, default 256
+            Quasi-random starts besides the guess.
+        guess : optional
+            As for :meth:`solve`.
+        level : str, default "position"
+            Level of the solutions returned.
+        flips : bool, default False
+            Count a body only turned half a turn (a slider reversed).
+
+        Returns
+        -------
+        list of Solution
+        """
         t = finite(t, "t")
         if isinstance(starts, bool) or int(starts) != starts or starts < 0:
             raise ValueError(f"starts must be a non-negative integer, got {starts!r}")
@@ -383,18 +524,37 @@ class Mechanism:
                                self.tol, self.state.method_of(None), flips=flips)
 
     def explore(self, **options):
-        """Show this mechanism live in a Jupyter notebook (Mech's Manipulate; API.md §7):
-        the page of ``mechgen view``, its cycles precomputed over the parameters' ranges.
-        Options and the return value: mechgen.view.explore. The view is a layer above
-        the runtime (it needs Bokeh); it is reached by name, so that the runtime imports
-        nothing above it."""
+        """Show this mechanism live in a Jupyter notebook (Mech's Manipulate).
+
+        The page of ``mechgen view`` (docs/reference/view.md); needs Bokeh.
+
+        Parameters
+        ----------
+        **options
+            As for mechgen.view.explore (ranges, traces, plots).
+
+        Returns
+        -------
+        The notebook's view
+        """
         from importlib import import_module
         return import_module("mechgen.view").explore(self, **options)
 
     # -- values at solved configurations ----------------------------------------------
     def evaluate(self, expr, solution_or_sweep):
-        """Evaluate a symbolic quantity on a Solution or a Sweep (needs the symbolic side:
-        build the mechanism with mechgen.compile)."""
+        """Evaluate a symbolic quantity (needs ``mechgen.compile``'s symbolic side).
+
+        Parameters
+        ----------
+        expr : sympy expression
+            Any output function or expression in the coordinates and their rates.
+        solution_or_sweep : Solution or Sweep
+            Where to evaluate it.
+
+        Returns
+        -------
+        float, array or array over the sweep
+        """
         return symbolic_side(self, "evaluate()").evaluate(self, expr, solution_or_sweep)
 
     def points_at(self, q, t) -> np.ndarray:
