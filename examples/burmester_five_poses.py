@@ -1,14 +1,14 @@
 """Five positions of a gate (x, y of a point on it, its angle), read off a layout: which
 four-bars carry the gate through all five, in order, on one assembly mode, without a toggle?
 
-Burmester's answer (mechgen.synthesis, API.md §9): every real pair of fixed and moving
-pivots (here four, found exactly from a quartic), every four-bar two of them make (twelve,
+Burmester's answer (mechgen.synthesis, docs/reference/synthesis.md): every real pair of fixed and
+moving pivots (here four, found exactly from a quartic), every four-bar two of them make (twelve,
 each dyad once as the crank), screened for circuit, branch and order defects, ranked by the
 transmission angle. The best one's ``BEST.model(name)`` is a model like any other
-(``mechgen.compile`` builds it; ``mechgen synthesize examples/gate_poses.csv -o gate.py``
-writes it as a model file); run this file to print the table and draw the linkage through
-the poses to docs/burmester_five_poses.png. (It is not a model file itself: its model comes
-from a root-finder, whose last digits are the machine's.)"""
+(``mechgen.compile`` builds it; ``mechgen synthesize examples/gate_poses.csv -o gate.py`` writes it
+as a model file); run this file to print the table and draw the linkage through the poses to
+docs/burmester_five_poses.png. (It is not a model file itself: its model comes from a root-finder,
+whose last digits are the machine's.)"""
 import os
 
 from mechgen import synthesis

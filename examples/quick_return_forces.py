@@ -1,6 +1,6 @@
 """The quick-return of seed 001 with masses, gravity and a cutting force: the torque the
 crank's motor must give, the load on every pin, the shaking of the frame and the
-flywheel (API.md §5). The kinematics is examples/quick_return.py's; the cutting force
+flywheel (docs/reference/forces.md). The kinematics is examples/quick_return.py's; the cutting force
 (``corte``) resists the slider while it moves to the left: the slow stroke, 70 % of the
 crank's turn (the tool cuts slowly and returns quickly, as a shaper does)."""
 from mechgen import Model, Piecewise, T, pi, velocity

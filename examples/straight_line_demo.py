@@ -1,4 +1,5 @@
-"""A four-bar that must trace a straight segment, fitted and then toleranced (API.md §8).
+"""A four-bar that must trace a straight segment, fitted and then toleranced
+(docs/reference/sensitivities.md).
 
 The task: a coupler point through ten points on the segment y = 4, 0 <= x <= 4 (any crank
 phase at each: path generation without timing). ``mech.fit`` chooses the coupler, rocker,

@@ -30,7 +30,8 @@ _LAZY = {"Model": "model.language", "T": "model.geometry", "Line": "model.geomet
          "Solution": "runtime.results", "Sweep": "runtime.results",
          "DesignTable": "runtime.tables.design", "Reduction": "runtime.tables.reduce",
          "OptimizeResult": "runtime.tables.synthesis", "Equations": "model.symbolic"}
-_SUBPACKAGES = ("synthesis",)          # mechgen.synthesis: dimensional synthesis (API.md §9)
+# mechgen.synthesis: dimensional synthesis (docs/reference/synthesis.md)
+_SUBPACKAGES = ("synthesis",)
 
 
 def __getattr__(name):

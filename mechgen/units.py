@@ -1,11 +1,10 @@
-"""A model's units (API.md §1, "Units"): what its numbers are measured in, declared with
-``Model(..., units="SI" | "mm-N-s" | mapping)``, carried into the generated module's header
-as the constant ``UNITS`` (a dict of plain strings) and read back by the runtime, the
-pictures, the CSV files, ``mechgen forces`` and the live view, none of which import the
-model. mechgen computes in one consistent set of units whatever is declared: the
-declaration names them (and gives ``m.gravity()`` its standard value); ``"angle": "deg"``
-only changes what is shown, never what is computed (radians). Without a declaration every
-output says "model units" (``Units.undeclared()``).
+"""A model's units (docs/reference/model.md, "Units"): what its numbers are measured in, declared
+with ``Model(..., units="SI" | "mm-N-s" | mapping)``, carried into the generated module's header as
+the constant ``UNITS`` (a dict of plain strings) and read back by the runtime, the pictures, the CSV
+files, ``mechgen forces`` and the live view, none of which import the model. mechgen computes in one
+consistent set of units whatever is declared: the declaration names them (and gives ``m.gravity()``
+its standard value); ``"angle": "deg"`` only changes what is shown, never what is computed
+(radians). Without a declaration every output says "model units" (``Units.undeclared()``).
 
 Base layer: no mechgen imports, nothing heavy.
 """

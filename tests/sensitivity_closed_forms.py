@@ -2,7 +2,8 @@
 out here independently of mechgen (mpmath only: circle intersections, the cam's and the
 gears' geometry), and their derivatives by mpmath's own differentiation (mp.diff): in t
 for q̇ and q̈, in a parameter for ∂q/∂p, mixed in t and the parameter for ∂q̇/∂p and ∂q̈/∂p,
-the drivers' laws held (T fixed) — the reference values of API.md §8's sensitivities.
+the drivers' laws held (T fixed) — the reference values of docs/reference/sensitivities.md's
+sensitivities.
 
 Each closed form is ``fn(t, **params) -> [mpf, ...]``, the coordinates in the order the
 test's model declares them (X2, Y2, Th2, X3, ..., then the extra coordinates). Angles are

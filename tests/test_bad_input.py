@@ -373,8 +373,8 @@ def test_a_binary_file_is_not_a_model_file(tmp_path):
 
 
 def test_any_identifier_names_a_model(tmp_path):
-    """API.md: any Python identifier may name a model; the module file carries it, numba's
-    cache and the plain tier load it (the rocker angle against the closed form)."""
+    """docs/reference/model.md: any Python identifier may name a model; the module file carries it,
+    numba's cache and the plain tier load it (the rocker angle against the closed form)."""
     from test_caches import th4_closed_form
     text = open(FOURBAR, encoding="utf-8").read().replace('Model("fourbar")',
                                                            'Model("biela_ñβ")')

@@ -1,9 +1,9 @@
-"""Burmester synthesis (mechgen.synthesis, API.md §9) against references written here: a
-known four-bar's coupler poses computed in closed form (complex numbers, the law of cosines
-at the crank pin), its two dyads looked for among the solutions; every dyad's circle checked
-pose by pose; the number of real Burmester pairs against a multi-start Newton search; the
-defects against a brute-force sweep of the crank that follows the coupler pin by continuity;
-the built model solved at the four-bar's times against the poses."""
+"""Burmester synthesis (mechgen.synthesis, docs/reference/synthesis.md) against references written
+here: a known four-bar's coupler poses computed in closed form (complex numbers, the law of cosines
+at the crank pin), its two dyads looked for among the solutions; every dyad's circle checked pose by
+pose; the number of real Burmester pairs against a multi-start Newton search; the defects against a
+brute-force sweep of the crank that follows the coupler pin by continuity; the built model solved at
+the four-bar's times against the poses."""
 import cmath
 import math
 

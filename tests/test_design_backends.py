@@ -224,8 +224,8 @@ def test_dask_equals_cpu(qr, serial, client):
 
 
 def test_dask_force_table_equals_cpu(client):
-    """level="dynamic" with reduce= on the driver (API.md §5) over the cluster: the workers
-    solve the multipliers of their chunks; the same numbers as this process's."""
+    """level="dynamic" with reduce= on the driver (docs/reference/forces.md) over the cluster: the
+    workers solve the multipliers of their chunks; the same numbers as this process's."""
     qf = mechgen.load(os.path.join(ROOT, "generated", "quick_return_forces.py"))
     kw = dict(params={"longitud": [2.5, 3.0, 3.5], "corte": [0.0, 500.0]}, level="dynamic")
     red = qf.sweep(0.0, 1.0, 30, backend="dask", client=client,

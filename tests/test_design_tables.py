@@ -1,5 +1,5 @@
-"""Design tables (API.md section 4) and section 5 ("design tables and reduce=
-accept driver names"): an offset slider-crank whose slider is the rod's end on a guide
+"""Design tables (docs/reference/runtime.md) and docs/reference/forces.md ("design tables
+and reduce= accept driver names"): an offset slider-crank whose slider is the rod's end on a guide
 (crank r, rod l, guide at height e, a 2 kg mass at the rod's end, a press force of -100
 along the guide), built here in the plain-Python tier.
 
@@ -7,7 +7,8 @@ along the guide), built here in the plain-Python tier.
   toggle (r + e = l: the rod square to the guide at t = 0.75) has those points marked
   THROUGH_SINGULAR in tab.sweep(d).status on every backend (the CUDA kernel wrote them,
   the table dropped them). Run on numba's CUDA simulator in a subprocess.
-- a driver named by its number in reduce= (API.md §5: "a constraint is named by its name=
+- a driver named by its number in reduce= (docs/reference/forces.md: "a constraint is named
+by its name=
   or its number") gives a table that prints, and whose reduction answers to the
   driver's name too.
 - tab.extremes of a driver's effort on a force table says what to use instead (it said
@@ -146,7 +147,8 @@ def test_cuda_table_marks_points_as_the_cpu_does(tmp_path):
 def test_assemblies_keeps_a_half_turned_rod_whose_end_moves(sc2):
     """At t = 0 the rod (origin at the crank pin) reaches the guide at x = 4 or x = −2:
     two assemblies, differing only in Th3 by π (every other coordinate equal). A table's
-    guess= for the left-hand mode is looked for there (API.md: every distinct assembly)."""
+    guess= for the left-hand mode is looked for there (docs/reference/runtime.md: every distinct
+    assembly)."""
     xs = sorted(round(float(s["xs"]), 9) for s in sc2.assemblies(0.0))
     assert xs == [-2.0, 4.0]
 

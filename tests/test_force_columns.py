@@ -1,4 +1,4 @@
-"""Force columns and the forces command (API.md §5:
+"""Force columns and the forces command (docs/reference/forces.md:
 `mechgen sweep --level dynamic|static` writes driver efforts and reactions as CSV
 columns; `mechgen forces` prints every driver effort and joint reaction)."""
 import csv

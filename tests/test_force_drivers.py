@@ -1,9 +1,10 @@
-"""Driver efforts and reactions (API.md §5), each against a computation written here: a distance driver whose d(T)² holds a constant (its effort from the power balance), a
-reaction's moment about a body's first point when that point is its origin or about
-``body.at(x, y)`` (Newton–Euler), springs whose stiffness or free length read a coordinate
-or T (the documented tension k·(distance − length), and the power balance); drivers in stages
-and at a switch's left limit, a driver of two rows, a rack driven by its phase, two
-drivers prescribing one motion (the power balance, Newton–Euler)."""
+"""Driver efforts and reactions (docs/reference/forces.md), each against a computation written here:
+a distance driver whose d(T)² holds a constant (its effort from the power balance), a reaction's
+moment about a body's first point when that point is its origin or about ``body.at(x, y)``
+(Newton–Euler), springs whose stiffness or free length read a coordinate or T (the documented
+tension k·(distance − length), and the power balance); drivers in stages and at a switch's left
+limit, a driver of two rows, a rack driven by its phase, two drivers prescribing one motion (the
+power balance, Newton–Euler)."""
 import numpy as np
 import pytest
 import sympy as sp

@@ -1,9 +1,9 @@
-"""Design tables at the force levels (issue 21, API.md §5: "design tables and reduce= accept
-driver names"): the drivers' efforts of every design against the closed-form slider-crank
-of test_forces (its power form, with the slider's mass varied), reductions (peak torque per
-design in one call) against the full table, each design's sweep against a single sweep,
-the backends against each other, mech.optimize on a force objective against a scan of the
-closed form. The CUDA backend's force tables: tests/test_cuda_forces.py."""
+"""Design tables at the force levels (issue 21, docs/reference/forces.md: "design tables and reduce=
+accept driver names"): the drivers' efforts of every design against the closed-form slider-crank of
+test_forces (its power form, with the slider's mass varied), reductions (peak torque per design in
+one call) against the full table, each design's sweep against a single sweep, the backends against
+each other, mech.optimize on a force objective against a scan of the closed form. The CUDA backend's
+force tables: tests/test_cuda_forces.py."""
 import math
 
 import numpy as np

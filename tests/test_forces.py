@@ -1,8 +1,8 @@
-"""Statics and inverse dynamics (issue 21, API.md §5): every figure against a computation
-written here, never mechgen's own equations: a closed-form slider-crank (its driver torque
-by the power form, its pin forces by Newton–Euler body by body), a four-bar held still
-against gravity and a spring (virtual work on the closed-form potential), a parallelogram
-with a redundant crank."""
+"""Statics and inverse dynamics (issue 21, docs/reference/forces.md): every figure against a
+computation written here, never mechgen's own equations: a closed-form slider-crank (its driver
+torque by the power form, its pin forces by Newton–Euler body by body), a four-bar held still
+against gravity and a spring (virtual work on the closed-form potential), a parallelogram with a
+redundant crank."""
 import math
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""API.md §5 against textbook-style force analyses: a Norton-style
+"""docs/reference/forces.md against textbook-style force analyses: a Norton-style
 four-bar (Design of Machinery Ex. 11-3 proportions 5, 15, 10, 19) with all three links
 massive, a force on the coupler, a torque on the rocker, gravity, the coupler's and
 rocker's local frames rotated and offset from their pins; its driver torque, every pin

@@ -1,4 +1,4 @@
-"""The model language (API.md §1-3): names, dt(), closed forms, symbols a model does not
+"""The model language (docs/reference/model.md): names, dt(), closed forms, symbols a model does not
 own, star imports, rebuilding when a data file changes, functions such as Abs and sign in
 outputs and constraints; each pinned by a small model and a number worked out by hand:
 

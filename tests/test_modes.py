@@ -1,4 +1,4 @@
-"""Assembly modes (API.md section 4): mechgen never reports a configuration of the wrong
+"""Assembly modes (docs/reference/runtime.md): mechgen never reports a configuration of the wrong
 assembly mode, nor a mode twice, against closed forms written here.
 
 A mode picked by mech.assemblies(t) and passed to a sweep

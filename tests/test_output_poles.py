@@ -1,7 +1,7 @@
-"""Outputs near their poles: API.md section 1's output functions and section 4's sweep analysis against the
-quick-return's closed form (tests/closed_forms.py, mpmath): an intersection of two axes
-that turn parallel, the roots of an angle that wraps at ±π, roots and extremes around a
-pole, the extremes and roots of a rate from a sweep at level position.
+"""Outputs near their poles: docs/reference/model.md's output functions and
+docs/reference/runtime.md's sweep analysis against the quick-return's closed form
+(tests/closed_forms.py, mpmath): an intersection of two axes that turn parallel, the roots
+of an angle that wraps at ±π, roots and extremes around a pole, the extremes and roots of a rate from a sweep at level position.
 
 The quick-return of seed 001 with A = manivela.at(1, 0.5) (crank) and B = colisa.at(0.3, 6)
 (lever): at T = 1/4 the crank is vertical and the lever upright, so A = (-0.5, 6) and

@@ -1,4 +1,5 @@
-"""Path fitting, ``mech.fit`` (API.md §8), and mech.optimize's gradient polish.
+"""Path fitting, ``mech.fit`` (docs/reference/sensitivities.md), and mech.optimize's gradient
+polish.
 
 Unknown four-bars are recovered from 10 of their coupler points, with the timing free
 (the crank's phase at each point unknown, the points given in no particular order) and

@@ -1,4 +1,5 @@
-"""The runtime API of API.md §4: Mechanism, Solution, Sweep, guards, errors, evaluate()."""
+"""The runtime API of docs/reference/runtime.md: Mechanism, Solution, Sweep, guards, errors,
+evaluate()."""
 from __future__ import annotations
 
 import csv

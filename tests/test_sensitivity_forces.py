@@ -1,7 +1,7 @@
-"""The derivatives of a driver's effort with respect to the parameters (API.md §8: a
-driver effort's derivative on a force solution), against a closed form written here: an
-offset slider-crank whose slider alone has mass M and carries a constant force P along its
-guide, the crank turned at ω. A power balance gives the crank torque
+"""The derivatives of a driver's effort with respect to the parameters
+(docs/reference/sensitivities.md: a driver effort's derivative on a force solution), against a
+closed form written here: an offset slider-crank whose slider alone has mass M and carries a
+constant force P along its guide, the crank turned at ω. A power balance gives the crank torque
     τ ω = M ẍ ẋ − P ẋ   →   τ = (M ẍ − P) ẋ / ω,
 x(T) the slider's closed-form position; its derivatives in r, l, e, M, P by mpmath."""
 import math

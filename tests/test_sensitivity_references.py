@@ -1,4 +1,4 @@
-"""API.md §8 (parameter sensitivities) against independent references.
+"""docs/reference/sensitivities.md (parameter sensitivities) against independent references.
 
 Six mechanisms are built here as mechgen Models — a four-bar, an offset slider-crank, an
 inverted slider-crank (quick return), a Watt six-bar, an eccentric cam with a flat-faced

@@ -1,4 +1,4 @@
-"""sw.shaking(): what the moving parts apply to the frame (API.md §5), through the
+"""sw.shaking(): what the moving parts apply to the frame (docs/reference/forces.md), through the
 constraints and through the loads anchored on it (a motor between a body and the ground,
 a spring or a damper to a ground point), against the closed form of one body: the frame
 takes the inertia forces and the loads that come from outside, Σ F_outside − m a_G and

@@ -1,11 +1,10 @@
-"""Motion under forces (issue 22, API.md §6: mech.simulate), each against a reference
-written here without mechgen's equations: a compound pendulum against its own ODE in the
-angle alone; the slider-crank of test_forces started from rest by a motor torque law
-T0 (1 − ω/ω0), against the equivalent-inertia equation J(θ) θ̈ + ½ J′(θ) θ̇² = T − ∂V/∂θ
-+ F·∂r_C/∂θ in the crank angle alone, J and J′ from the closed-form kinematics; a
-four-bar swinging under gravity (energy kept, constraints kept); a double pendulum whose
-first link is still driven while the second swings free, the driver's torque against
-Lagrange's equation written out by hand."""
+"""Motion under forces (issue 22, docs/reference/simulation.md: mech.simulate), each against a
+reference written here without mechgen's equations: a compound pendulum against its own ODE in the
+angle alone; the slider-crank of test_forces started from rest by a motor torque law T0 (1 − ω/ω0),
+against the equivalent-inertia equation J(θ) θ̈ + ½ J′(θ) θ̇² = T − ∂V/∂θ + F·∂r_C/∂θ in the crank
+angle alone, J and J′ from the closed-form kinematics; a four-bar swinging under gravity (energy
+kept, constraints kept); a double pendulum whose first link is still driven while the second swings
+free, the driver's torque against Lagrange's equation written out by hand."""
 import math
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""Singular configurations and toggles (API.md section 4) against closed forms written
+"""Singular configurations and toggles (docs/reference/runtime.md) against closed forms written
 here: mech.singularities, and the extremes, roots and design tables that pass near or
 through a toggle.
 

@@ -1,7 +1,7 @@
-"""API.md §8's tolerance and clearance bands (mech.tolerance) against the test's own
-reference: the four-bar's closed form (circle intersection, mpmath; the helpers of
-tests/sensitivity_closed_forms.py), written here once more with its crank's pivot moved by
-the clearance's offset e, differentiated by mpmath in the parameters and in e.
+"""docs/reference/sensitivities.md's tolerance and clearance bands (mech.tolerance) against the
+test's own reference: the four-bar's closed form (circle intersection, mpmath; the helpers of
+tests/sensitivity_closed_forms.py), written here once more with its crank's pivot moved by the
+clearance's offset e, differentiated by mpmath in the parameters and in e.
 
 - "worst" and "rss" are the linear formulas on the closed form's derivatives (1e-8);
 - a revolute's clearance c adds c·‖∂out/∂e‖ (worst) and σ = c/3 per direction (rss);

@@ -1,6 +1,6 @@
-"""The command line of API.md §8: ``mechgen sweep --sensitivities`` (columns dX4/dp equal to
-sw.sensitivity) and ``mechgen tolerance`` (the bands' picture, the stack-up table equal to
-band.contributions, one-line refusals that write nothing)."""
+"""The command line of docs/reference/sensitivities.md: ``mechgen sweep --sensitivities`` (columns
+dX4/dp equal to sw.sensitivity) and ``mechgen tolerance`` (the bands' picture, the stack-up table
+equal to band.contributions, one-line refusals that write nothing)."""
 from __future__ import annotations
 
 import csv

@@ -1,7 +1,7 @@
-"""A model's units as a first-class choice (API.md §1 "Units", issue 43): declared with
-``Model(..., units=...)``, stated in the generated module's header (UNITS) and read back by
-the runtime, so that CSV headers, the pictures, ``mechgen forces`` and the live view say
-them; ``m.gravity()`` is standard gravity in them.
+"""A model's units as a first-class choice (docs/reference/model.md "Units", issue 43): declared
+with ``Model(..., units=...)``, stated in the generated module's header (UNITS) and read back by the
+runtime, so that CSV headers, the pictures, ``mechgen forces`` and the live view say them;
+``m.gravity()`` is standard gravity in them.
 
 The reference for the numbers is dimensional analysis, not mechgen: the shaper of
 examples/quick_return_forces.py written in millimetres with masses in tonnes (mm-N-s) must

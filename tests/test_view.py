@@ -1,4 +1,4 @@
-"""The live view (mechgen view, API.md §7) driven in a real headless browser (Debian's
+"""The live view (mechgen view, docs/reference/view.md) driven in a real headless browser (Debian's
 chromium through Selenium) on the quick-return: the time and `longitud` sliders move, and
 the drawn slider block, crank pin and traced path are checked against the mechanism's
 closed form (tests/closed_forms.py) and against mech.solve; the same for the standalone

@@ -1,9 +1,9 @@
-"""`mechgen view` (API.md §7) as a user drives it, checked on the Bokeh documents and pages
-it builds, without a browser (tests/test_view.py drives one): the server page with the
-model file watched while it is edited, what the page says where it cannot show the view,
-the assembly modes button, the standalone page's notes, plot units, pitch circles, a trace
-of a local point, a page of a six-parameter model. Found in headless chromium (selenium)
-on examples/fourbar.py; checked here on the plain tier."""
+"""`mechgen view` (docs/reference/view.md) as a user drives it, checked on the Bokeh documents and
+pages it builds, without a browser (tests/test_view.py drives one): the server page with the model
+file watched while it is edited, what the page says where it cannot show the view, the assembly
+modes button, the standalone page's notes, plot units, pitch circles, a trace of a local point, a
+page of a six-parameter model. Found in headless chromium (selenium) on examples/fourbar.py; checked
+here on the plain tier."""
 import math
 import os
 import shutil

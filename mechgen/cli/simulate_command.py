@@ -1,7 +1,7 @@
-"""``mechgen simulate MODEL.py --free NAME --t1 2 -n 2001``: motion under forces (API.md §6,
-mechgen.runtime.forces.simulate): the table of positions, velocities, accelerations and
-force columns at the output times, printed or written to a CSV file; the integration's
-steps and what it conserved on stderr."""
+"""``mechgen simulate MODEL.py --free NAME --t1 2 -n 2001``: motion under forces
+(docs/reference/simulation.md, mechgen.runtime.forces.simulate): the table of positions, velocities,
+accelerations and force columns at the output times, printed or written to a CSV file; the
+integration's steps and what it conserved on stderr."""
 from __future__ import annotations
 
 import sys

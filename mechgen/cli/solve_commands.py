@@ -242,7 +242,8 @@ def add_commands(sub, common, solve_options):
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="--backend dask: the dask.distributed scheduler to use")
     p.add_argument("--sensitivities", metavar="PARAMS",
-                   help="add the columns dX4/dPARAM (exact derivatives, API.md §8) of every "
+                   help="add the columns dX4/dPARAM (exact derivatives, "
+                        "docs/reference/sensitivities.md) of every "
                         "quantity printed: comma-separated parameters, or all")
     p.add_argument("--reduce", action="append", metavar="NAMES",
                    help="a design table of reductions: per design the min, max and their "

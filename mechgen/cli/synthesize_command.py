@@ -1,8 +1,8 @@
 """``mechgen synthesize POSES.csv [--points 5] [-o fourbar.py] [--png FILE]``: every four-bar
-that guides a body through 3, 4 or 5 poses (Burmester, API.md §9) as a table (pivots, link
-lengths, Grashof type, defects, transmission angle range); ``-o`` writes the best
-defect-free one as a model file that ``mechgen build`` compiles, ``--png`` draws the poses,
-the curves or Burmester points and that four-bar at every pose.
+that guides a body through 3, 4 or 5 poses (Burmester, docs/reference/synthesis.md) as a table
+(pivots, link lengths, Grashof type, defects, transmission angle range); ``-o`` writes the best
+defect-free one as a model file that ``mechgen build`` compiles, ``--png`` draws the poses, the
+curves or Burmester points and that four-bar at every pose.
 
 POSES.csv: one pose a line, ``x, y, angle`` (radians; ``--degrees`` for degrees), blank
 lines and ``#`` comments skipped, a first line of names (``x,y,angle``) allowed."""

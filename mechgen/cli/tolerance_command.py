@@ -1,5 +1,6 @@
-"""``mechgen tolerance``: tolerance and clearance bands of quantities over a sweep (API.md
-§8, mech.tolerance), drawn against time (mechgen.plot.bands) with the stack-up table of
+"""``mechgen tolerance``: tolerance and clearance bands of quantities over a sweep
+(docs/reference/sensitivities.md, mech.tolerance), drawn against time (mechgen.plot.bands)
+with the stack-up table of
 each quantity printed at the time where its worst-case band is widest."""
 from __future__ import annotations
 

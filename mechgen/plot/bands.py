@@ -1,8 +1,8 @@
-"""Tolerance bands against time (API.md §8, mech.tolerance): a quantity's nominal curve,
-the linear worst case shaded, the RSS band (±3σ) shaded over it, and the Monte Carlo
-envelope (its samples' minimum and maximum) dashed; ``band_plot(band, "X4")`` with one
-Band, or ``band_plot({"worst": b1, "rss": b2, "montecarlo": b3}, "X4")`` (or a list) to
-draw several methods over one another. Units as plot.timeplot gives them."""
+"""Tolerance bands against time (docs/reference/sensitivities.md, mech.tolerance): a quantity's
+nominal curve, the linear worst case shaded, the RSS band (±3σ) shaded over it, and the Monte Carlo
+envelope (its samples' minimum and maximum) dashed; ``band_plot(band, "X4")`` with one Band, or
+``band_plot({"worst": b1, "rss": b2, "montecarlo": b3}, "X4")`` (or a list) to draw several methods
+over one another. Units as plot.timeplot gives them."""
 from __future__ import annotations
 
 import numpy as np

@@ -1,6 +1,6 @@
-"""Pictures of synthesis from positions (API.md §9): the poses as frames, the centre-point and
-circle-point curves of four poses, the Burmester points of five, and a chosen four-bar
-drawn at every pose.
+"""Pictures of synthesis from positions (docs/reference/synthesis.md): the poses as frames, the
+centre-point and circle-point curves of four poses, the Burmester points of five, and a chosen
+four-bar drawn at every pose.
 
 This module knows nothing of mechgen.synthesis (the plot layer sits beside it): it takes
 plain numbers, a curve as the coefficients C (4×4) of Σ C[i, k] x^i y^k = 0

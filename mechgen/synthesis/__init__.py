@@ -1,7 +1,6 @@
-"""Synthesis from positions (API.md §9): the dyads that guide a body through 3, 4 or 5
-poses (Burmester), the four-bars they make with their defects, Grashof type and
-transmission angle, each handed over as a mechgen Model; and Freudenstein's function
-generation.
+"""Synthesis from positions (docs/reference/synthesis.md): the dyads that guide a body through 3, 4
+or 5 poses (Burmester), the four-bars they make with their defects, Grashof type and transmission
+angle, each handed over as a mechgen Model; and Freudenstein's function generation.
 
 A layer beside ``bridge``, above the model language and the runtime: numpy and scipy for
 the numbers, ``mechgen.model`` for the Model a FourBar builds (imported when built).

@@ -1,4 +1,4 @@
-"""Exploring a mechanism live (API.md section 7): ``mechgen view MODEL.py`` serves a page
+"""Exploring a mechanism live (docs/reference/view.md): ``mechgen view MODEL.py`` serves a page
 (view.server), ``mechgen view MODEL.py --html FILE`` writes one that needs no server
 (view.standalone), ``mech.explore()`` shows that page in a notebook.
 

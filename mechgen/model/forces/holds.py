@@ -1,13 +1,13 @@
 """A model that moves under its forces alone: its free coordinates held at the guess.
 
-API.md §6: "A model with no driver is simulated from its guess." The kinematics needs as
-many equations as coordinates (a square Φ_q: the block-sorted solvers, the sweeps, the
-multiplier solve), so a model with masses or loads and fewer equations than coordinates
-gets one ``hold`` row per missing equation, q_j − (its guess) = 0, on coordinates that the
-equations leave free at the guess. They are drivers that stand still: ``mech.solve``
-gives the guess's configuration and, at level "static", the effort that holds it there;
-``mech.simulate`` releases them all unless ``free=`` names others. A model without mass
-or loads still has to name its drivers (the build refuses it, as before).
+docs/reference/simulation.md: "A model with no driver is simulated from its guess." The kinematics
+needs as many equations as coordinates (a square Φ_q: the block-sorted solvers, the sweeps, the
+multiplier solve), so a model with masses or loads and fewer equations than coordinates gets one
+``hold`` row per missing equation, q_j − (its guess) = 0, on coordinates that the equations leave
+free at the guess. They are drivers that stand still: ``mech.solve`` gives the guess's configuration
+and, at level "static", the effort that holds it there; ``mech.simulate`` releases them all unless
+``free=`` names others. A model without mass or loads still has to name its drivers (the build
+refuses it, as before).
 """
 from __future__ import annotations
 

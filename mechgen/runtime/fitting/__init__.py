@@ -1,6 +1,6 @@
-"""Path fitting (``mech.fit``, API.md §8): the parameters that take a point of the
-mechanism through k target points, with the timing free (path generation: the driver's
-phase at each target is an unknown, in any order) or prescribed (the k times given).
+"""Path fitting (``mech.fit``, docs/reference/sensitivities.md): the parameters that take a point of
+the mechanism through k target points, with the timing free (path generation: the driver's phase at
+each target is an unknown, in any order) or prescribed (the k times given).
 
 Three stages, each its own module, a ``Problem`` (``problem``: the checked arguments)
 passed to each:

@@ -12,8 +12,8 @@ from ...protocol import OK
 from ..guards import finite
 from ..sensitivity.values import point_index
 
-# mech.fit's options and their defaults (API.md §8; mechgen.runtime.fitting.fit says
-# what each does)
+# mech.fit's options and their defaults (docs/reference/sensitivities.md;
+# mechgen.runtime.fitting.fit says what each does)
 DEFAULTS = dict(samples=4096, n=65, rounds=5, starts=2, modes="all", period=None, t0=None,
                 tol=None, seed=0, backend="cpu", workers=None, max_nfev=100, check_points=257,
                 enough=None)

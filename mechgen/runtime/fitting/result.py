@@ -1,5 +1,5 @@
-"""What ``mech.fit`` returns (API.md §8): the design chosen, how close it passes the
-targets, when, and what the search cost."""
+"""What ``mech.fit`` returns (docs/reference/sensitivities.md): the design chosen, how close it
+passes the targets, when, and what the search cost."""
 from __future__ import annotations
 
 import numpy as np

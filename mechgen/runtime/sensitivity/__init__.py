@@ -1,8 +1,8 @@
-"""Parameter sensitivities (API.md §8): dq/dp, dq̇/dp, dq̈/dp at a solution and along a
-sweep, from the sensitivity module the compiler emits beside a model's module
-(``companion``: loaded or built when first asked), solved on Φ_q's blocks (``solve``);
-the derivative of any named or symbolic quantity (``values``); tolerance bands
-(``tolerance``). Imported when first used: a call that asks for none pays nothing."""
+"""Parameter sensitivities (docs/reference/sensitivities.md): dq/dp, dq̇/dp, dq̈/dp at a solution
+and along a sweep, from the sensitivity module the compiler emits beside a model's module
+(``companion``: loaded or built when first asked), solved on Φ_q's blocks (``solve``); the
+derivative of any named or symbolic quantity (``values``); tolerance bands (``tolerance``). Imported
+when first used: a call that asks for none pays nothing."""
 from __future__ import annotations
 
 from .solve import Sensitivities, of_solution, of_sweep, parameter_columns

@@ -1,6 +1,7 @@
-"""A revolute joint's radial clearance (API.md §8): its two pin centres apart by a vector e,
-|e| <= c, so that the revolute's two rows of Φ read Φ_r(q) = e instead of 0; e is
-r(p1) − r(p2) of ``revolute(p1, p2)`` (the model's own rows), the same in every frame.
+"""A revolute joint's radial clearance (docs/reference/sensitivities.md): its two pin
+centres apart by a vector e, |e| <= c, so that the revolute's two rows of Φ read
+Φ_r(q) = e instead of 0; e is r(p1) − r(p2) of ``revolute(p1, p2)`` (the model's own
+rows), the same in every frame.
 
 Linear (``offset_derivatives``): Φ(q) − E e = 0 gives Φ_q dq/de = E (E the unit columns of
 the revolute's rows); the rates follow as the parameters' do, e constant in time:

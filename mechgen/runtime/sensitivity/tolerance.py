@@ -1,5 +1,5 @@
-"""Tolerance and clearance bands (API.md §8): how far a quantity of a solved sweep (or
-solution) may move when the parameters move within their tolerances and revolute joints
+"""Tolerance and clearance bands (docs/reference/sensitivities.md): how far a quantity of a solved
+sweep (or solution) may move when the parameters move within their tolerances and revolute joints
 have radial clearance.
 
 ``mech.tolerance(result, {"longitud": 0.01, "altura": (-0.02, 0.01)},

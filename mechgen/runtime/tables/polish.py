@@ -1,4 +1,5 @@
-"""mech.optimize's sum-of-squares objective and its gradient polish (API.md §8).
+"""mech.optimize's sum-of-squares objective and its gradient polish
+(docs/reference/sensitivities.md).
 
 An objective given as {quantity: targets at the table's n times} is Σ over quantities and
 times of (value − target)²: on a design table (the evolution's generations) the values
