@@ -20,8 +20,9 @@ EXAMPLES = os.path.join(ROOT, "examples")
 slider = mechgen.compile(os.path.join(EXAMPLES, "quick_return_slider.py"))
 # the fitted law overshoots the true stroke: the mechanism locks near T = 0.246 and 0.754
 print("lock positions:", slider.singularities(0.0, 1.0))
-sw = slider.sweep(0.26, 0.74, 97, level="velocity")
-plot.draw(slider, slider.solve(0.5), sweep=sw, trace=("manivela[2]",),
+# (and cannot assemble just past them): the guess's stretch runs from 0.754 − 1 to 0.246
+sw = slider.sweep(-0.23, 0.23, 93, level="velocity")
+plot.draw(slider, slider.solve(0.0), sweep=sw, trace=("manivela[2]",),
           title="quick_return_slider: the crank pin's path between the locks")
 plot.plot(sw, "X4", "Th2")
 
