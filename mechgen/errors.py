@@ -7,7 +7,7 @@ import traceback
 _PKG_DIR = os.path.dirname(os.path.abspath(__file__))
 
 
-def _user_frame():
+def user_frame():
     """The innermost stack frame outside the mechgen package: the user's line."""
     for frame in reversed(traceback.extract_stack()[:-2]):
         path = os.path.abspath(frame.filename)
@@ -29,7 +29,7 @@ class ModelError(MechgenError, ValueError):
 
     def __init__(self, message: str, where: str | None = None):
         if where is None:
-            frame = _user_frame()
+            frame = user_frame()
             if frame is not None and frame.filename and not frame.filename.startswith("<"):
                 where = f"{frame.filename}:{frame.lineno}"
         self.where = where

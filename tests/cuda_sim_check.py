@@ -56,8 +56,8 @@ def _starts(mech, tab):
 
 
 def _needs(mech, name):
-    from mechgen.runtime.quantity import _lookup
-    kind, k, order = _lookup(mech, name)
+    from mechgen.runtime.quantity import lookup
+    kind, k, order = lookup(mech, name)
     return order if kind == "q" else mech.output_orders[k] + order
 
 

@@ -62,26 +62,26 @@ class Constraint:
         return f"<constraint {self.number} {self.label}>"
 
 
-def _point(model, value, kind, pos):
+def checked_point(model, value, kind, pos):
     if not isinstance(value, Point):
-        raise ModelError(f"{kind}: argument {pos} must be a point such as body[1], got {_show(value)}")
+        raise ModelError(f"{kind}: argument {pos} must be a point such as body[1], got {shown(value)}")
     _same_model(model, value.body, kind, pos, value)
     return value
 
 
-def _line(model, value, kind, pos):
+def checked_line(model, value, kind, pos):
     if not isinstance(value, Line):
         raise ModelError(f"{kind}: argument {pos} must be an axis such as body.line(1, 2) "
-                         f"or Line(p1, p2), got {_show(value)}")
+                         f"or Line(p1, p2), got {shown(value)}")
     _same_model(model, value.first.body, kind, pos, value)
     if value.second is not None:
         _same_model(model, value.second.body, kind, pos, value)
     return value
 
 
-def _body(model, value, kind, pos):
+def checked_body(model, value, kind, pos):
     if not isinstance(value, Body):
-        raise ModelError(f"{kind}: argument {pos} must be a body, got {_show(value)}")
+        raise ModelError(f"{kind}: argument {pos} must be a body, got {shown(value)}")
     _same_model(model, value, kind, pos, value)
     return value
 
@@ -94,11 +94,11 @@ def _same_model(model, body, kind, pos, value):
             owner = f"another model also named '{other.name}' (declared at {place})"
         else:
             owner = f"model '{other.name}'"
-        raise ModelError(f"{kind}: argument {pos} ({_show(value)}) belongs to {owner}, "
+        raise ModelError(f"{kind}: argument {pos} ({shown(value)}) belongs to {owner}, "
                          f"not to model '{model.name}'; use the bodies of this model")
 
 
-def _show(value):
+def shown(value):
     if isinstance(value, (Body, Point, Line)):
         return f"{type(value).__name__.lower()} {value}"
     text = repr(value)
@@ -112,8 +112,8 @@ class Revolute(Constraint):
     components = ("x", "y")
 
     def build(self, p1, p2):
-        p1 = _point(self.model, p1, self.kind, 1)
-        p2 = _point(self.model, p2, self.kind, 2)
+        p1 = checked_point(self.model, p1, self.kind, 1)
+        p2 = checked_point(self.model, p2, self.kind, 2)
         self.points = (p1, p2)          # mechgen check names a loop's lengths from them
         d = p1.r - p2.r
         self.exprs = [d[0], d[1]]
@@ -127,8 +127,8 @@ class Translate(Constraint):
     components = ("parallel", "offset")
 
     def build(self, a1, a2):
-        a1 = _line(self.model, a1, self.kind, 1)
-        a2 = _line(self.model, a2, self.kind, 2)
+        a1 = checked_line(self.model, a1, self.kind, 1)
+        a2 = checked_line(self.model, a2, self.kind, 2)
         u1, u2 = a1.u, a2.u
         self.exprs = [cross2(u1, u2), cross2(a2.first.r - a1.first.r, u2)]
         return f"{a1}, {a2}"
@@ -140,8 +140,8 @@ class PointOnLine(Constraint):
     kind = "point_on_line"
 
     def build(self, p, a):
-        p = _point(self.model, p, self.kind, 1)
-        a = _line(self.model, a, self.kind, 2)
+        p = checked_point(self.model, p, self.kind, 1)
+        a = checked_line(self.model, a, self.kind, 2)
         self.exprs = [cross2(a.first.r - p.r, a.u)]
         return f"{p}, {a}"
 
@@ -152,8 +152,8 @@ class RelativeDistance(Constraint):
     kind = "relative_distance"
 
     def build(self, p1, p2, d):
-        p1 = _point(self.model, p1, self.kind, 1)
-        p2 = _point(self.model, p2, self.kind, 2)
+        p1 = checked_point(self.model, p1, self.kind, 1)
+        p2 = checked_point(self.model, p2, self.kind, 2)
         d = self.model._expr(d, f"{self.kind}: the distance")
         r = p1.r - p2.r
         self.squared = r[0] ** 2 + r[1] ** 2     # ‖r(p1) − r(p2)‖²: a driver's factor reads it
@@ -168,12 +168,12 @@ class RotationLock(Constraint):
 
     def build(self, b1, b2, angle=None):
         if angle is None:  # rotation_lock(b, angle)
-            b1 = _body(self.model, b1, self.kind, 1)
+            b1 = checked_body(self.model, b1, self.kind, 1)
             angle = self.model._expr(b2, f"{self.kind}: the angle")
             self.exprs = [b1.th - angle]
             return f"{b1}, {angle}"
-        b1 = _body(self.model, b1, self.kind, 1)
-        b2 = _body(self.model, b2, self.kind, 2)
+        b1 = checked_body(self.model, b1, self.kind, 1)
+        b2 = checked_body(self.model, b2, self.kind, 2)
         angle = self.model._expr(angle, f"{self.kind}: the angle")
         self.exprs = [b1.th - b2.th - angle]
         return f"{b1}, {b2}, {angle}"
@@ -186,12 +186,12 @@ class _RelativeAxis(Constraint):
 
     def build(self, p1, p2, value=None):
         if value is None:  # relative_x(p, x)
-            p1 = _point(self.model, p1, self.kind, 1)
+            p1 = checked_point(self.model, p1, self.kind, 1)
             value = self.model._expr(p2, f"{self.kind}: the value")
             self.exprs = [p1.r[self.axis] - value]
             return f"{p1}, {value}"
-        p1 = _point(self.model, p1, self.kind, 1)
-        p2 = _point(self.model, p2, self.kind, 2)
+        p1 = checked_point(self.model, p1, self.kind, 1)
+        p2 = checked_point(self.model, p2, self.kind, 2)
         value = self.model._expr(value, f"{self.kind}: the offset")
         self.exprs = [p2.r[self.axis] - p1.r[self.axis] - value]
         return f"{p1}, {p2}, {value}"
@@ -217,8 +217,8 @@ class Parallel(Constraint):
     kind = "parallel"
 
     def build(self, a1, a2):
-        a1 = _line(self.model, a1, self.kind, 1)
-        a2 = _line(self.model, a2, self.kind, 2)
+        a1 = checked_line(self.model, a1, self.kind, 1)
+        a2 = checked_line(self.model, a2, self.kind, 2)
         self.exprs = [cross2(a1.u, a2.u)]
         return f"{a1}, {a2}"
 
@@ -229,8 +229,8 @@ class Orthogonal(Constraint):
     kind = "orthogonal"
 
     def build(self, a1, a2):
-        a1 = _line(self.model, a1, self.kind, 1)
-        a2 = _line(self.model, a2, self.kind, 2)
+        a1 = checked_line(self.model, a1, self.kind, 1)
+        a2 = checked_line(self.model, a2, self.kind, 2)
         self.exprs = [dot2(a1.u, a2.u)]
         return f"{a1}, {a2}"
 
@@ -247,8 +247,8 @@ class RelativeAngle(Constraint):
     kind = "relative_angle"
 
     def build(self, a1, a2, angle):
-        a1 = _line(self.model, a1, self.kind, 1)
-        a2 = _line(self.model, a2, self.kind, 2)
+        a1 = checked_line(self.model, a1, self.kind, 1)
+        a2 = checked_line(self.model, a2, self.kind, 2)
         angle = self.model._expr(angle, f"{self.kind}: the angle")
         f1, f2 = a1.body_fixed_angle(), a2.body_fixed_angle()
         if f1 is not None and f2 is not None:

@@ -10,7 +10,7 @@ import unicodedata
 import sympy as sp
 
 from .. import units as _units
-from ..errors import ModelError, _user_frame
+from ..errors import ModelError, user_frame
 from .constraints import (Constraint, Expression, Orthogonal, Parallel, PointOnLine,
                           RelativeAngle, RelativeDistance, RelativeX, RelativeY, Revolute,
                           RotationLock, Translate)
@@ -512,7 +512,7 @@ def _number(value, what) -> float:
 
 
 def _where():
-    frame = _user_frame()
+    frame = user_frame()
     if frame is None or not frame.filename or frame.filename.startswith("<"):
         return None
     return f"{frame.filename}:{frame.lineno}"

@@ -26,7 +26,7 @@ import math
 
 import sympy as sp
 
-from ..errors import ModelError, _user_frame
+from ..errors import ModelError, user_frame
 from .geometry import T, label_name
 
 
@@ -133,7 +133,7 @@ class StageMixin:
                 raise ModelError(f"stage {name!r}: until={until:g} must come after the "
                                  f"switch of stage '{stages[-1].name}' (until="
                                  f"{stages[-1].until:g})")
-        frame = _user_frame()
+        frame = user_frame()
         where = f"{frame.filename}:{frame.lineno}" if frame and frame.filename \
             and not frame.filename.startswith("<") else None
         stage = Stage(self, name, len(stages) + 1, until, where)

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..errors import MechgenError
 from ..runtime.forces import ForceSweep, is_force_level
-from ..runtime.forces.lookup import _name_of, tables
+from ..runtime.forces.lookup import name_of, tables
 from ..units import FORCE_KINDS, TORQUE_KINDS, Units
 from ..units import of as units_of
 from .labels import Label, Obstacles, place, renderer_of, set_offset
@@ -108,7 +108,7 @@ def short_name(mech, label) -> str:
     columns of mechgen sweep name it)."""
     for number_, kind, full, _, _ in mech.module.CONSTRAINTS:
         if full == label:
-            return _name_of(full, kind) or str(number_)
+            return name_of(full, kind) or str(number_)
     return str(label)
 
 

@@ -19,7 +19,7 @@ from matplotlib import rcParams
 
 from ..protocol import LEVELS
 from ..units import of as units_of
-from ..runtime.results import Sweep, _lookup
+from ..runtime.results import Sweep, lookup
 from .scene import Scene, point_coordinate
 
 SCALE_RATIO = 5.0    # quantities whose sizes differ more than this go on a second y axis
@@ -44,7 +44,7 @@ def _dimension(mech, name):
     (a declared output: unknown); order the number of time derivatives."""
     if point_coordinate(name) is not None:
         return "length", 0
-    kind, k, order = _lookup(mech, name)
+    kind, k, order = lookup(mech, name)
     if kind != "q":
         return "", order
     c = mech.coordinates[k]
@@ -259,7 +259,7 @@ def needed_level(mech, names) -> str:
         if found is not None:
             Scene(mech).locate(found[0])      # an unknown point fails here, naming them all
             continue
-        kind, k, order = _lookup(mech, name)
+        kind, k, order = lookup(mech, name)
         if kind == "out":
             order += mech.output_orders[k]
         need = max(need, order)

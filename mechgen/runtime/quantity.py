@@ -34,7 +34,7 @@ def level_of(qd, qdd) -> int:
         LEVEL["velocity"] if qdd is None else LEVEL["acceleration"]
 
 
-def _lookup(mech, name):
+def lookup(mech, name):
     """(kind, index, order) for a name: a coordinate ("q"), its derivative or an output
     ("out"); order is the number of d's it carries."""
     kind, k, order = _find(mech, name)
@@ -104,7 +104,7 @@ class Quantity:
         self.mech = mech
         self.what = what
         if isinstance(what, str):
-            kind, k, order = _lookup(mech, what)
+            kind, k, order = lookup(mech, what)
             self.kind, self.k = kind, k
             base = mech.coordinates[k] if kind == "q" else mech.outputs[k]
             self.base = base

@@ -11,9 +11,9 @@ from ..errors import MechgenError
 from ..protocol import (INFO_COLUMNS, INFO_ITERATIONS, INFO_JUMP, INFO_STATUS, JUMP, LEVEL,
                         LEVELS, REPORT_JUMP, STATUS_CODE, STATUS_COLUMNS, STATUS_ITERATIONS,
                         STATUS_SUBSTEPS, INFO_SUBSTEPS)
-from .quantity import _lookup, column_names, level_needed, level_of
+from .quantity import lookup, column_names, level_needed, level_of
 
-__all__ = ["Solution", "Sweep", "write_csv", "_lookup"]
+__all__ = ["Solution", "Sweep", "write_csv", "lookup"]
 
 _NONE = np.empty(0)             # the jumps and crossings of a sweep that has none
 _NONE.flags.writeable = False
@@ -146,7 +146,7 @@ class Solution(Derivatives):
         raise _no_forces(self, name, "solve")
 
     def __getitem__(self, name):
-        kind, k, order = _lookup(self.mechanism, name)
+        kind, k, order = lookup(self.mechanism, name)
         if kind == "q":
             vec = (self.q, self.qd, self.qdd)[order]
             if vec is None:
@@ -285,7 +285,7 @@ class Sweep(Derivatives):
             return Solution(self.mechanism, self.t[k], self.Q[k].copy(),
                             None if self.QD is None else self.QD[k].copy(),
                             None if self.QDD is None else self.QDD[k].copy())
-        kind, k, order = _lookup(self.mechanism, key)
+        kind, k, order = lookup(self.mechanism, key)
         if kind == "q":
             arr = (self.Q, self.QD, self.QDD)[order]
             if arr is None:

@@ -27,7 +27,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...errors import ModelError
-from ..constraints import Constraint, _body, _line, _point, cross2
+from ..constraints import Constraint, checked_body, checked_line, checked_point, cross2
 from ..geometry import Point
 from .profiles import Profile, check_contact, make_profile
 
@@ -57,9 +57,9 @@ class CamToPoint(Constraint):
     components = ("x", "y")
 
     def build(self, cam, profile, p, s, radius=None, sign=1):
-        cam = _body(self.model, cam, self.kind, 1)
+        cam = checked_body(self.model, cam, self.kind, 1)
         profile = _profile(profile, self.kind, 2)
-        p = _point(self.model, p, self.kind, 3)
+        p = checked_point(self.model, p, self.kind, 3)
         r, _, d = _on_cam(cam, profile, s)
         res = p.r - r
         text = f"{cam}, {profile}, {p}, {s}"
@@ -78,9 +78,9 @@ class CamToLine(Constraint):
     components = ("on line", "tangent")
 
     def build(self, cam, profile, a, s):
-        cam = _body(self.model, cam, self.kind, 1)
+        cam = checked_body(self.model, cam, self.kind, 1)
         profile = _profile(profile, self.kind, 2)
-        a = _line(self.model, a, self.kind, 3)
+        a = checked_line(self.model, a, self.kind, 3)
         r, t, _ = _on_cam(cam, profile, s)
         u = a.u
         self.exprs = [cross2(a.first.r - r, u), cross2(t, u)]
@@ -95,9 +95,9 @@ class CamToCam(Constraint):
     components = ("x", "y", "tangent")
 
     def build(self, cam1, profile1, cam2, profile2, s1, s2):
-        cam1 = _body(self.model, cam1, self.kind, 1)
+        cam1 = checked_body(self.model, cam1, self.kind, 1)
         profile1 = _profile(profile1, self.kind, 2)
-        cam2 = _body(self.model, cam2, self.kind, 3)
+        cam2 = checked_body(self.model, cam2, self.kind, 3)
         profile2 = _profile(profile2, self.kind, 4)
         r1, t1, _ = _on_cam(cam1, profile1, s1)
         r2, t2, _ = _on_cam(cam2, profile2, s2)

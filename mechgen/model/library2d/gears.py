@@ -30,7 +30,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...errors import ModelError
-from ..constraints import Constraint, _line, _point, cross2, dot2
+from ..constraints import Constraint, checked_line, checked_point, cross2, dot2
 from ..geometry import T
 from .joints import body_fixed
 
@@ -139,9 +139,9 @@ class _Gears(Constraint):
 
     def build(self, p1, r1, p2, r2, c=0):
         kind = self.kind
-        p1 = _point(self.model, p1, kind, 1)
+        p1 = checked_point(self.model, p1, kind, 1)
         r1 = _radius(self.model, r1, kind, "r1")
-        p2 = _point(self.model, p2, kind, 3)
+        p2 = checked_point(self.model, p2, kind, 3)
         r2 = _radius(self.model, r2, kind, "r2")
         c = _phase(self.model, c, kind)
         if p1.body is p2.body:
@@ -182,9 +182,9 @@ class GearRatio(_Gears):
 class _Rack(Constraint):
     def build(self, p, r, a, c=0):
         kind = self.kind
-        p = _point(self.model, p, kind, 1)
+        p = checked_point(self.model, p, kind, 1)
         r = _radius(self.model, r, kind, "r")
-        a = _line(self.model, a, kind, 3)
+        a = checked_line(self.model, a, kind, 3)
         c = _phase(self.model, c, kind)
         rack, alpha = body_fixed(a, kind, 3)
         if rack is p.body:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...errors import ModelError
-from ..constraints import Constraint, _body, _line, _point, _show, cross2, dot2
+from ..constraints import Constraint, checked_body, checked_line, checked_point, shown, cross2, dot2
 from ..geometry import Body, Line, Point, as_pair
 
 
@@ -18,11 +18,11 @@ def _direction(model, value, kind, pos):
     """An axis (a Line) or a constant global direction (a pair of numbers, parameters or
     expressions of T): (u, |u|, text)."""
     if isinstance(value, Line):
-        a = _line(model, value, kind, pos)
+        a = checked_line(model, value, kind, pos)
         return a.u, a.length, f"{a}"
     if isinstance(value, (Body, Point)):
         raise ModelError(f"{kind}: argument {pos} must be an axis such as body.line(1, 2) or "
-                         f"a direction (dx, dy), got {_show(value)}")
+                         f"a direction (dx, dy), got {shown(value)}")
     dx, dy = as_pair(value, f"{kind}: the direction")
     dx = model._expr(dx, f"{kind}: the direction's x")
     dy = model._expr(dy, f"{kind}: the direction's y")
@@ -48,9 +48,9 @@ class PointOnLines(Constraint):
     components = ("line 1", "line 2")
 
     def build(self, p, a1, a2):
-        p = _point(self.model, p, self.kind, 1)
-        a1 = _line(self.model, a1, self.kind, 2)
-        a2 = _line(self.model, a2, self.kind, 3)
+        p = checked_point(self.model, p, self.kind, 1)
+        a1 = checked_line(self.model, a1, self.kind, 2)
+        a2 = checked_line(self.model, a2, self.kind, 3)
         self.exprs = [cross2(a1.first.r - p.r, a1.u), cross2(a2.first.r - p.r, a2.u)]
         return f"{p}, {a1}, {a2}"
 
@@ -64,13 +64,13 @@ class OriginLock(Constraint):
     components = ("x", "y")
 
     def build(self, b1, b2=None, offset=None):
-        b1 = _body(self.model, b1, self.kind, 1)
+        b1 = checked_body(self.model, b1, self.kind, 1)
         if b2 is not None and not isinstance(b2, Body):      # origin_lock(b, offset)
             if offset is not None:
-                raise ModelError(f"{self.kind}: argument 2 must be a body, got {_show(b2)}")
+                raise ModelError(f"{self.kind}: argument 2 must be a body, got {shown(b2)}")
             b2, offset = None, b2
         if b2 is not None:
-            b2 = _body(self.model, b2, self.kind, 2)
+            b2 = checked_body(self.model, b2, self.kind, 2)
             if b2 is b1:
                 raise ModelError(f"{self.kind}: body {b1} locked to itself")
         ox, oy = (0, 0) if offset is None else as_pair(offset, f"{self.kind}: the offset")
@@ -93,13 +93,13 @@ class DirectedDistance(Constraint):
     kind = "directed_distance"
 
     def build(self, p1, p2, direction=None, d=None):
-        p1 = _point(self.model, p1, self.kind, 1)
+        p1 = checked_point(self.model, p1, self.kind, 1)
         if not isinstance(p2, Point):          # directed_distance(p1, direction[, d])
             if d is not None:
-                raise ModelError(f"{self.kind}: argument 2 must be a point, got {_show(p2)}")
+                raise ModelError(f"{self.kind}: argument 2 must be a point, got {shown(p2)}")
             p2, direction, d = None, p2, direction
         else:
-            p2 = _point(self.model, p2, self.kind, 2)
+            p2 = checked_point(self.model, p2, self.kind, 2)
         if direction is None:
             raise ModelError(f"{self.kind}: a direction (an axis or (dx, dy)) is needed")
         u, length, utext = _direction(self.model, direction, self.kind, 3 if p2 else 2)
@@ -118,7 +118,7 @@ class _WithCoordinate(Constraint):
     def _coord(self, coord):
         if not isinstance(coord, sp.Symbol) or coord not in self.model.coords:
             raise ModelError(f"{self.kind}: the coordinate must be a name or a symbol from "
-                             f"m.coordinate(...), got {_show(coord)}")
+                             f"m.coordinate(...), got {shown(coord)}")
         if any(coord in b.coordinates for b in self.model.bodies.values()):
             raise ModelError(f"{self.kind}: {coord} is a body's coordinate; give the joint a "
                              "coordinate of its own (a new name)")
@@ -127,8 +127,8 @@ class _WithCoordinate(Constraint):
 
     def _axes(self, a1, a2):
         """The two axes, each fixed in its body, on two bodies: (a1, a2, (b1, α1), (b2, α2))."""
-        a1 = _line(self.model, a1, self.kind, 1)
-        a2 = _line(self.model, a2, self.kind, 2)
+        a1 = checked_line(self.model, a1, self.kind, 1)
+        a2 = checked_line(self.model, a2, self.kind, 2)
         f1, f2 = body_fixed(a1, self.kind, 1), body_fixed(a2, self.kind, 2)
         if f1[0] is f2[0]:
             raise ModelError(f"{self.kind}: both axes are fixed in body {f1[0]}; a joint joins "

@@ -80,9 +80,9 @@ def null_space(mech, q, t, rtol=None, force=False) -> NullSpace:
         left = u[:, n:]                      # redundant rows of an over-determined model
     right = vt[lo:, :] if lo < n else vt[:0, :]
     labels = mech.constraint_labels
-    rows = _support(left, axis=1)
-    cols = _support(right.T, axis=1)
-    constraints = _unique(labels[i] for i in rows)
+    rows = support(left, axis=1)
+    cols = support(right.T, axis=1)
+    constraints = unique(labels[i] for i in rows)
     coordinates = tuple(mech.coordinates[j] for j in cols)
     owner = constraint_of_rows(mech)
     lock = ()
@@ -92,8 +92,8 @@ def null_space(mech, q, t, rtol=None, force=False) -> NullSpace:
         Jp = mech.jacobian(np.asarray(q, dtype=np.float64) +
                            1e-3 * np.random.default_rng(7).standard_normal(n), t)
         acting = [i for i in rows if np.max(np.abs(Jp[i, cols])) > 1e-12]
-        lock = _unique(owner[i] for i in acting)
-    grouped = tuple(sorted(_unique(owner[i] for i in rows), key=_number))
+        lock = unique(owner[i] for i in acting)
+    grouped = tuple(sorted(unique(owner[i] for i in rows), key=_number))
     return NullSpace(rank, ratio, constraints, coordinates, lock, grouped)
 
 
@@ -111,7 +111,7 @@ def _number(label):
     return (0, int(head)) if head.isdigit() else (1, label)
 
 
-def _support(vectors, axis=1):
+def support(vectors, axis=1):
     """Indices whose weight in the given null vectors is at least a tenth of the largest,
     strongest first."""
     if vectors.size == 0:
@@ -123,7 +123,7 @@ def _support(vectors, axis=1):
     return [int(i) for i in idx]
 
 
-def _unique(items):
+def unique(items):
     out = []
     for x in items:
         if x not in out:

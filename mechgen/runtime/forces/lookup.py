@@ -68,7 +68,7 @@ class _Tables:
             entry = (label, tuple(range(row, row + count)), bool(driver))
             row += count
             self.constraints[number] = entry
-            for key in (label, _name_of(label, kind), *_stage_names(label, kind),
+            for key in (label, name_of(label, kind), *_stage_names(label, kind),
                         str(number)):
                 if key is None:
                     continue
@@ -117,7 +117,7 @@ class _Tables:
         return self.bodies[name]
 
 
-def _name_of(label, kind):
+def name_of(label, kind):
     """The ``name=`` of a constraint from its label ``name: kind(args)``, or None."""
     marker = f": {kind}("
     return label.split(marker, 1)[0] if marker in label else None
@@ -127,7 +127,7 @@ def column_name(tab, label, kind, number) -> str:
     """How a table's columns name a constraint: its name=, or its number where it has
     none or shares its name with another constraint (two columns "pin on crank fx"
     would be told apart by position only)."""
-    name = _name_of(label, kind)
+    name = name_of(label, kind)
     return name if name is not None and name not in tab.ambiguous else str(number)
 
 

@@ -159,7 +159,7 @@ class _System:
         """(constraints, text) of a rank loss of the equations of motion at (q, t): the
         constraints still acting whose equations become dependent (a lock or toggle, or
         redundant constraints), else the coordinates free to move without mass."""
-        from ..analysis.singular import _support, _unique, constraint_of_rows, scaled_jacobian
+        from ..analysis.singular import support, unique, constraint_of_rows, scaled_jacobian
         J = scaled_jacobian(self.mech, q, t)[self.keep]
         rows = np.flatnonzero(self.keep)
         u, sv, vt = np.linalg.svd(J)
@@ -172,11 +172,11 @@ class _System:
         scale = max(float(np.abs(np.diag(M)).max(initial=0.0)), 1e-300)
         if v is None or ratio <= float(w.min()) / scale:
             owner = constraint_of_rows(self.mech)
-            names = _unique(owner[rows[i]] for i in _support(u[:, k - 1:k], axis=1))
+            names = unique(owner[rows[i]] for i in support(u[:, k - 1:k], axis=1))
             return names, ("the constraints still acting lock there (or are redundant): "
                            + "; ".join(names))
         still = free @ v[:, :1]
-        coords = [self.mech.coordinates[j] for j in _support(still, axis=1)]
+        coords = [self.mech.coordinates[j] for j in support(still, axis=1)]
         return (), ("a motion the constraints allow carries no mass or inertia (of "
                     f"{', '.join(coords)}): give those bodies mass=, inertia=")
 

@@ -34,7 +34,7 @@ import numpy as np
 
 from ...errors import MechgenError
 from ...protocol import JUMP, LEVEL, LEVELS, OK, STATUS_CODE, THROUGH_SINGULAR
-from ..quantity import _lookup
+from ..quantity import lookup
 
 # A slot's kind (the design table's reduction slots, mechgen.runtime.tables.reduce)
 COORDINATE, OUTPUT = 0, 1
@@ -125,7 +125,7 @@ def quantity_slots(mech, names, level) -> np.ndarray:
         names = [names]
     slots = np.zeros((len(names), 3), dtype=np.int64)
     for j, name in enumerate(names):
-        kind, k, order = _lookup(mech, name)
+        kind, k, order = lookup(mech, name)
         need = order if kind == "q" else mech.output_orders[k] + order
         if need > lev:
             raise MechgenError(f"{name!r} needs a table at level "

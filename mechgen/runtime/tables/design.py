@@ -24,7 +24,7 @@ from ..forces.lookup import (column_name, division_error, effort_column, loads_g
                              tables)
 from ..guards import finite, fits, point_bytes, sweep_times
 from ..kinematics.guesses import quiet_params
-from ..quantity import _lookup, column_names
+from ..quantity import lookup, column_names
 from ..results import Sweep, pandas, write_csv
 from ..kinematics.sweeping import divides
 from .backends import cuda_keeps_points, progress_reporter, run_backend
@@ -303,7 +303,7 @@ class DesignTable:
             entry = tables(mech).find(name, mech)
             if entry is not None and entry[2]:
                 return self.driver(name)
-        kind, k, order = _lookup(mech, name)
+        kind, k, order = lookup(mech, name)
         N = len(self.t)
         D = len(self)
         if kind == "q":

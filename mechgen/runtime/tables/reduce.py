@@ -17,7 +17,7 @@ from ..forces.directions import load_ends, mark
 from ..forces.lookup import tables
 from ..forces.points import (by_blocks, driver_rows, efforts, has_forces, solve_points,
                             svd_point)
-from ..quantity import _lookup
+from ..quantity import lookup
 
 # A reduction slot: [kind, index, order]; kind COORDINATE (index into the coordinates,
 # order 0/1/2: Q, QD, QDD), OUTPUT (index into the outputs, order: which derivative) or
@@ -57,7 +57,7 @@ def reduce_slots(mech, names, have, force_level=None):
         # a coordinate or output first, as the tables name their columns: a driver named
         # like one (a coordinate phi driven by the constraint "phi") is "phi effort" there
         try:
-            kind, k, order = _lookup(mech, name)
+            kind, k, order = lookup(mech, name)
         except (KeyError, TypeError) as exc:
             slot = driver_slot(mech, name, force_level)
             if slot is None and isinstance(name, str) and name.endswith(" effort"):
