@@ -72,5 +72,6 @@ sphinx_gallery_conf = {
 html_theme = "alabaster"
 html_title = f"mechgen {release}"
 html_theme_options = {"description": "planar mechanisms, compiled",
-                      "fixed_sidebar": True, "page_width": "1100px"}
+                      "fixed_sidebar": True, "page_width": "1180px",
+                      "code_font_size": "0.78em"}
 html_static_path = []
