@@ -204,8 +204,9 @@ def trig_statements(y, form, pair):
                   f"sign of a cos({y}) - b sin({y})"),
           Assign(a, ka), Assign(bb, kb), Assign(rad, sp.sqrt(a ** 2 + bb ** 2)),
           Guard(rad, sp.Float(TINY), GAVE_UP), Assign(u, -kc / rad),
-          If(Code("not abs({0}) <= 1.0 + 1e-12", (u,)), (Return(GAVE_UP),),
-             tail="  # no assembly here"),
+          *([] if kc == 0 else      # u = 0: it always assembles
+            [If(Code("not abs({0}) <= 1.0 + 1e-12", (u,)), (Return(GAVE_UP),),
+                tail="  # no assembly here")]),
           _watched("1.0 - {0} * {0}", (u,)),
           Code("{0} = min(1.0, max(-1.0, {0}))", (u,)),
           _sign(sg, a * sp.cos(y) - bb * sp.sin(y), sp.Float(PIVOT_RTOL) * rad, "a lock"),

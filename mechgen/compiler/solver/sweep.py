@@ -137,7 +137,8 @@ def _predictors(coords=None, tangent=True):
                    Code("_sw_wb = (t - _sw_ta) * (t - _sw_tc) / ((_sw_tb - _sw_ta) * (_sw_tb - _sw_tc))"),
                    Code("_sw_wc = (t - _sw_ta) * (t - _sw_tb) / ((_sw_tc - _sw_ta) * (_sw_tc - _sw_tb))"))),),
                tail="  # equal steps (to 1e-9 of one): 3, -3, 1"))))
-    taylor = If(Code(f"k > 0 and (_sw_all or k == 1 and {tangent})"), start + (
+    taylor = If(Code("k > 0 and (_sw_all or k == 1)" if tangent else "k > 0 and _sw_all"),
+                start + (
         Code("_sw_h = t - ts[k - 1]"),
         *([If(Code("not _sw_all"), tuple(_each(coords, shift)))] if coords != [] else []),
         *_each(coords, (
@@ -214,7 +215,7 @@ def reach_check(watch, tangent=True):
                (Code("return _sw_good"),),
                tail="  # a block's reach margin could have dipped below zero"),
             If(Code("t != _sw_mt"), (Code("_sw_ms = (_sw_mc - _sw_m) / abs(t - _sw_mt)"),)))),
-        If(Code(f"k == 0 and ts.shape[0] > 1 and (_sw_all or {tangent})"), (
+        If(Code("k == 0 and ts.shape[0] > 1" + ("" if tangent else " and _sw_all")), (
             Code("_sw_ms = reach_slope(q, qd, t, ts[1] - t, p, _sw_mc)"),),
            tail="  # the first step: along the tangent"),
         Code("_sw_m = _sw_mc"),
@@ -320,7 +321,7 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
                                    "!= 0"), (Code("return _sw_good"),)),
                            Code("FPIV[k] = piv[2]")]
         warm, before = [], []
-    solve.append(If(Code(f"_sw_all or k == 0 and {tangent}"), tuple(derivatives)))
+    solve.append(If(Code("_sw_all or k == 0" if tangent else "_sw_all"), tuple(derivatives)))
     solve += list(statics or ())
     checks = [
         *turn_check(angles),
@@ -329,10 +330,11 @@ def sweep_fast_body(step=None, pairs=(), signs=(), guessed=None, tangent=True, w
         *_finite_check(checked),
         *_each(guessed, ("_sw_corr = max(_sw_corr, abs(q[{j}] - _sw_qp[{j}]))",)),
         If(Code("_sw_bad != 0.0"), (Code("return _sw_good"),)),
-        If(Code(f"k > 1 or k == 1 and (_sw_all or {tangent})"), (
+        If(Code("k > 0" if tangent else "k > 1 or k == 1 and _sw_all"), (
             If(Code("_sw_corr > BRANCH_RATIO * _sw_move + BRANCH_ATOL * (1.0 + _sw_size)"),
                (Code("return _sw_good"),)),),
-           tail="  # (a position sweep's second point, predicted constant: its signs alone)"),
+           tail="" if tangent else
+           "  # (a position sweep's second point, predicted constant: its signs alone)"),
         If(Code("_sw_all"), (
             If(Code("k > 0 and (not piv[0] * _sw_det > 0.0 or piv[1] != _sw_sig)"),
                (Code("return _sw_good"),),

@@ -181,7 +181,7 @@ def check(path: str, digest: str) -> list:
                 pass
             current.pop(name, None)
     if removed:
-        # the tiers' mark (runtime.tiers) says the cache is complete: no longer
+        # the tiers' mark (runtime.loading.tiers) says the cache is complete: no longer
         marks = os.path.join(glob.escape(state_dir(path)), f"{glob.escape(stem)}-*.compiled")
         for mark in glob.glob(marks):
             try:
