@@ -1,6 +1,7 @@
 """Constraints: each a small class that checks its arguments and returns labelled equations.
 
-The forms reproduce the equations Mech prints (seed 001): see API.md §1.
+The forms reproduce the equations Mech prints (seed 001): see docs/reference/model.md and
+docs/constraints.md.
 """
 from __future__ import annotations
 

@@ -82,8 +82,8 @@ def pandas():
 
 
 class Derivatives:
-    """What a Solution or Sweep solved with ``sensitivities=`` answers (API.md §8): the
-    Sensitivities object mechgen.runtime.sensitivity attaches does the work."""
+    """What a Solution or Sweep solved with ``sensitivities=`` answers
+    (docs/reference/sensitivities.md): the Sensitivities object mechgen.runtime.sensitivity attaches does the work."""
 
     def _carried(self):
         sens = self.__dict__.get("sensitivities")

@@ -1,4 +1,5 @@
-"""Motion under forces (API.md §6): ``mech.simulate(t0, t1, n, free=[driver names])``.
+"""Motion under forces (docs/reference/simulation.md): ``mech.simulate(t0, t1, n,
+free=[driver names])``.
 
 The drivers named in ``free`` stop prescribing their motion at t0 (and the ``hold`` rows
 that the build gives a model without a driver for every degree of freedom always do); the
