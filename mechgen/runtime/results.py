@@ -83,7 +83,8 @@ def pandas():
 
 class Derivatives:
     """What a Solution or Sweep solved with ``sensitivities=`` answers
-    (docs/reference/sensitivities.md): the Sensitivities object mechgen.runtime.sensitivity attaches does the work."""
+    (docs/reference/sensitivities.md): the Sensitivities object mechgen.runtime.sensitivity
+    attaches does the work."""
 
     def _carried(self):
         sens = self.__dict__.get("sensitivities")
