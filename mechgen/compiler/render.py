@@ -69,7 +69,7 @@ def unit_constants(model) -> list:
     stated = model.units.header()
     if stated is None:
         return []
-    return [("The model's units (API.md §1, Units): labels only; angles computed in radians",
+    return [("The model's units (Model(units=...)): labels only; angles computed in radians",
              [("UNITS", repr(stated))])]
 
 

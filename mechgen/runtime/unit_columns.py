@@ -23,7 +23,7 @@ def column_units(mech, header) -> list:
 def column_kinds(mech, header) -> list:
     """(kind, order) of each column (mechgen.units' kinds; "" for unknown)."""
     coords = {c: k for k, c in enumerate(mech.coordinates)}
-    efforts = _effort_kinds(mech)
+    efforts = _effort_kinds(mech, [h for h in header if " on " not in h])
     out = []
     for name in header:
         if name == "T":
@@ -48,23 +48,21 @@ def column_kinds(mech, header) -> list:
     return out
 
 
-def _effort_kinds(mech) -> dict:
-    """The driver effort columns a force table may hold, each its kind (torque, force)."""
-    mod = mech.module
-    if not hasattr(mod, "CONSTRAINTS"):
-        return {}
-    try:
-        from .forces.lookup import column_name, effort_column, tables
-        tab = tables(mech)
-    except Exception:       # a module without force functions: no effort columns
-        return {}
-    taken = {"T", *mech.coordinates, *(c + "d" for c in mech.coordinates),
-             *(c + "dd" for c in mech.coordinates), *mech.outputs}
-    out = {}
-    for number, kind, label, _, driver in mod.CONSTRAINTS:
+def _effort_kinds(mech, header) -> dict:
+    """The driver effort columns of ``header`` (a force table's: named by the driver's
+    name=, or its number, with " effort" where that name is taken; forces.lookup's
+    effort_column), each its kind (torque, force), read off the module's CONSTRAINTS
+    (nothing imported from forces: it sits above this module)."""
+    drivers = []
+    for number, kind, label, _, driver in getattr(mech.module, "CONSTRAINTS", ()):
         if driver:
-            out[effort_column(column_name(tab, label, kind, number), taken)] = \
-                effort_kind(kind)
+            name = label.split(":", 1)[0].strip() if ":" in label else str(number)
+            drivers.append((name, effort_kind(kind)))
+    out = {}
+    for column in header:
+        for name, kind in drivers:
+            if column == name or column.startswith(name + " effort"):
+                out.setdefault(column, kind)
     return out
 
 
