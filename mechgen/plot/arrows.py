@@ -27,7 +27,8 @@ from matplotlib.path import Path
 
 from ..errors import MechgenError
 from ..runtime.forces import ForceSolution, is_force_level
-from ..runtime.forces.lookup import tables
+from ..runtime.forces.lookup import name_of, tables
+from ..units import of as units_of
 from .forceplots import number, require_forces, short_name
 from .labels import HALO, Label, Obstacles, place, renderer_of, set_offset
 from .style import INK
@@ -55,6 +56,7 @@ class ForceArrow:
         self.moment = float(moment)
         self.short, self.color = short, color
         self.text = short
+        self.where = None                # a pin's point, "colisa.P2" (acting_point)
         self.arrow = self.arc = self.label = self.dot = None
         self.head = self.at.copy()       # where the label goes: the arrow's tip
 
@@ -122,6 +124,26 @@ def _reference(mech, scene, P, q, number, body, kind):
     return _origin(mech, scene, P, q, body)
 
 
+def acting_point(mech, scene, number, body, kind):
+    """The point a constraint's force on ``body`` acts at, named by its body and number
+    as the drawing's point labels name it ("colisa.P2"; "manivela.P2 on colisa" where
+    the point is another body's: a slot's sliding pin), or None (a driver, a guide: no
+    one point)."""
+    used = dict((n, u) for n, _, u in getattr(mech.module, "JOINTS", ())).get(number, ())
+    if kind == "point_on_line" and used:
+        pts = [used[0]]
+    else:
+        pts = [k for k in used if scene.owner[k] == body]
+    if len(pts) != 1:
+        return None
+    k = pts[0]
+    owner = scene.by_name[scene.owner[k]]
+    if k not in owner.pts:
+        return None
+    text = f"{owner.name}.P{owner.pts.index(k) + 1}"
+    return text if owner.name == body else f"{text} on {body}"
+
+
 def _origin(mech, scene, P, q, body):
     b = scene.by_name[body]
     if b.ground:
@@ -184,6 +206,12 @@ def collect(solution, scene, P, on=None, span=1.0):
             name += "*"                # redundant: its share is not unique
         color = scene.by_name[body].edge
         out.append(ForceArrow(what, label, body, at, r[:2], m, name, color))
+        where = acting_point(mech, scene, number_, body, kind)
+        if where is not None and what != "driver":     # a pin's force: body and point
+            named = name_of(label, kind) is not None
+            out[-1].where = where
+            out[-1].text = f"{where} ({name})" if named else \
+                where + ("*" if name.endswith("*") else "")
     terms = solution.terms if solution.terms is not None else np.zeros((3, mech.n))
     for body, kind, vec, color in ([(b, "load", terms[0] + terms[1], LOAD_COLOR) for b in loaded]
                                    + [(b, "inertia", -terms[2], INERTIA_COLOR) for b in inertia]):
@@ -258,6 +286,9 @@ def force_arrows(drawing, solution, on=None, *, scale=None, length=LENGTH, fonts
     if scale is None:
         scale = length * span / top if top > 0 else 0.0
     w = drawing.size or 0.014 * span
+    units = units_of(mech)          # sizes in N and N·mm where the model declares them
+    f_unit = f" {units.force}" if units.declared else ""
+    m_unit = f" {units.of('torque')}" if units.declared else ""
     result = ForceArrows(shown, float(scale), bodies=on or ())
     if not shown:
         where = f"T = {solution.t:.4g}"
@@ -284,13 +315,13 @@ def force_arrows(drawing, solution, on=None, *, scale=None, length=LENGTH, fonts
             a.dot = ax.add_line(Line2D([a.at[0]], [a.at[1]], linestyle="none", marker="o",
                                        markersize=3.2, color=a.color, zorder=8.1))
             a.head = a.at + d
-            parts.append(number(size))
+            parts.append(number(size) + f_unit)
         if abs(a.moment) > tiny_m:
             a.arc = _arc(a.at, 2.6 * w, a.moment > 0, a.color, 1.3)
             ax.add_patch(a.arc)
             if not parts:
                 a.head = a.at + np.array([0.0, 2.6 * w])
-            parts.append(("M " if parts else "") + number(abs(a.moment)))
+            parts.append(("M " if parts else "") + number(abs(a.moment)) + m_unit)
         a.text = f"{a.text} {', '.join(parts)}"
         a.label = ax.annotate(a.text, xy=a.head, xytext=(0.0, 0.0), textcoords="offset points",
                               ha="center", va="center", fontsize=fontsize, color=a.color,
