@@ -32,3 +32,17 @@ def refused_constant(module, p):
             why = "is negative" if value < 0.0 else "is not a number"
             return f"{load}: {what} {expr} = {value:g} {why}; it must be not negative"
     return None
+
+
+def refused_design(P, names, index, refused):
+    """The sentence for the first design of a table (a row of ``P``, its parameters) that
+    ``refused(p)`` (masses.negative_mass: a negative mass or inertia, a refused load
+    constant) names, with its index and varied values (``names``, their columns
+    ``index``): "design 3 (kk=-100): spring 'spr': the stiffness k kk = -100 is negative";
+    None where every design is allowed."""
+    for d in range(P.shape[0]):
+        why = refused(P[d])
+        if why:
+            values = ", ".join(f"{n}={float(P[d, index[n]]):g}" for n in names)
+            return f"design {d} ({values}): {why}"
+    return None

@@ -23,6 +23,7 @@ from ..forces import attach, is_force_level
 from ..forces.lookup import (column_name, division_error, effort_column, loads_guarded,
                              tables)
 from ..guards import finite, fits, point_bytes, sweep_times
+from ..kinematics.entry import module_attr
 from ..kinematics.guesses import quiet_params
 from ..quantity import lookup, column_names
 from ..results import Sweep, pandas, write_csv
@@ -493,6 +494,12 @@ def _design_table(mech, t0, t1, n, params, level="position", guess=None, method=
     fits(designs, each, "designs", "params", f" of {ts.shape[0]:,} times each")
     make = design_grid if grid else design_list
     P = make(base, state.param_index, names, axes)
+    if force_level is not None and module_attr(mech.module, "mass_matrix") is not None:
+        from ..forces.limits import refused_design      # each design's loads and masses
+        from ..forces.masses import negative_mass
+        wrong = refused_design(P, names, state.param_index, lambda p: negative_mass(mech, p))
+        if wrong:
+            raise ValueError(f"model '{mech.name}': {wrong}")
     # a big table in the python tier: compiled first (runtime.tiers); elsewhere the
     # designs' starts (a few solves each) are this process's work
     state.tiers.expect(mech, P.shape[0] * (ts.shape[0] if backend == "cpu" else 8), "design")
