@@ -297,3 +297,60 @@ def test_two_drivers_that_prescribe_one_motion_say_their_efforts_are_shared(tmp_
     assert abs(ta * w + tb * (-w / 3) - need) < 1e-12
     with pytest.warns(mechgen.RedundancyWarning, match="not unique"):
         mech.sweep(0.0, 1.0, 3, level="dynamic").driver("drive B")
+
+
+MB_, KB_, OMB_ = 0.7, 9.0, 1.3               # tests/test_simulate_drivers.bead_on_rod's
+
+
+def _bead_forces(t):
+    """The bead's push along e_r and the rod's force along e_t in closed form: in the rod's
+    frame, F = m (s̈ − s ω²) + k s + m g sin ωt, N = 2 m ṡ ω + m g cos ωt (Coriolis and
+    gravity), s = 0.5 + 0.2 sin 3T; as global (x, y) pairs."""
+    s, sd, sdd = 0.5 + 0.2 * np.sin(3 * t), 0.6 * np.cos(3 * t), -1.8 * np.sin(3 * t)
+    c, sn = np.cos(OMB_ * t), np.sin(OMB_ * t)
+    push = MB_ * (sdd - s * OMB_ ** 2) + KB_ * s + MB_ * G * sn
+    rod = 2 * MB_ * sd * OMB_ + MB_ * G * c
+    return np.array([push * c, push * sn]), np.array([-rod * sn, rod * c])
+
+
+def test_a_bead_pushed_along_a_turning_rod_gets_its_push_and_the_rods_force(tmp_path):
+    # rows that mix T and the coordinates (Φ_qt ≠ 0, so γ holds −2 Φ_qt q̇): the bead of
+    # tests/test_simulate_drivers.bead_on_rod pushed to s = 0.5 + 0.2 sin 3T along a rod
+    # turning at ω; its push and the rod's force against _bead_forces (the closed form
+    # s(T), not the module's q̈), and its accelerations against the polar form's
+    from test_simulate_drivers import KB, MB, OMB, bead_on_rod
+    assert (MB, KB, OMB) == (MB_, KB_, OMB_)
+    mech = _compile(bead_on_rod(), tmp_path)
+    for t in (0.0, 0.45, 1.1, 2.0):
+        sol = mech.solve(t, level="dynamic")
+        push, rod = _bead_forces(t)
+        np.testing.assert_allclose(sol.reaction("push", on="bead")[:2], push, atol=1e-9)
+        np.testing.assert_allclose(sol.reaction("rod", on="bead")[:2], rod, atol=1e-9)
+        s, sd, sdd = 0.5 + 0.2 * np.sin(3 * t), 0.6 * np.cos(3 * t), -1.8 * np.sin(3 * t)
+        c, sn = np.cos(OMB * t), np.sin(OMB * t)
+        np.testing.assert_allclose(
+            [sol["X2dd"], sol["Y2dd"]],
+            [(sdd - s * OMB ** 2) * c - 2 * sd * OMB * sn,
+             (sdd - s * OMB ** 2) * sn + 2 * sd * OMB * c], atol=1e-9)
+    st = mech.solve(0.7, level="static")    # static: no inertia, the spring and gravity
+    s7 = 0.5 + 0.2 * np.sin(2.1)
+    f = KB * s7 + MB * G * np.sin(OMB * 0.7)
+    np.testing.assert_allclose(st.reaction("push", on="bead")[:2],
+                               [f * np.cos(OMB * 0.7), f * np.sin(OMB * 0.7)], atol=1e-9)
+
+
+@pytest.mark.xfail(strict=True, reason="the generated sweep_fast_forces reuses the names "
+                   "_f0, _f1, _f2 of the position block's sin 1.3T, cos 1.3T, sin 3T for "
+                   "the force block's temporaries (_f0 = max(abs(_f0), abs(_f1)), "
+                   "_f1 = 1/_fd1, _f2 = -9 X2 - ...), so the fused multipliers read the "
+                   "wrong numbers where Φ_q holds T: push 3.002 for 3.9085 at t = 0; "
+                   "solve (multipliers_point) and the unfused sweep are right")
+def test_a_dynamic_sweep_of_the_bead_gives_its_push_and_the_rods_force(tmp_path):
+    from test_simulate_drivers import bead_on_rod
+    mech = _compile(bead_on_rod(), tmp_path)
+    sw = mech.sweep(0.0, 2.0, 9, level="dynamic")
+    for k, t in enumerate(sw.t):
+        push, rod = _bead_forces(t)
+        np.testing.assert_allclose(sw.reaction("push", on="bead")[k, :2], push, atol=1e-9)
+        np.testing.assert_allclose(sw.reaction("rod", on="bead")[k, :2], rod, atol=1e-9)
+
