@@ -9,7 +9,7 @@ from math import isfinite as _isfinite
 import numpy as np
 
 from ...errors import MechgenError
-from ...protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, LEVEL, OK,
+from ...protocol import (ACCELERATION, INFO_ITERATIONS, INFO_METHOD, INFO_RANK, LEVEL, METHOD, OK,
                          POINT_PIVOT, POINT_RESIDUAL, SING_RTOL, VELOCITY)
 from .entry import module_attr, solve_acceleration, solve_point as solve_position
 from .entry import solve_point_derivatives, solve_velocity
@@ -20,6 +20,7 @@ from ..results import Solution
 from .sweeping import no_points, report_redundancy, run, times as sweep_times_of
 
 _FLOAT64 = np.float64
+_METHOD = METHOD      # (name -> index: a valid name looked up, an invalid one checked)
 _VELOCITY, _ACCELERATION = LEVEL["velocity"], LEVEL["acceleration"]
 
 
@@ -33,9 +34,12 @@ def solve(state, t, guess, level, method, tol, maxit, fused=None, lev=None) -> S
         t = finite(t, "t")
     if lev is None:
         lev = state.level_of(level)
-    meth = state.method_of(method)
-    tol = state.tol_of(tol)
-    maxit = state.maxit_of(maxit)
+    name = state.method if method is None else method
+    meth = _METHOD.get(name) if name.__class__ is str else None
+    if meth is None:
+        meth = state.method_of(name)
+    tol = state.tol if tol is None else state.tol_of(tol)
+    maxit = state.maxit if maxit is None else state.maxit_of(maxit)
     mech = state.owner
     if guess is None:
         q = follow(state, t, tol, maxit, meth)
@@ -125,7 +129,9 @@ def sweep(state, t0, t1, n, level, guess, method, tol, maxit, times, out, forces
         staged = staged_sweep(mech, sweep_times(t0, t1, n, times), guess, piece, tol)
         if staged is not None:
             return staged
-    lev = state.level_of(level)
+    lev = state.levels.get(level) if level.__class__ is str else None
+    if lev is None:
+        lev = state.level_of(level)
     meth = state.method_of(method)
     shared = times is None and t0.__class__ is float and t1.__class__ is float and \
         n.__class__ is int and n >= 1 and t0 - t0 == 0.0 and t1 - t1 == 0.0
@@ -135,8 +141,8 @@ def sweep(state, t0, t1, n, level, guess, method, tol, maxit, times, out, forces
         ts = sweep_times_of(t0, t1, n)          # plain numbers: no further checks
     else:
         ts = sweep_times(t0, t1, n, times, each=point_bytes(mech.n, lev))
-    tol = state.tol_of(tol)
-    maxit = state.maxit_of(maxit)
+    tol = state.tol if tol is None else state.tol_of(tol)
+    maxit = state.maxit if maxit is None else state.maxit_of(maxit)
     state.tiers.expect(mech, ts.shape[0])
     if guess is None and ts[0] == state.guess_t and at_guess_params(state):
         try:                # the guess solved where it was given, its angles kept

@@ -210,12 +210,13 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
     points before which they hold (the careful sweep's are not solved). ``unwrap``: q0's
     angles are first turned as the drivers ask (a guess's; False for a configuration
     already solved at ts[0])."""
-    mod = mech.module
+    state = mech.state
+    mod, p, xtol = state.tiers.module, state.p, state.xtol
     N = ts.shape[0]
     start = 0
     turn = getattr(mod, "unwrap_turns", None) if unwrap else None
     if turn is not None and N:
-        turn(q0, ts[0], mech.p)         # the guess's angles as its drivers ask (q0 is ours)
+        turn(q0, ts[0], p)              # the guess's angles as its drivers ask (q0 is ours)
     fused = None
     if forces is not None:          # the force level whose fused path sweeps at lev
         fused = next((f for f in (fused_path(mod, level, lev) for level in FUSED_PATHS)
@@ -226,8 +227,8 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
             LAM, FACTORS = np.empty((N, mod.N_EQS)), np.empty((N, len(mod.DRIVER_ROWS)))
             FPIV = np.empty(N)
             try:
-                start = fused(ts, q0, mech.p, tol, mech.xtol, maxit, Q, QD, QDD, S, LAM,
-                              FACTORS, FPIV)
+                start = fused(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, S, LAM, FACTORS,
+                              FPIV)
             except ZeroDivisionError:   # the plain tier, where numba's numpy error model
                 pass                    # gives inf: the multipliers are solved afterwards
             else:
@@ -235,7 +236,7 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
                               count=start if start == N else max(start - 1, 0))
         if start < 0:
             try:
-                start = mod.sweep_fast(ts, q0, mech.p, tol, mech.xtol, maxit, Q, QD, QDD, S)
+                start = mod.sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, S)
             except ZeroDivisionError:   # the equations divide by zero at some point (a
                 start = 0               # driver 1/T at T = 0): the careful sweep says where
         if start == N:
@@ -245,11 +246,10 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
         q0 = Q[start].copy()
         QD_ = QD[start:] if lev >= _VEL else QD
         QDD_ = QDD[start:] if lev >= _ACC else QDD
-        done = mod.sweep(ts[start:], q0, mech.p, lev, tol, mech.xtol, maxit, meth,
-                         Q[start:], QD_, QDD_, S[start:], report)
+        done = mod.sweep(ts[start:], q0, p, lev, tol, xtol, maxit, meth, Q[start:], QD_,
+                         QDD_, S[start:], report)
         return start + done, start
-    return mod.sweep(ts, q0, mech.p, lev, tol, mech.xtol, maxit, meth, Q, QD, QDD, S,
-                     report), 0
+    return mod.sweep(ts, q0, p, lev, tol, xtol, maxit, meth, Q, QD, QDD, S, report), 0
 
 
 def from_start(mech, ts, q0, lev, tol, maxit, meth) -> Sweep:
