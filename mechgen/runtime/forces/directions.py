@@ -125,8 +125,9 @@ def mark(module, ts, Q, p, LAM, singular=None) -> np.ndarray:
 def singular_error(mech, s):
     """The SingularError of a single solve at a configuration where a spring or damper
     has no direction, or None where every one has."""
-    mod = mech.module
-    if not load_ends(mod) or not no_direction(mod, [s.t], s.q[None], mech.p)[0]:
+    state = mech.state                  # (its fields: a solve's cost, not properties')
+    mod = state.tiers.module
+    if not load_ends(mod) or not no_direction(mod, [s.t], s.q[None], state.p)[0]:
         return None
     from ...errors import SingularError
     from .lookup import division_error

@@ -289,7 +289,8 @@ class ForceSolution(Solution):
 
 def _multipliers_at(mech, s, level):
     """(λ, the force terms or None, dependent rows) at the kinematic solution s."""
-    mod = mech.module
+    state = mech.state                  # (its fields: a solve's cost, not properties')
+    mod, p = state.tiers.module, state.p
     if level == "static":
         qd = qdd = np.zeros(mech.n)
     else:
@@ -298,7 +299,7 @@ def _multipliers_at(mech, s, level):
     terms, dependent = None, ()
     if point is not None:
         lam = np.empty(mech.m)
-        piv = point(s.q, qd, qdd, s.t, mech.p, lam)
+        piv = point(s.q, qd, qdd, s.t, p, lam)
         if not (piv >= SING_RTOL and _norm_finite(lam)):
             terms = force_terms(mech, s.q, qd, qdd, s.t)
             lam, dependent = multipliers(mech, s.q, s.t, _rhs(terms), level)
@@ -306,7 +307,7 @@ def _multipliers_at(mech, s, level):
         terms, lam = np.zeros((1, 3, mech.n)), np.zeros((1, mech.m))
         ts, jac, nu, energy, factors, piv = _rows_scratch(mech, mod)
         ts[0], piv[0] = s.t, 0.0
-        mod.force_rows(ts, s.q[None], qd[None], qdd[None], mech.p, jac, terms, nu, energy,
+        mod.force_rows(ts, s.q[None], qd[None], qdd[None], p, jac, terms, nu, energy,
                        factors, piv, lam)
         terms, lam = terms[0], lam[0]
         if not (piv[0] >= SING_RTOL and all_finite(lam)):

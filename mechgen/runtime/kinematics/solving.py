@@ -69,9 +69,8 @@ def solve_point(state, t, q, lev, meth, tol, maxit, fused=None):
     (runtime.kinematics.entry): (qd, qdd, the info row as a list of Python numbers: one call, not a
     numpy scalar a field). ``fused``: see there."""
     info = state.info
-    n = state.guess.shape[0]
-    qd = np.empty(n) if lev >= _VELOCITY else None
-    qdd = np.empty(n) if lev >= _ACCELERATION else None
+    qd = np.empty(q.shape[0]) if lev >= _VELOCITY else None
+    qdd = np.empty(q.shape[0]) if lev >= _ACCELERATION else None
     # one small compiled call at a time (runtime.kinematics.entry): a position solve compiles
     # neither the full Newton (unless the sorted solver gives up) nor the derivative passes
     if lev or fused is not None:
