@@ -5,9 +5,11 @@ random times with and without a guess, and run as a small design table; every po
 judged against the closed form by tests/random_checks.py (the fast profile's judge).
 
 Prints, per family and kind of run, how many were right, refused (raised, or a flagged
-point: JUMP, THROUGH_SINGULAR, a failure) and wrong (a point with status OK off the
-closed form of its mode, or past a lock window), then the first wrong runs with their
-parameters and times. Deterministic for a given --seed.
+point: JUMP, THROUGH_SINGULAR, a failure), wrong (a point with status OK off the
+closed form of its mode, or past a lock window) and crashed (raised anything else), the
+share of the points their modes reach that were answered right, then the first wrong
+runs with their parameters and times. Exits 1 on a wrong or crashed run, or a family
+that answered less than --min-answered. Deterministic for a given --seed.
 
     PYTHONPATH=$PWD MECHGEN_TIER=compiled python benchmarks/random_mechanisms.py --count 10000
 """
@@ -28,14 +30,7 @@ import random_checks as rc                       # noqa: E402
 from random_families import FAMILIES             # noqa: E402
 
 
-def guarded(spec, run, pairs=False):
-    """run(), or a "crashed" verdict where mechgen raised something other than its
-    refusals (a traceback is a defect of its own, issue 20, but not a wrong number)."""
-    try:
-        return run()
-    except Exception as exc:            # noqa: BLE001 - counted and shown, not hidden
-        v = rc.Verdict("crashed", detail=f"{spec}: {type(exc).__name__}: {exc}")
-        return [("crash", v)] if pairs else [v]
+guarded = rc.guarded
 
 
 def main(argv=None):
@@ -51,6 +46,9 @@ def main(argv=None):
     ap.add_argument("--by-method", action="store_true",
                     help="count sweeps and solves per method (auto, sorted, full) too")
     ap.add_argument("--show", type=int, default=12, help="wrong runs printed per family")
+    ap.add_argument("--min-answered", type=float, default=0.9,
+                    help="the least share of the points a run's mode reaches from its start "
+                         "(the closed form assembles) answered right, per family (0.9)")
     args = ap.parse_args(argv)
     names = [n.strip() for n in args.families.split(",") if n.strip()]
     per = max(1, args.count // len(names))
@@ -97,8 +95,20 @@ def main(argv=None):
         print(f"\nruns that crashed ({len(crashes)}):")
         for d in crashes[:args.show]:
             print("  " + d)
-    bad = sum(n for (kind, outcome), n in counts.items() if outcome == "wrong")
-    return 1 if bad else 0
+    bad = sum(n for (kind, outcome), n in counts.items() if outcome in ("wrong", "crashed"))
+    short = []
+    for name in names:
+        right = sum(n for (kind, o), n in counts.items()
+                    if kind.startswith(name + "/") and o == "answered")
+        reach = sum(n for (kind, o), n in counts.items()
+                    if kind.startswith(name + "/") and o == "reachable")
+        print(f"{name}: answered {right} of the {reach} points its runs' modes reach")
+        if reach == 0 or right < args.min_answered * reach:
+            short.append(name)
+    if short:
+        print(f"\nfamilies that refused too much (< {args.min_answered} answered): "
+              + ", ".join(short))
+    return 1 if bad or short else 0
 
 
 if __name__ == "__main__":

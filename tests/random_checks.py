@@ -9,7 +9,11 @@ velocities 1e-7, accelerations 1e-6, each relative to the size of the quantity o
 run); a flagged point (JUMP, THROUGH_SINGULAR) or a failed solve is a refusal, and the
 point after a flag may start a new branch; a lock window (a time where the mode cannot
 assemble) ends the branch, so an OK point past one is wrong. A sweep that raises is
-refused (the points it returned before raising are still judged)."""
+refused (the points it returned before raising are still judged); a run that raises
+anything else "crashed" (guarded). Refusing is not free: answered() counts the points a
+run's mode reaches from its start without a lock window (the closed form assembles all
+the way), and how many of them were answered right; a code that refuses everything
+answers none of them."""
 from __future__ import annotations
 
 from collections import Counter
@@ -29,7 +33,7 @@ REFUSALS = (mechgen.ConvergenceError, mechgen.SingularError)
 @dataclass
 class Verdict:
     """One run (a sweep, a design, a single solve): its outcome and the first wrong point."""
-    outcome: str = "right"            # right, refused, wrong
+    outcome: str = "right"            # right, refused, wrong, crashed
     points: Counter = field(default_factory=Counter)
     detail: str = ""
 
@@ -86,13 +90,48 @@ def locks_between(fam, p, ts, sigma, sub=24, fine=20000):
     return at, between
 
 
+def reachable_count(fam, p, t0, ts, sigma):
+    """How many of the times ts mode sigma reaches from t0 without a lock window between
+    (its discriminant on a fine grid from t0 out to the farthest time, each way)."""
+    ts = np.asarray(ts, dtype=float)
+    count = 0
+    for side in (ts >= t0, ts < t0):
+        if not side.any():
+            continue
+        far = ts[side].max() if ts[side][0] >= t0 else ts[side].min()
+        m = max(64, int(4000 * abs(far - t0) / fam.period(p)) + 2)
+        grid = np.linspace(t0, far, m)
+        bad = np.flatnonzero(fam.disc(p, grid, sigma) < 0)
+        stop = grid[bad[0]] if bad.size else None
+        if stop is None:
+            count += int(side.sum())
+        elif far >= t0:
+            count += int(np.sum(side & (ts < stop)))
+        else:
+            count += int(np.sum(side & (ts > stop)))
+    return count
+
+
+def answered(verdicts):
+    """(points answered right, points their mode reaches from the start) over verdicts
+    judged against a given mode (points["reachable"]): the share a judge bounds."""
+    right = sum(min(v.points["right"], v.points["reachable"]) for v in verdicts)
+    return right, sum(v.points["reachable"] for v in verdicts)
+
+
 def judge(fam, p, ts, Q, QD=None, QDD=None, status=None, sigma=None, raised=False,
-          what=""):
+          what="", planned=None, t0=None):
     """Sort the points of a (possibly partial) sweep; ``sigma``: the mode the start
-    fixes (None: the mode its first point is on)."""
+    fixes (None: the mode its first point is on). With sigma, points["reachable"] counts
+    the times asked for (``planned``, else ts) that sigma reaches from ``t0`` (else the
+    first time) without a lock window: those a right answer gives."""
     v = Verdict()
     ts = np.asarray(ts, dtype=float)
     N = len(ts)
+    times = ts if planned is None else np.asarray(planned, dtype=float)
+    if sigma is not None and len(times):
+        v.points["reachable"] = reachable_count(fam, p, times[0] if t0 is None else t0,
+                                                times, fam.judged(sigma))
     if raised:
         v.outcome = "refused"
         v.points["raised"] += 1
@@ -206,15 +245,17 @@ def run_sweep(fam, spec, mech=None):
     """The spec's sweep from the exact start of its mode, judged."""
     mech = (mech or fam.mech()).with_params(**spec.params)
     q0 = fam.exact(spec.params, spec.sigma, np.array([spec.t0]), 0)[0][0]
+    planned = np.linspace(spec.t0, spec.t1, spec.n)
     raised = False
     try:
         sw = mech.sweep(spec.t0, spec.t1, spec.n, level=spec.level, method=spec.method, guess=q0)
     except REFUSALS as err:
         sw, raised = getattr(err, "sweep", None), True
         if sw is None:
-            return judge(fam, spec.params, [], [], raised=True)
+            return judge(fam, spec.params, [], [], raised=True, sigma=spec.sigma,
+                         planned=planned, t0=spec.t0)
     return judge(fam, spec.params, sw.t, sw.Q, sw.QD, sw.QDD, sw.status, sigma=spec.sigma,
-                 raised=raised, what=str(spec))
+                 raised=raised, what=str(spec), planned=planned, t0=spec.t0)
 
 
 def reachable(fam, p, t0, ts, sigma):
@@ -269,7 +310,8 @@ def single_solves(fam, spec, rng, count=4, mech=None, kinds=SOLVES):
                         g = wrap(g, fam.angle_mask)
                     s = m.solve(float(t), guess=g, level=spec.level, method=spec.method)
             except REFUSALS:
-                out.append((kind, Verdict("refused", Counter(raised=1))))
+                reach = int(fam.disc(p, np.array([t]), fam.judged(spec.sigma))[0] >= 0)
+                out.append((kind, Verdict("refused", Counter(raised=1, reachable=reach))))
                 continue
             arrs = [s.q[None], None if s.qd is None else s.qd[None],
                     None if s.qdd is None else s.qdd[None]]
@@ -359,16 +401,30 @@ def run_carried_table(fam, spec, rng, designs=4, mech=None):
         what = f"{spec} carried design {d} ({dim}={value!r}, mode {sigma}, clear={clear})"
         out.append(judge(fam, pd, sw.t, sw.Q, sw.QD, sw.QDD, sw.status,
                          sigma=sigma if clear else None,
-                         raised=int(tab.done[d]) < len(tab.t), what=what))
+                         raised=int(tab.done[d]) < len(tab.t), what=what, planned=tab.t,
+                         t0=spec.t0))
     return out
 
 
 CRASHES = []
 
 
+def guarded(spec, run, pairs=False):
+    """run(), or a "crashed" verdict where mechgen raised something other than its
+    refusals (a traceback is a defect of its own, issue 20, but not a wrong number)."""
+    try:
+        return run()
+    except Exception as exc:            # noqa: BLE001 - counted and shown, not hidden
+        v = Verdict("crashed", detail=f"{spec}: {type(exc).__name__}: {exc}")
+        return [("crash", v)] if pairs else [v]
+
+
 def tally(counts, kind, verdicts, wrongs, keep=20):
     """Count verdicts under kind; keep the first wrong ones' details (crashes in
     CRASHES)."""
+    right, reach = answered(verdicts)
+    counts[(kind, "answered")] += right
+    counts[(kind, "reachable")] += reach
     for v in verdicts:
         counts[(kind, v.outcome)] += 1
         if v.outcome == "wrong" and len(wrongs) < keep:
@@ -379,13 +435,16 @@ def tally(counts, kind, verdicts, wrongs, keep=20):
 
 def summary(counts, wrongs=()):
     """Lines of per-family counts: right / refused / wrong (and crashed: mechgen raised
-    something other than ConvergenceError or SingularError)."""
+    something other than ConvergenceError or SingularError), and the share of the points
+    their mode reaches that were answered right (answered())."""
     rows = {}
     for (kind, outcome), n in counts.items():
         rows.setdefault(kind, Counter())[outcome] += n
-    lines = [f"{'family/run':38s} {'right':>7s} {'refused':>8s} {'wrong':>6s} {'crashed':>8s}"]
+    lines = [f"{'family/run':38s} {'right':>7s} {'refused':>8s} {'wrong':>6s} {'crashed':>8s}"
+             f" {'answered':>9s}"]
     for kind in sorted(rows):
         c = rows[kind]
+        share = f"{c['answered'] / c['reachable']:9.3f}" if c["reachable"] else f"{'-':>9s}"
         lines.append(f"{kind:38s} {c['right']:7d} {c['refused']:8d} {c['wrong']:6d} "
-                     f"{c['crashed']:8d}")
+                     f"{c['crashed']:8d} {share}")
     return lines

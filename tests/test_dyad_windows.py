@@ -64,9 +64,17 @@ def _draws(family, variant, rng):
 KINDS = [("fourbar", "lockwin"), ("slider_crank", "lockwin"), ("sixbar", "random")]
 
 
+MIN_ANSWERED = 0.8  # of the points before a window (answered 1.0 at 9fb1c2e: no toggle)
+
+
 def _no_wrong(verdicts):
+    """No point wrong, no run crashed, and a refusal only where it is due: of the points
+    each run's mode reaches from its start before the window (rc.answered), at least
+    MIN_ANSWERED answered right (a code refusing every sweep passed without it)."""
     wrong = [v.detail for v in verdicts if v.outcome in ("wrong", "crashed")]
     assert not wrong, "\n".join(wrong)
+    right, reach = rc.answered(verdicts)
+    assert reach > 0 and right >= MIN_ANSWERED * reach, (right, reach)
 
 
 @pytest.mark.parametrize("family,variant", KINDS)
@@ -115,7 +123,8 @@ def test_coarse_sweeps_and_tables_over_a_window(family, variant):
         done = int(tab.done[0])
         verdicts.append(rc.judge(fam, spec.params, tab.t[:done],
                                  tab.Q.reshape(-1, len(tab.t), mech.n)[0, :done],
-                                 sigma=spec.sigma, what=f"table {s}"))
+                                 sigma=spec.sigma, what=f"table {s}", planned=tab.t,
+                                 t0=0.0))
     assert verdicts
     _no_wrong(verdicts)
 
