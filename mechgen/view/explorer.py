@@ -66,6 +66,33 @@ def default_traces(scene, P, Q, most=3):
     return out
 
 
+def moves(values) -> bool:
+    """Whether a quantity changes over the cycle (beyond round-off of its size)."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v)]
+    return v.size > 1 and float(np.ptp(v)) > 1e-9 * (1.0 + float(np.max(np.abs(v))))
+
+
+def default_plots(mech, data, quantities) -> list:
+    """The two plots a page opens with: the first declared output that moves, else the
+    coordinate that moves most (its range against its size: a slider's travel, a lever's
+    swing; never one that stays put, as the ram's angle Th4 of the quick-return does);
+    then a driver's effort that moves (a model with masses or loads), else the first
+    one's rate."""
+    outputs = [o for o in mech.outputs if moves(data[o])]
+    if outputs:
+        first = outputs[0]
+    else:
+        def swing(c):
+            v = np.asarray(data[c], dtype=float)
+            v = v[np.isfinite(v)]
+            return float(np.ptp(v)) / (1.0 + float(np.max(np.abs(v)))) if v.size else 0.0
+        moving = [c for c in mech.coordinates if moves(data[c])]
+        first = max(moving, key=swing) if moving else mech.coordinates[-1]
+    efforts = [q for q in quantities if q.startswith(DRIVER) and moves(data[q])]
+    return [first, efforts[0] if efforts else first + "d"]
+
+
 class Explorer:
     """A mechanism explored over one cycle [t0, t1] of n times. ``trace``: points whose
     paths are drawn (names as draw(trace=...) takes them; default the longest paths);
@@ -110,9 +137,7 @@ class Explorer:
         self.names = list(self.data)
         self.quantities = quantity_names(mech)
         if plots is None:
-            first = mech.outputs[0] if mech.outputs else mech.coordinates[-1]
-            efforts = [q for q in self.quantities if q.startswith(DRIVER)]
-            plots = [first, efforts[0] if efforts else first + "d"]
+            plots = default_plots(mech, self.data, self.quantities)
         plots = [plots] if isinstance(plots, str) else list(plots)
         unknown = [p for p in plots if p not in self.quantities]
         if unknown:

@@ -16,12 +16,14 @@ from bokeh.models import (Button, ColumnDataSource, CustomJS, Div, Label, Range1
                           Slider, Spinner, Toggle)
 from bokeh.plotting import figure
 
+from ..units import of as units_of
 from .cycle import unit_of
 from .layers import INK, drawing_columns, label_data, placed, same_rows
 from .scripts import CHOOSE, PLAY, REDRAW, UNPACK
 
 WIDTH = 620              # the drawing's width in pixels
-PLOT_WIDTH, PLOT_HEIGHT = 440, 230
+PLOT_WIDTH, PLOT_HEIGHT = 440, 250
+AXIS_FONT = "11px"       # a y label of ~36 characters ("driver: crank driver (N·mm)") fits
 BANNER = {"color": "#a01010", "background-color": "#fff0f0", "border": "1px solid #a01010",
           "padding": "6px", "white-space": "pre-wrap", "font-size": "13px"}
 
@@ -50,8 +52,9 @@ class Page:
                      y_range=Range1d(extent[2], extent[3]), match_aspect=True,
                      tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="above",
                      title=f"{ex.mech.name}", name="drawing")
-        fig.xaxis.axis_label = "x (L: the model's length unit)"
-        fig.yaxis.axis_label = "y (L)"
+        length = units_of(ex.mech).length          # declared (mechgen.units), or None
+        fig.xaxis.axis_label = f"x ({length})" if length else "x (L: the model's length unit)"
+        fig.yaxis.axis_label = f"y ({length})" if length else "y (L)"
         fig.grid.grid_line_color = "#e4e4e4"
         self.figure = fig
         self.frame = extent             # what the reset tool shows: the whole drawing
@@ -136,6 +139,7 @@ class Page:
             dot = ColumnDataSource({"x": [float(ex.data["t"][0])],
                                     "y": [float(ex.data[quantity][0])]})
             f.scatter("x", "y", source=dot, size=8, color=colors[p % 2])
+            f.xaxis.axis_label_text_font_size = f.yaxis.axis_label_text_font_size = AXIS_FONT
             f.xaxis.axis_label = "t (" + units["t"] + ")"
             f.yaxis.axis_label = quantity + (f" ({units[quantity]})" if units[quantity] else "")
             sel = Select(title=f"plot {p + 1}", value=quantity, options=options, width=200,

@@ -75,6 +75,8 @@ class Session:
             sel.on_change("value", lambda attr, old, new: self.choose())
         self._modes = {}
         self.data = ex.data            # every column of the cycle shown
+        self.pending, self.busy = {}, False    # parameter values not yet solved (moved)
+        self.lock, self.solving = threading.Lock(), threading.Lock()
 
     def choose(self):
         self.doc.hold("combine")
@@ -84,22 +86,59 @@ class Session:
             self.doc.unhold()
 
     def moved(self, name, value):
-        data, again, message = self.ex.compute({name: float(value)})
-        self.send(data, again, message)
+        """A parameter's slider or value box changed: the value kept, and the cycle solved
+        for the latest values by the session's worker (solve_pending). Changes arriving
+        while a cycle is being solved are coalesced into the next solve: the latest value
+        of each parameter wins and none is lost; the page is never sent an older cycle
+        after a newer one."""
+        with self.lock:
+            self.pending[name] = float(value)
+            if self.busy:
+                return
+            self.busy = True
+        threading.Thread(target=self.solve_pending, name="mechgen-view-solve",
+                         daemon=True).start()
 
-    def send(self, data, again, message):
+    def solve_pending(self):
+        """(A worker thread, one at a time per session.) Solve the cycle for the values
+        pending, hand it to the server's loop (send) and wait until it is applied, then
+        again while values arrived meanwhile; the server's loop keeps reading the page's
+        messages all the while."""
+        while True:
+            with self.lock:
+                changes, self.pending = self.pending, {}
+                if not changes:
+                    self.busy = False
+                    return
+            applied = threading.Event()
+            try:
+                with self.solving:
+                    data, again, message = self.ex.compute(changes)
+            except Exception:           # never leave the page waiting without a word
+                traceback.print_exc()
+                continue
+            self.doc.add_next_tick_callback(
+                lambda: self.send(data, again, message, applied))
+            applied.wait(30)
+
+    def send(self, data, again, message, applied=None):
         """The new cycle to the page in one message (one redraw in the browser)."""
-        self.data = data
-        self.doc.hold("combine")
         try:
-            self.page.show(data, self.ex.picture if again else None, message)
+            self.data = data
+            self.doc.hold("combine")
+            try:
+                self.page.show(data, self.ex.picture if again else None, message)
+            finally:
+                self.doc.unhold()
         finally:
-            self.doc.unhold()
+            if applied is not None:
+                applied.set()
 
     def find_modes(self):
         t = self.page.time.value
         try:
-            found = self.ex.modes(t)
+            with self.solving:
+                found = self.ex.modes(t)
         except MechgenError as exc:
             self.page.note.text = f"assembly modes at T = {t:.4g}: {exc}"
             return
@@ -112,11 +151,13 @@ class Session:
         if q is None:
             return
         try:
-            start = self.ex.follow_back(q, self.page.time.value)
+            with self.solving:
+                start = self.ex.follow_back(q, self.page.time.value)
         except MechgenError as exc:
             self.page.note.text = f"{label} cannot be followed back to the cycle's start: {exc}"
             return
-        data, again, message = self.ex.compute(guess=start)
+        with self.solving:
+            data, again, message = self.ex.compute(guess=start)
         self.send(data, again, message)
 
     def look(self):

@@ -190,16 +190,25 @@ def standalone_page(ex, vary=None, steps=None, max_cycles=MAX_CYCLES):
     return page
 
 
-def write_html(ex, path, vary=None, steps=None, max_cycles=MAX_CYCLES):
-    """Write the standalone page to ``path``; returns the page."""
-    from bokeh.embed import file_html
-    from bokeh.resources import INLINE
+def page_html(page, resources="inline") -> str:
+    """The page as one HTML file: its layout in a Bokeh Document of its own that draws
+    the mechanism once BokehJS has loaded it (document_ready), BokehJS embedded in the
+    file (``resources="inline"``: it draws without the internet) or loaded from Bokeh's
+    CDN (``"cdn"``)."""
     from bokeh.document import Document
-    page = standalone_page(ex, vary, steps, max_cycles)
+    from bokeh.embed import file_html
+    from bokeh.resources import CDN, INLINE
     doc = Document()
     doc.add_root(page.layout)
     doc.js_on_event("document_ready", page.redraw)
-    html = file_html(doc, INLINE, title=f"mechgen view: {ex.mech.name}")
+    return file_html(doc, INLINE if resources == "inline" else CDN,
+                     title=f"mechgen view: {page.ex.mech.name}")
+
+
+def write_html(ex, path, vary=None, steps=None, max_cycles=MAX_CYCLES):
+    """Write the standalone page to ``path``; returns the page."""
+    page = standalone_page(ex, vary, steps, max_cycles)
+    html = page_html(page)
     with open(path, "w", encoding="utf-8") as fh:
         fh.write(html)
     return page
