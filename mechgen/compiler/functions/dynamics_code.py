@@ -73,8 +73,8 @@ def written_forces(plan, eq, model):
         return None, None
     still = {s: sp.Integer(0) for s in (*eq.qd, *eq.qdd)}
     rest = [replaced(x, lambda e: sp.sympify(e).xreplace(still)) for x in step]
-    return (in_loop(plan, eq, step, "_f", known=(*eq.qd, *eq.qdd)),
-            in_loop(plan, eq, rest, "_f"))
+    return (in_loop(plan, eq, step, "_fm", known=(*eq.qd, *eq.qdd)),
+            in_loop(plan, eq, rest, "_fm"))
 
 
 # (name, arguments, docstring lines) of the functions above, for the template
