@@ -21,6 +21,39 @@ def quick_return(t, longitud=3, velocidad=None, anguloI=0, side=1):
     return [0, 5, th, 0, 0, mp.atan2(-px, py), x4, 10, 0]
 
 
+def quick_return_torque(t, bodies, g=9.807, cut=0.0, longitud=3):
+    """The crank torque of the crank-driven quick-return (quick_return, θ = 2πT + 0) by the
+    power balance τ θ̇ = d/dt (kinetic + potential energy) − P_cut, differentiated by
+    mpmath. ``bodies``: {"manivela" | "colisa" | "deslizadera": (mass, inertia about the
+    centroid, centroid in local axes)} (the crank's origin at its pivot (0, 5), the
+    lever's at the origin, the slider's at its pin on y = 10); gravity g along −y;
+    ``cut``: a force (cut, 0) on the slider's pin while it moves back (ẋ4 < 0)."""
+    def frames(u):
+        q = quick_return(u, longitud)
+        return {"manivela": (q[0], q[1], q[2]), "colisa": (q[3], q[4], q[5]),
+                "deslizadera": (q[6], q[7], q[8])}
+
+    def centroid(u, name, k):
+        x, y, th = frames(u)[name]
+        c = bodies[name][2]
+        return (x + mp.cos(th) * c[0] - mp.sin(th) * c[1],
+                y + mp.sin(th) * c[0] + mp.cos(th) * c[1], th)[k]
+
+    def energy(u):
+        kinetic = potential = 0
+        for name, (mass, inertia, _) in bodies.items():
+            vx, vy, w = (mp.diff(lambda v: centroid(v, name, k), u) for k in range(3))
+            kinetic += 0.5 * mass * (vx ** 2 + vy ** 2) + 0.5 * inertia * w ** 2
+            potential += mass * g * centroid(u, name, 1)
+        return kinetic + potential
+
+    with mp.workdps(30):
+        tt = mp.mpf(t)
+        x4d = mp.diff(lambda v: quick_return(v, longitud)[6], tt)
+        cutting = cut * x4d if x4d < 0 else 0
+        return float((mp.diff(energy, tt) - cutting) / (2 * mp.pi))
+
+
 def motion(fn, t, dps=30):
     """q, q̇, q̈ (float arrays) of a closed form fn(t) at t, differentiated by mpmath."""
     with mp.workdps(dps):

@@ -190,27 +190,12 @@ def test_a_distance_driver_in_a_stage_gives_its_force_not_its_multiplier(tmp_pat
 
 
 def _quick_return_torque(t):
-    """The crank torque of the crank-driven quick-return (tests/closed_forms.quick_return,
-    θ = 2πT) with the lever's mass 5, inertia 33.75 about its centroid (0, 4.5) local and
-    the slider's mass 2, under gravity 9.807: τ θ̇ = d/dt (kinetic + potential energy),
-    differentiated by mpmath."""
-    import mpmath as mp
-    from closed_forms import quick_return
-
-    def lever(u):                               # θ3, and its centroid R(θ3) (0, 4.5)
-        th3 = quick_return(u)[5]
-        return th3, -4.5 * mp.sin(th3), 4.5 * mp.cos(th3)
-
-    def kinetic(u):
-        vx, vy = (mp.diff(lambda v: lever(v)[k], u) for k in (1, 2))
-        w3 = mp.diff(lambda v: lever(v)[0], u)
-        x4d = mp.diff(lambda v: quick_return(v)[6], u)
-        return 0.5 * 5.0 * (vx ** 2 + vy ** 2) + 0.5 * 33.75 * w3 ** 2 + 0.5 * 2.0 * x4d ** 2
-
-    with mp.workdps(30):
-        tt = mp.mpf(t)
-        power = mp.diff(kinetic, tt) + mp.diff(lambda u: 5.0 * 9.807 * lever(u)[2], tt)
-        return float(power / (2 * mp.pi))
+    """The crank torque of the crank-driven quick-return with the lever's mass 5, inertia
+    33.75 about its centroid (0, 4.5) local and the slider's mass 2, under gravity 9.807
+    (tests/closed_forms.quick_return_torque: the power balance by mpmath)."""
+    from closed_forms import quick_return_torque
+    return quick_return_torque(t, {"colisa": (5.0, 33.75, (0, 4.5)),
+                                   "deslizadera": (2.0, 0.5, (0, 0))})
 
 
 def test_the_left_limit_of_a_switch_keeps_the_earlier_stages_forces(tmp_path):

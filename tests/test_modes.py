@@ -246,7 +246,14 @@ def test_singularities_without_a_guess_search_the_branch_solve_is_on(tmp_path):
     mech = mechgen.compile(mechgen.load_model(f"{root}/examples/quick_return_slider.py"),
                            outdir=str(tmp_path), tier="python")
     locks = [float(x) for x in mech.singularities(0.0, 0.3)]
-    assert abs(locks[0] - 0.24648638) < 1e-6
+    # the lock: the crank pin's quadratic on the lever (s² − 10 s cos φ + 25 − L² = 0) has
+    # a double root, cos φ = 4/5, sin φ = −3/5 on this mode; the lever's end 9(−sin φ,
+    # cos φ) 5 from the slider on y = 10: X4² − 10.8 X4 + 12 = 0; X4 = centro + amplitud
+    # sin 2πT (tests/closed_forms.slider_driven_configurations)
+    import mpmath as mp
+    x_lock = (mp.mpf("10.8") + mp.sqrt(mp.mpf("10.8") ** 2 - 48)) / 2
+    t_lock = float(mp.asin((x_lock - mp.mpf("4.13931")) / mp.mpf("5.40447")) / (2 * mp.pi))
+    assert abs(locks[0] - t_lock) < 1e-6
     with pytest.raises(mechgen.ConvergenceError, match="singularities.*follows the motion"):
         mech.singularities(0.5, 1.0)
     with pytest.raises(mechgen.ConvergenceError):
