@@ -671,6 +671,28 @@ def test_written_out_multipliers_equal_a_dense_solve():
     assert worst < 1e-12
 
 
+def test_the_quick_return_s_torque_is_the_power_balance_of_its_closed_form():
+    """The committed quick-return with masses, gravity and a cutting force on the return
+    stroke: the crank torque of a dynamic sweep (the module's fused path) and of single
+    solves against τ θ̇ = d/dt E − P_cut on the closed form (tests/closed_forms.
+    quick_return_torque, mpmath), no function of the module in the reference (the dense
+    solve above checks the written-out λ against the module's own Φ_q and force terms)."""
+    import os
+    from closed_forms import quick_return_torque
+    from conftest import ROOT
+    mech = mechgen.load(os.path.join(ROOT, "generated", "quick_return_forces.py"),
+                        tier="python")
+    bodies = {"manivela": (2.0, 1.5, (1.5, 0)), "colisa": (5.0, 33.75, (0, 4.5)),
+              "deslizadera": (3.0, 1.0, (1, 0.2))}
+    sw = mech.sweep(0.0, 1.0, 41, level="dynamic")
+    for k in range(0, 41, 5):
+        t = float(sw.t[k])
+        want = quick_return_torque(t, bodies, cut=500.0)
+        assert abs(sw.driver("crank driver")[k] - want) < 1e-8 * (1 + abs(want)), t
+        got = mech.solve(t, level="dynamic").driver("crank driver")
+        assert abs(got - want) < 1e-8 * (1 + abs(want)), t
+
+
 def test_forces_across_a_stage_switch(tmp_path):
     """A quick-return whose crank turns forward (2πT) up to T = 0.5 and back (2π(1 − T))
     after it: at T and 1 − T the configuration is the same and the crank's speed reversed
