@@ -229,6 +229,42 @@ def test_nothing_outside_the_facade_touches_a_mechanisms_private_attributes():
         "\n  ".join(wrong)
 
 
+def _mechanism_methods():
+    """The public methods of Mechanism, read from its source (no import: the house test
+    imports nothing of mechgen)."""
+    with open(MODULES["mechgen.runtime.mechanism"], encoding="utf-8") as fh:
+        tree = ast.parse(fh.read())
+    cls = next(n for n in tree.body if isinstance(n, ast.ClassDef) and n.name == "Mechanism")
+    return {f.name for f in cls.body if isinstance(f, ast.FunctionDef)
+            and not f.name.startswith("_") and not any(
+                isinstance(d, ast.Name) and d.id == "property" or
+                isinstance(d, ast.Attribute) and d.attr == "setter" for d in f.decorator_list)}
+
+
+# the names a Mechanism goes by in the runtime's code
+MECHANISM_NAMES = {"mech", "mechanism", "owner", "ref", "other"}
+
+
+@pytest.mark.parametrize("name", sorted(m for m in MODULES
+                                        if m.startswith("mechgen.runtime.kinematics")))
+def test_the_kinematics_never_call_the_mechanism(name):
+    """The kinematics take the state and return results: no call of a Mechanism's
+    methods (mech.sweep, mech.with_params(...).set_guess, ...) from runtime/kinematics/."""
+    methods = _mechanism_methods()
+    with open(MODULES[name], encoding="utf-8") as fh:
+        tree = ast.parse(fh.read())
+    wrong = []
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and \
+                node.func.attr in methods:
+            owner = node.func.value
+            said = owner.attr if isinstance(owner, ast.Attribute) else \
+                getattr(owner, "id", None)
+            if said in MECHANISM_NAMES:
+                wrong.append(f"line {node.lineno}: {ast.unparse(node.func)}()")
+    assert not wrong, f"{name} calls the Mechanism:\n  " + "\n  ".join(wrong)
+
+
 def test_no_import_cycles():
     graph = {m: {t for t, _ in imports(m, p) if t in MODULES and t not in (m, "mechgen")}
              for m, p in MODULES.items()}

@@ -16,7 +16,7 @@ import warnings
 import numpy as np
 
 from ..errors import BranchJumpWarning, MechgenError
-from ..runtime.kinematics.guesses import quiet_params
+from ..runtime.tables.starts import quiet_params
 from ..units import MODEL_UNITS, Units, coordinate_kind, effort_kind
 from ..units import of as units_of
 from .geometry import poses

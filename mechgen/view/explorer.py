@@ -10,7 +10,7 @@ import textwrap
 import numpy as np
 
 from ..errors import MechgenError
-from ..runtime.kinematics.guesses import quiet_params
+from ..runtime.tables.starts import quiet_params
 from ..runtime.loading.tiers import Tiers
 from ..plot.scene import Scene
 from .cycle import (DRIVER, Failure, assembling_range, columns, empty_columns, quantity_names,

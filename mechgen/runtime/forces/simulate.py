@@ -36,6 +36,7 @@ import numpy as np
 from ...errors import ConvergenceError, SingularError
 from ..guards import positive_tol, sweep_times
 from ..kinematics.guesses import start_vector
+from ..kinematics.solving import solve
 from ...protocol import SING_RTOL
 from ..results import Sweep
 from .lookup import _constraints_of, division_error, loads_guarded, tables
@@ -432,7 +433,8 @@ def integrate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10
     system.mod = mech.module
     t_start = float(ts[0])
     if q0 is None:                  # the drivers' state at t0, all of them still acting
-        kin = mech.solve(t_start, level="velocity")
+        with mech.state.lock:       # (mech.solve(t_start, level="velocity"))
+            kin = solve(mech.state, t_start, None, "velocity", None, None, None)
         q, qd = kin.q.copy(), kin.qd.copy()
     else:
         q, qd = start_vector(mech, q0), np.zeros(mech.n)

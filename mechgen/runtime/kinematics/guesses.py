@@ -131,16 +131,3 @@ def _angle_coordinates():
 def _short(value) -> str:
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
-
-
-def quiet_params(mech, values):
-    """``mech.with_params(**values)`` without asking the symbolic side about cams' contact
-    geometry again (Mechanism.with_params warns where it is lost): for the runtime's own
-    copies, made in loops (a table's start, the view's redraws and searches)."""
-    symbolic, mech.symbolic = mech.symbolic, None
-    try:
-        other = mech.with_params(**values)
-    finally:
-        mech.symbolic = symbolic
-    other.symbolic = symbolic
-    return other

@@ -24,13 +24,12 @@ from ..forces.lookup import (column_name, division_error, effort_column, loads_g
                              tables)
 from ..guards import finite, fits, point_bytes, sweep_times
 from ..kinematics.entry import module_attr
-from ..kinematics.guesses import quiet_params
 from ..quantity import lookup, column_names
 from ..results import Sweep, pandas, write_csv
 from ..kinematics.sweeping import divides
 from .backends import cuda_keeps_points, progress_reporter, run_backend
 from .chunks import reduce_threads
-from .starts import design_starts, guess_reference, mark_starts
+from .starts import design_starts, guess_reference, mark_starts, quiet_params
 from .reduce import (Reduction, driver_efforts, driver_slot, reduce_chunk,
                      reduce_slots, status_name)
 

@@ -23,7 +23,6 @@ import numpy as np
 from ...errors import MechgenError
 from ...protocol import JUMP, OK, POINT_INFO_SIZE, STATUS_CODE, THROUGH_SINGULAR
 from ..kinematics.entry import module_attr, solve_point
-from ..kinematics.guesses import quiet_params
 from ..kinematics.follow import CELL, follow
 from ..kinematics.guesses import turned_home
 from ..results import Solution
@@ -138,3 +137,16 @@ def mark_starts(data, S0, N):
         data.INFO[first, 0, STATUS_CODE] = S0[first]
     worse = mark & (data.status == OK)
     data.status[worse] = S0[worse]
+
+
+def quiet_params(mech, values):
+    """``mech.with_params(**values)`` without asking the symbolic side about cams' contact
+    geometry again (Mechanism.with_params warns where it is lost): for the runtime's own
+    copies, made in loops (a table's start, the view's redraws and searches)."""
+    symbolic, mech.symbolic = mech.symbolic, None
+    try:
+        other = mech.with_params(**values)
+    finally:
+        mech.symbolic = symbolic
+    other.symbolic = symbolic
+    return other
