@@ -160,7 +160,10 @@ def start_designs(tw, q, g, p0, P, tol, xtol, maxit, method, Q0, S0):
         S0[d] = OK
         if m == 1:
             continue
-        k = sweep(tw, qd, P[d], 0, tol, xtol, maxit, method, Qw, none, none, Sw, report)
+        # (the level as an int64, not the literal 0: numba would compile sweep() again
+        # for Literal[int](0), some 5 s, beside the int64 one every sweep uses)
+        k = sweep(tw, qd, P[d], np.int64(0), tol, xtol, maxit, method, Qw, none, none, Sw,
+                  report)
         if k < m:
             S0[d] = Sw[k, STATUS_CODE]
             continue

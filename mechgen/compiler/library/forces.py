@@ -538,7 +538,7 @@ def sweep_designs_forces(ts, Q0, P, method, tol, xtol, maxit, Q, QD, QDD, STATUS
     for d in range(P.shape[0]):
         fast = sweep_fast_forces(ts, Q0[d], P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d],
                                  STATUS[d], LAM[d], FACTORS[d], PIV[d])
-        k = sweep_on(ts, Q0[d], P[d], 2, tol, xtol, maxit, method, Q[d], QD[d], QDD[d],
+        k = sweep_on(ts, Q0[d], P[d], np.int64(2), tol, xtol, maxit, method, Q[d], QD[d], QDD[d],
                      STATUS[d], fast, report)
         done[d] = k
         start = max(fast - 1, 0)            # where sweep() went on (its points: not yet)
