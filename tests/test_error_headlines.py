@@ -10,7 +10,19 @@ from mechgen.cli import main
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SLIDER = os.path.join(ROOT, "examples", "quick_return_slider.py")
-LOCK = "lock (toggle) position at t≈0.2464863829"
+
+
+def _lock_time():
+    """The slider-driven quick-return's first lock: the crank pin's quadratic on the lever
+    has a double root (cos φ = 4/5, sin φ = −3/5 on the guess's mode), the lever's end
+    then 5 from the slider where X4² − 10.8 X4 + 12 = 0, and X4 = 4.13931 + 5.40447 sin 2πT
+    (tests/closed_forms.slider_driven_configurations)."""
+    import mpmath as mp
+    x = (mp.mpf("10.8") + mp.sqrt(mp.mpf("10.8") ** 2 - 48)) / 2
+    return float(mp.asin((x - mp.mpf("4.13931")) / mp.mpf("5.40447")) / (2 * mp.pi))
+
+
+LOCK = f"lock (toggle) position at t≈{_lock_time():.10g}"
 
 
 def _check_layout(text):
