@@ -90,7 +90,7 @@ def _refine(sw, name, k, f0, f1):
         if t == t1:
             return f1
         tn, qn = (t0, q0) if abs(t - t0) <= abs(t - t1) else (t1, q1)
-        q = sweep(state, tn, t, 2, "position", qn, None, None, None, None, None).Q[1]
+        q = sweep(state, tn, t, 2, guess=qn).Q[1]
         with state.lock:
             return force_solve(mech, t, sw.force_level, guess=q).contact(name)
 

@@ -354,7 +354,8 @@ def force_sweep(mech, t0, t1, n, level, guess=None, method=None, tol=None, maxit
     sweep_fast_statics)."""
     kin = "acceleration" if level == "dynamic" else "position"
     fused = {}
-    sw = sweep_once(mech.state, t0, t1, n, kin, guess, method, tol, maxit, times, None, fused)
+    sw = sweep_once(mech.state, t0, t1, n, kin, guess=guess, method=method, tol=tol,
+                    maxit=maxit, times=times, forces=fused)
     return attach(sw, level, fused)
 
 

@@ -112,7 +112,8 @@ def solve_derivatives(state, ts, Q, QD=None, QDD=None, level="velocity"):
     return QD, QDD
 
 
-def sweep(state, t0, t1, n, level, guess, method, tol, maxit, times, out, forces=None):
+def sweep(state, t0, t1, n, level="position", guess=None, method=None, tol=None, maxit=None,
+          times=None, out=None, forces=None):
     """One kinematic sweep (Mechanism.sweep without params); ``forces``: a dict that a
     dynamic or static sweep's quick path fills with the multipliers it solved on the
     way (sweeping.compiled), where the module has it."""
@@ -123,8 +124,8 @@ def sweep(state, t0, t1, n, level, guess, method, tol, maxit, times, out, forces
         from .stages import staged_sweep
 
         def piece(solved, start):
-            return sweep(state, solved[0], solved[-1], len(solved), level, start, method,
-                         tol, maxit, solved, None)
+            return sweep(state, solved[0], solved[-1], len(solved), level, guess=start,
+                         method=method, tol=tol, maxit=maxit, times=solved)
         staged = staged_sweep(mech, sweep_times(t0, t1, n, times), guess, piece, tol)
         if staged is not None:
             return staged
