@@ -38,7 +38,6 @@ from ..guards import positive_tol, sweep_times
 from ..kinematics.guesses import start_vector
 from ..kinematics.solving import solve
 from ...protocol import SING_RTOL
-from ..results import Sweep
 from .lookup import _constraints_of, division_error, loads_guarded, tables
 from .points import CONSISTENT_RTOL, svd_solve
 from .sweep import ForceSweep
@@ -507,8 +506,7 @@ def integrate(mech, t0, t1, n, free=(), q0=None, qd0=None, rtol=1e-8, atol=1e-10
         QDD[k], LAM[k] = system.accelerations(q, qd, ts[k])
         if progress is not None:
             progress(float(ts[k]))
-    out = ForceSweep.__new__(ForceSweep)
-    out.__dict__.update(Sweep(mech, ts, Q, QD, QDD, np.zeros((N, 1), dtype=np.int16)).__dict__)
+    out = ForceSweep(mech, ts, Q, QD, QDD, np.zeros((N, 1), dtype=np.int16))
     out.force_level = "dynamic"
     out.LAM = LAM
     out.FACTORS = np.zeros((N, len(tables(mech).driver_rows)))

@@ -3,6 +3,7 @@
 shaking of the frame and the flywheel."""
 from __future__ import annotations
 
+import copy
 import warnings
 
 import numpy as np
@@ -31,6 +32,17 @@ class ForceSweep(Sweep):
 
     force_level = "dynamic"
     _extras = None          # (TERMS, NU, ENERGY), made when first asked for
+
+    @classmethod
+    def of(cls, sw, level) -> "ForceSweep":
+        """The kinematic sweep ``sw`` as a ForceSweep at ``level``, its multipliers still to
+        be set: its arrays and marks shared, not copied (a staged sweep's pieces and
+        switches too: whatever kind of sweep the kinematics returned)."""
+        out = copy.copy(sw)
+        out.__class__ = cls
+        vars(out).pop("_contact_cache", None)    # contact forces of other multipliers
+        out.force_level = level
+        return out
 
     def _made(self, k):
         if self._extras is None:
@@ -278,10 +290,7 @@ def attach(sw, level, fused=None) -> "ForceSweep":
     solution. ``fused``: what the sweep's quick path solved already (sweeping.compiled):
     only the other points, and those whose pivot fell below SING_RTOL, are solved here."""
     mech = sw.mechanism
-    out = ForceSweep.__new__(ForceSweep)
-    out.__dict__.update(sw.__dict__)
-    out.__dict__.pop("_contact_cache", None)     # contact forces of other multipliers
-    out.force_level = level
+    out = ForceSweep.of(sw, level)
     if fused and fused["count"] > 0:
         pts = _completed(mech, sw, level, fused)
     else:
@@ -364,10 +373,8 @@ def of_solution(s) -> ForceSweep:
     ``mechgen sweep --level static|dynamic`` writes (``mechgen solve --level`` prints it)."""
     mech = s.mechanism
     one = (lambda a: None if a is None else np.asarray(a, dtype=float)[None].copy())
-    sw = Sweep(mech, np.array([s.t]), one(s.q), one(s.qd), one(s.qdd),
-               np.zeros((1, STATUS_COLUMNS), dtype=np.int16))
-    out = ForceSweep.__new__(ForceSweep)
-    out.__dict__.update(sw.__dict__)
+    out = ForceSweep(mech, np.array([s.t]), one(s.q), one(s.qd), one(s.qdd),
+                     np.zeros((1, STATUS_COLUMNS), dtype=np.int16))
     out.force_level = s.force_level
     out.LAM = one(s.lam)
     out.FACTORS = s._factors()[None]
