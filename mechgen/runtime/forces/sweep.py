@@ -3,7 +3,6 @@
 shaking of the frame and the flywheel."""
 from __future__ import annotations
 
-import copy
 import warnings
 
 import numpy as np
@@ -38,9 +37,10 @@ class ForceSweep(Sweep):
         """The kinematic sweep ``sw`` as a ForceSweep at ``level``, its multipliers still to
         be set: its arrays and marks shared, not copied (a staged sweep's pieces and
         switches too: whatever kind of sweep the kinematics returned)."""
-        out = copy.copy(sw)
-        out.__class__ = cls
-        vars(out).pop("_contact_cache", None)    # contact forces of other multipliers
+        out = cls.__new__(cls)          # (copy.copy's way, at a fifth of its cost)
+        fields = vars(out)
+        fields.update(vars(sw))
+        fields.pop("_contact_cache", None)      # contact forces of other multipliers
         out.force_level = level
         return out
 
