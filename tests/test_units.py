@@ -144,3 +144,32 @@ def test_degrees_are_shown_not_computed(tmp_path):
     k = rows[0].index("Th2 [deg]")
     assert float(rows[-1][k]) == pytest.approx(180.0, abs=1e-7)
     assert "Th2d [deg/s]" in rows[0] and "X4 [m]" in rows[0]
+
+
+def test_a_design_tables_csv_says_the_units(pair, tmp_path):
+    # a long table (every point) and a table of reductions: lengths in mm equal to the SI
+    # model's metres times 1000, the extremes' times in s
+    si, mm = pair
+    rows = {}
+    for name, mech, scale in (("si", si, 1.0), ("mm", mm, 1000.0)):
+        long = mech.sweep(0.0, 1.0, 9, params={"corte": [400.0, 500.0]}, level="position")
+        red = mech.sweep(0.0, 1.0, 9, params={"corte": [400.0, 500.0]}, level="position",
+                         reduce=["X4"])
+        for kind, tab in (("long", long), ("reduced", red)):
+            path = tmp_path / f"{name}_{kind}.csv"
+            tab.to_csv(str(path))
+            with open(path, newline="") as fh:
+                rows[name, kind] = list(csv.reader(fh))
+    head = rows["mm", "long"][0]
+    assert "X4 [mm]" in head and "T [s]" in head and "corte" in head, head
+    k, j = head.index("X4 [mm]"), rows["si", "long"][0].index("X4 [m]")
+    np.testing.assert_allclose([float(r[k]) for r in rows["mm", "long"][1:]],
+                               [1000 * float(r[j]) for r in rows["si", "long"][1:]],
+                               rtol=1e-9)
+    head = rows["mm", "reduced"][0]
+    for name in ("X4_min [mm]", "X4_max [mm]", "X4_tmin [s]", "X4_tmax [s]"):
+        assert name in head, (name, head)
+    k, j = head.index("X4_max [mm]"), rows["si", "reduced"][0].index("X4_max [m]")
+    np.testing.assert_allclose([float(r[k]) for r in rows["mm", "reduced"][1:]],
+                               [1000 * float(r[j]) for r in rows["si", "reduced"][1:]],
+                               rtol=1e-9)

@@ -29,6 +29,13 @@ def column_kinds(mech, header) -> list:
         if name == "T":
             out.append(("time", 0))
             continue
+        stem, _, what = name.rpartition("_")
+        if stem and what in ("min", "max", "tmin", "tmax") and name not in coords:
+            # a table of reductions: a quantity's extreme (its own unit), or when it is
+            # reached (a time)
+            out.append(("time", 0) if what in ("tmin", "tmax")
+                       else column_kinds(mech, [stem])[0])
+            continue
         found = None
         for order, suffix in ((0, ""), (1, "d"), (2, "dd")):
             stem = name[:len(name) - len(suffix)] if suffix else name

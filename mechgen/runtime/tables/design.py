@@ -387,8 +387,11 @@ class DesignTable:
         return out
 
     def to_csv(self, path):
-        """Write the long table (see table()) to a CSV file; unsolved points are empty."""
-        return write_csv(path, *self.table())
+        """Write the long table (see table()) to a CSV file; unsolved points are empty;
+        where the model declares its units, each name carries its unit ("X4 [mm]",
+        "X4_tmin [s]"; mechgen.runtime.unit_columns)."""
+        from ..unit_columns import labelled
+        return write_csv(path, *labelled(self.mechanism, *self.table()))
 
     def to_dataframe(self):
         """The long table (see table()) as a pandas DataFrame (needs pandas)."""
