@@ -173,3 +173,30 @@ def test_a_design_tables_csv_says_the_units(pair, tmp_path):
     np.testing.assert_allclose([float(r[k]) for r in rows["mm", "reduced"][1:]],
                                [1000 * float(r[j]) for r in rows["si", "reduced"][1:]],
                                rtol=1e-9)
+
+
+def test_a_tolerance_band_picture_says_the_models_units(pair, tmp_path):
+    # plot.band_plot's axes in the declared units (mm, s), the numbers as computed; a
+    # model showing degrees has its angle's band drawn in degrees (the band's radians × 180/π)
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from mechgen import plot
+    si, mm = pair
+    band = mm.tolerance(mm.sweep(*TIMES), {"longitud": 1.0}, method="worst")
+    ax = plot.band_plot(band, "X4")
+    assert ax.get_ylabel() == "X4 [mm]" and ax.get_xlabel() == "time T [s]"
+    nominal = [ln for ln in ax.get_lines() if ln.get_label() == "nominal"][0]
+    np.testing.assert_allclose(nominal.get_ydata(), band["X4"]["nominal"], rtol=1e-12)
+    plt.close(ax.figure)
+    m = shaper("SI", "shaper_deg_band")
+    m.units = parse({"length": "m", "mass": "kg", "time": "s", "angle": "deg"})
+    deg = mechgen.compile(m, tier="python", outdir=str(tmp_path))
+    band = deg.tolerance(deg.sweep(*TIMES), {"longitud": 0.01}, method="worst")
+    ax = plot.band_plot(band, "Th3")
+    assert ax.get_ylabel() == "Th3 [deg]"
+    nominal = [ln for ln in ax.get_lines() if ln.get_label() == "nominal"][0]
+    np.testing.assert_allclose(nominal.get_ydata(), np.degrees(band["Th3"]["nominal"]),
+                               rtol=1e-12)
+    plt.close(ax.figure)

@@ -71,10 +71,12 @@ def default_names(mech) -> list:
     return outs[:2] if outs else [mech.coordinates[-1]]
 
 
-def stackup(band, name, bands, length=None, time="s") -> str:
+def stackup(band, name, bands, length=None, time=None) -> str:
     """The stack-up table of ``name`` at the point where its worst-case band is widest."""
     from ..plot.bands import label_of
+    from ..plot.timeplot import model_units
     mech = band.mechanism
+    length, time, _ = model_units(mech, length, time)     # the numbers stay in radians
     k = band.worst_index(name)
     shares = band.contributions(name)
     params, offsets = band.gradients(name)
@@ -219,9 +221,10 @@ def add_command(sub, add_common):
                    help="the picture to write (default: MODEL_NAME_tolerance.png here)")
     p.add_argument("--dpi", type=positive_type(2000), default=100, help="resolution")
     p.add_argument("--length", metavar="UNIT",
-                   help="the unit of the model's lengths, e.g. mm (default: none stated)")
-    p.add_argument("--time", metavar="UNIT", default="s",
-                   help="the unit of the model's time T (default: s)")
+                   help="the unit of the model's lengths, e.g. mm (default: the model's "
+                        "declared units, else none stated)")
+    p.add_argument("--time", metavar="UNIT",
+                   help="the unit of the model's time T (default: the model's, else s)")
     p.set_defaults(func=cmd_tolerance)
     return p
 

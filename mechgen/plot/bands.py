@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from .style import INK
-from .timeplot import unit
+from .timeplot import model_units, shown, unit
 
 # method: (colour, how it is drawn, legend text)
 LOOK = {"worst": ("#f0a202", "fill", "worst case (linear)"),
@@ -35,13 +35,13 @@ def _bands(bands) -> dict:
     return out
 
 
-def label_of(mech, name, length=None, time="s") -> str:
+def label_of(mech, name, length=None, time="s", angle="rad") -> str:
     """The quantity's axis label, with its unit where mechgen knows it."""
     text = name if isinstance(name, str) else str(name)
     if not isinstance(name, str):
         return text
     try:
-        u = unit(mech, name, length=length, time=time)
+        u = unit(mech, name, length=length, time=time, angle=angle)
     except (KeyError, ValueError):
         u = ""
     return f"{text} [{u}]" if u else text
@@ -55,15 +55,18 @@ def terms(band) -> str:
     return ", ".join(parts)
 
 
-def band_plot(bands, name, ax=None, length=None, time="s", title=None, deviation=False,
+def band_plot(bands, name, ax=None, length=None, time=None, title=None, deviation=False,
               legend=True):
     """Draw ``name``'s bands against time on ``ax`` (a new figure when None); returns
     the axes. ``deviation=True`` draws each band less the nominal value (the nominal is
     then the zero line): the bands' shapes, which a quantity's own swing can hide. A
-    Monte Carlo band's legend says how many samples it kept."""
+    Monte Carlo band's legend says how many samples it kept. ``length`` and ``time``
+    name the axes' units (default: the model's declared units, else seconds and none
+    stated); an angle is drawn in degrees where the model shows angles so."""
     bands = _bands(bands)
     first = next(iter(bands.values()))
     mech = first.mechanism
+    length, time, angle = model_units(mech, length, time)
     t = np.asarray(first.times, dtype=float)
     if t.size < 2:
         raise ValueError("band_plot(): a band over a sweep of at least 2 points (this one "
@@ -78,10 +81,11 @@ def band_plot(bands, name, ax=None, length=None, time="s", title=None, deviation
             continue
         b = bands[method]
         got = b[name]
-        low, high = np.asarray(got["low"], dtype=float), np.asarray(got["high"], dtype=float)
+        low = shown(mech, name, np.asarray(got["low"], dtype=float))
+        high = shown(mech, name, np.asarray(got["high"], dtype=float))
         if low.ndim != 1:
             raise ValueError(f"band_plot(): {name!r} is a vector quantity; take one component")
-        nominal = np.asarray(got["nominal"], dtype=float)
+        nominal = shown(mech, name, np.asarray(got["nominal"], dtype=float))
         if deviation:
             low, high = low - nominal, high - nominal
         colour, how, text = LOOK[method]
@@ -98,7 +102,7 @@ def band_plot(bands, name, ax=None, length=None, time="s", title=None, deviation
     ax.plot(t, 0 * nominal if deviation else nominal, color=INK, linewidth=1.6,
             label="nominal")
     ax.set_xlabel(f"time T [{time}]")
-    what = label_of(mech, name, length, time)
+    what = label_of(mech, name, length, time, angle)
     ax.set_ylabel(f"{what.split(' [')[0]} − nominal" + (f" [{what.split(' [')[1]}"
                                                         if " [" in what else "")
                   if deviation else what)
