@@ -200,3 +200,19 @@ def test_a_tolerance_band_picture_says_the_models_units(pair, tmp_path):
     np.testing.assert_allclose(nominal.get_ydata(), np.degrees(band["Th3"]["nominal"]),
                                rtol=1e-12)
     plt.close(ax.figure)
+
+
+def test_a_drawings_title_gives_the_time_in_the_models_unit(pair, tmp_path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from mechgen import plot
+    si, mm = pair
+    d = plot.draw(mm, mm.solve(0.25))
+    assert d.title.get_text().startswith("shaper_mm   T = 0.25 s"), d.title.get_text()
+    plt.close(d.ax.figure)
+    plain = mechgen.compile("examples/fourbar.py", outdir=str(tmp_path), tier="python")
+    d = plot.draw(plain, plain.solve(0.25))          # no units declared: no unit said
+    assert d.title.get_text() == f"{plain.name}   T = 0.25", d.title.get_text()
+    plt.close(d.ax.figure)

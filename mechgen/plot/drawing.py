@@ -15,6 +15,7 @@ from matplotlib.patches import Patch, Polygon
 
 from ..errors import MechgenError
 from ..runtime.results import Solution
+from ..units import of as units_of
 from .arrows import force_arrows
 from .glyphs.builder import Builder
 from .glyphs.cams import KINDS as CAM_KINDS
@@ -93,6 +94,12 @@ class Drawing:
             tf.set_matrix(np.array([[c, -s, o[0]], [s, c, o[1]], [0.0, 0.0, 1.0]]))
         for fn in self._movers:
             fn(P, q, t)
+
+
+def time_unit(mech) -> str:
+    """" s" after a time where the model declares its units (mechgen.units), else ""."""
+    u = units_of(mech)
+    return f" {u.time}" if u.declared else ""
 
 
 def _listed(shapes):
@@ -352,13 +359,14 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
         said = "" if arrows is None else "   forces" + \
             ("" if forces is True else " on " + ", ".join(arrows.bodies)) + \
             f" ({solution.force_level})"
-        d.title = ax.set_title(f"{mech.name}   T = {solution.t:.4g}{said}",
+        unit = time_unit(mech)
+        d.title = ax.set_title(f"{mech.name}   T = {solution.t:.4g}{unit}{said}",
                                fontsize=fontsize + 2)
 
         def retitle(P, q, t, text=d.title, name=mech.name):
             # the forces belong to the configuration drawn (add_forces hides them elsewhere)
             shown = arrows is not None and arrows.artists() and arrows.artists()[0].get_visible()
-            text.set_text(f"{name}   T = {t:.4g}{said if shown else ''}")
+            text.set_text(f"{name}   T = {t:.4g}{unit}{said if shown else ''}")
         d.on_move(retitle)
     elif title:
         d.title = ax.set_title(title, fontsize=fontsize + 2)
@@ -450,7 +458,7 @@ def draw_modes(mech, solutions, axs=None, titles=None, **kwargs):
             d.ax.set_xlim(common[0], common[1])
             d.ax.set_ylim(common[2], common[3])
     fig = drawings[0].ax.figure
-    fig.suptitle(f"{mech.name}   T = {solutions[0].t:.4g}"
+    fig.suptitle(f"{mech.name}   T = {solutions[0].t:.4g}{time_unit(mech)}"
                  if len({s.t for s in solutions}) == 1 else mech.name)
     if own:   # panels shaped like the common frame
         f = drawings[0].frame
