@@ -14,7 +14,6 @@ and the ratio now / before, with the largest difference between the two results.
 from __future__ import annotations
 
 import argparse
-import importlib
 import os
 import subprocess
 import sys

@@ -16,7 +16,7 @@ import sympy as sp
 
 import mechgen
 from conftest import GENERATED, ROOT
-from mechgen import Line, Model, T, cos, pi, sin
+from mechgen import Model, T, cos, pi, sin
 from mechgen.model.library2d.profiles import ProfileFunction, periodic_spline
 
 

@@ -24,7 +24,7 @@ from conftest import example_model
 from fd_helpers import STENCIL, H, check_fd, newton, numeric
 from test_equations_derivatives import chain_rule
 
-from mechgen import I, Line, Model, ModelError, T, exp, pi
+from mechgen import I, Line, Model, ModelError, T, exp
 
 # (example file, model, times to check the derivatives at)
 MODELS = [("gear_train", None, (0.1, 0.37)), ("internal_gear", "internal_gear", (0.2,)),

@@ -28,7 +28,7 @@ def test_position_sweep_agrees_with_the_full_sweep(request, name, t1):
     mech = request.getfixturevalue(name)
     for N in (7, 400, 5000):
         ts = np.linspace(0.0, t1, N)
-        (done, Q, S), (done_full, Qf, Sf) = _fast(mech, ts, 0), _fast(mech, ts, 2)
+        (done, Q, S), (done_full, Qf, _) = _fast(mech, ts, 0), _fast(mech, ts, 2)
         if N >= 400:        # (in 7 points the quadratic predicts too coarsely: sweep()
             assert done == done_full == N       # takes over, as the test below sees)
         both = min(done, done_full)     # (a position sweep's closed forms read no guess)

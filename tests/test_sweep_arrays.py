@@ -11,7 +11,7 @@ import mechgen
 from mechgen.protocol import JUMP, OK, STATUS_COLUMNS, THROUGH_SINGULAR
 from mechgen.runtime.kinematics.sweeping import linspace
 
-from test_robustness import NEAR_T1, T1
+from test_robustness import T1
 
 
 def test_a_position_sweep_has_no_velocity_arrays(qr):

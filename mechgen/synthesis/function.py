@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from .defects import analyse, coupler_pin, crank_pin, mode, transmission
+from .defects import coupler_pin, mode
 from .dyads import Dyad
 from .fourbar import FourBar
 
