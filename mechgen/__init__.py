@@ -17,6 +17,16 @@ from .errors import (BranchJumpWarning, ConvergenceError, MechgenError, ModelErr
                      ModelWarning, RedundancyWarning, SingularError, SolveError)
 
 from .protocol import MECHGEN_VERSION as __version__
+from . import extensions as _extensions
+
+
+def _explore(mech, **options):
+    """Mechanism.explore's way up to the live view (mechgen.extensions): imported on use."""
+    from .view import explore
+    return explore(mech, **options)
+
+
+_extensions.EXPLORE = _explore
 
 _SYMPY_NAMES = ("sin", "cos", "tan", "sqrt", "atan2", "atan", "asin", "acos", "exp", "log",
                 "pi", "E", "I", "Abs", "sign", "sinh", "cosh", "tanh", "Rational", "Piecewise",

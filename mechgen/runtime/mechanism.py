@@ -537,8 +537,8 @@ class Mechanism:
         -------
         The notebook's view
         """
-        from importlib import import_module
-        return import_module("mechgen.view").explore(self, **options)
+        from ..extensions import explorer      # filled by mechgen/__init__ (no upward import)
+        return explorer()(self, **options)
 
     # -- values at solved configurations ----------------------------------------------
     def evaluate(self, expr, solution_or_sweep):
