@@ -202,7 +202,7 @@ def test_a_tolerance_band_picture_says_the_models_units(pair, tmp_path):
     plt.close(ax.figure)
 
 
-def test_a_drawings_title_gives_the_time_in_the_models_unit(pair, tmp_path):
+def test_a_drawing_gives_the_time_and_lengths_in_the_models_units(pair, tmp_path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -211,8 +211,10 @@ def test_a_drawings_title_gives_the_time_in_the_models_unit(pair, tmp_path):
     si, mm = pair
     d = plot.draw(mm, mm.solve(0.25))
     assert d.title.get_text().startswith("shaper_mm   T = 0.25 s"), d.title.get_text()
+    assert (d.ax.get_xlabel(), d.ax.get_ylabel()) == ("x [mm]", "y [mm]")
     plt.close(d.ax.figure)
     plain = mechgen.compile("examples/fourbar.py", outdir=str(tmp_path), tier="python")
     d = plot.draw(plain, plain.solve(0.25))          # no units declared: no unit said
     assert d.title.get_text() == f"{plain.name}   T = 0.25", d.title.get_text()
+    assert (d.ax.get_xlabel(), d.ax.get_ylabel()) == ("", "")
     plt.close(d.ax.figure)

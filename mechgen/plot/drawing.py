@@ -355,6 +355,10 @@ def draw(mech, solution, ax=None, *, sweep=None, frame=None, labels=False, axes=
         ax.grid(True, color="#dddddd", linewidth=0.6, zorder=0)
         ax.set_axisbelow(True)
     ax.tick_params(labelsize=fontsize - 1)
+    units = units_of(mech)
+    if units.declared:      # the frame's axes in the model's length unit
+        ax.set_xlabel(f"x [{units.length}]", fontsize=fontsize - 1)
+        ax.set_ylabel(f"y [{units.length}]", fontsize=fontsize - 1)
     if title is None:
         said = "" if arrows is None else "   forces" + \
             ("" if forces is True else " on " + ", ".join(arrows.bodies)) + \
