@@ -218,3 +218,18 @@ def test_a_drawing_gives_the_time_and_lengths_in_the_models_units(pair, tmp_path
     assert d.title.get_text() == f"{plain.name}   T = 0.25", d.title.get_text()
     assert (d.ax.get_xlabel(), d.ax.get_ylabel()) == ("", "")
     plt.close(d.ax.figure)
+
+
+def test_the_live_views_clock_gives_the_time_in_the_models_unit(pair, tmp_path):
+    # the page's clock label (and the script that moves it) say "T = ... s" where the
+    # model declares its units, bare "T = ..." where it does not
+    pytest.importorskip("bokeh")
+    from mechgen.view.explorer import Explorer
+    from mechgen.view.page import Page
+    si, mm = pair
+    page = Page(Explorer(mm), server=True)
+    assert page.clock.text == "T = 0 s" and page.redraw.args["clock_unit"] == " s"
+    assert "+ clock_unit" in page.redraw.code
+    plain = mechgen.compile("examples/fourbar.py", outdir=str(tmp_path), tier="python")
+    page = Page(Explorer(plain), server=True)
+    assert page.clock.text == "T = 0" and page.redraw.args["clock_unit"] == ""

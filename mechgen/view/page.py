@@ -92,8 +92,10 @@ class Page:
                              background_fill_color="white", background_fill_alpha=0.9,
                              visible=bool(ex.message), name="message")
         fig.add_layout(self.message)
+        time_unit = units_of(ex.mech).time if units_of(ex.mech).declared else ""
+        self.clock_unit = f" {time_unit}" if time_unit else ""   # "T = 0.25 s"
         self.clock = Label(x=extent[0], y=extent[3], x_offset=6, y_offset=-22,
-                           text=f"T = {ex.t0:.4g}",
+                           text=f"T = {ex.t0:.4g}{self.clock_unit}",
                            text_font_size="13px", text_color=INK, name="clock")
         fig.add_layout(self.clock)
 
@@ -159,7 +161,8 @@ class Page:
                                     renderers=self.renderers, message=self.message,
                                     marks=self.marks, ntraces=len(ex.traces),
                                     colors=list(self.marks.data["color"]),
-                                    plots=self.plot_lines, dots=self.dots, clock=self.clock),
+                                    plots=self.plot_lines, dots=self.dots, clock=self.clock,
+                                    clock_unit=self.clock_unit),
                           code=REDRAW)
         self.redraw = redraw
         self.time.js_on_change("value", redraw)

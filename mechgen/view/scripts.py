@@ -59,7 +59,7 @@ if (!failed) {
     if (d[xf] === undefined || d[yf] === undefined) { continue; }
     dots[p].data.x = [d[xf][i]]; dots[p].data.y = [d[yf][i]]; dots[p].change.emit();
   }
-  clock.text = "T = " + d.t[i].toPrecision(4);
+  clock.text = "T = " + d.t[i].toPrecision(4) + clock_unit;
 }
 if (failed) {            // no configuration to mark
   marks.data.x = []; marks.data.y = []; marks.data.color = []; marks.change.emit();
