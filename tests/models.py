@@ -84,7 +84,22 @@ def slider_crank(name="slider_crank", r=1.0, l=3.0, e=0.0, theta0=0.0, omega=2 *
     return SliderCrank(m, base, crank, rod, slider)
 
 
+def massive_slider_crank(name="sc"):
+    """The slider-crank above (crank 0.2, rod 0.7, θ = 0.3 + 3T) with masses, on the ground
+    "base" (0, 0), (1, 0), (0, 0.3), its guide base.line(1, 2), joints A, B, C, slide and
+    driver "drive" named: (m, base, crank, rod, slider)."""
+    return slider_crank(
+        name, r=0.2, l=0.7, e=0.0, theta0=0.3, omega=3, ground=[(0, 0), (1, 0), (0, 0.3)],
+        ground_name="base", guide=(1, 2), slider_points=((0, 0), (0.1, 0)),
+        masses={"crank": dict(mass=1.0, inertia=0.01, centroid=(0.1, 0)),
+                "rod": dict(mass=2.0, inertia=0.1, centroid=(0.35, 0)),
+                "slider": dict(mass=0.5)},
+        joints=("A", "B", "C", "slide"), drive="drive")
+
+
 # -- the four-bar -----------------------------------------------------------------------------
+
+
 def four_bar_q(t, a=1.0, b=3.0, c=2.0, d=3.0, theta0=0.0, omega=2 * math.pi, mode=1):
     """The four-bar at T = t: A = a(cos θ, sin θ); B at b from A and c from O4 = (d, 0), left
     of the line from A to O4 (mode=1) or right of it (mode=-1); the coupler from A to B,

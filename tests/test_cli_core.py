@@ -3,28 +3,15 @@ import os
 import re
 import subprocess
 import sys
-import textwrap
+from cli_runs import run, write
 
 import sympy as sp
 from sympy.parsing.mathematica import parse_mathematica
 
 from conftest import EXAMPLES, example_model
 from test_robustness import DEAD_CENTRE
-from mechgen.cli import main
 
 QR = os.path.join(EXAMPLES, "quick_return.py")
-
-
-def run(capsys, *argv):
-    code = main(list(argv))
-    out, err = capsys.readouterr()
-    return code, out, err
-
-
-def write(tmp_path, text, name="model.py"):
-    path = tmp_path / name
-    path.write_text(textwrap.dedent(text).lstrip())
-    return str(path)
 
 
 def sections(text):

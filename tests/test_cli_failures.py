@@ -5,12 +5,11 @@ zero in the model's equations (a driver 1/T at T = 0, the rate of sqrt(T) there)
 undefined sympy function are one clear message, not a traceback."""
 from __future__ import annotations
 
-import textwrap
+from cli_runs import run, write
 
 import numpy as np
 import pytest
 
-from mechgen.cli import main
 
 FOURBAR = """
 from mechgen import Model, T, pi, distance
@@ -31,21 +30,6 @@ m.rotation_lock(crank, 2 * pi * T + 1.0, name="drive")
 @pytest.fixture(autouse=True)
 def _plain(monkeypatch):
     monkeypatch.setenv("MECHGEN_TIER", "python")
-
-
-def write(tmp_path, text, name="model.py"):
-    path = tmp_path / name
-    path.write_text(textwrap.dedent(text).lstrip())
-    return str(path)
-
-
-def run(capsys, *argv):
-    try:
-        code = main(list(argv))
-    except SystemExit as exc:
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def one_line(err):

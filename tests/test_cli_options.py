@@ -14,12 +14,13 @@ import shutil
 import subprocess
 import sys
 import textwrap
+from cli_runs import run
 
 import numpy as np
 import pytest
 
 from conftest import EXAMPLES, GENERATED
-from mechgen.cli import main, parser
+from mechgen.cli import parser
 from mechgen.cli.options import number
 from mechgen.cli.tables import cell, format_table, times, write_csv
 
@@ -51,15 +52,6 @@ def _plain_python_tier(monkeypatch):
     modules on the plain-Python tier (the same numbers; with numba's cache cold, the
     seeded copies were compiled again, ~60 s of CPU for this file and test_cli_solve.py)."""
     monkeypatch.setenv("MECHGEN_TIER", "python")
-
-
-def run(capsys, *argv):
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as exc:           # argparse's usage errors
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def model_file(tmp_path, source, extra="", name="model.py", replace=()):

@@ -4,12 +4,11 @@ example and the README's snippet, each against the closed form of tests/test_for
 `mechgen solve --level static|dynamic` prints the driver efforts and reactions it solved,
 against the power balance of a slider-crank written here."""
 import math
-import textwrap
+from cli_runs import run, write
 
 import numpy as np
 import pytest
 
-from mechgen.cli import main
 from test_forces import (C2, G, J2, M2, closed_form, newton_euler, power_torque,
                          slider_crank)
 
@@ -196,21 +195,6 @@ m.force(slider[0], (-100, 0), name="load")
 @pytest.fixture
 def _plain(monkeypatch):
     monkeypatch.setenv("MECHGEN_TIER", "python")
-
-
-def write(tmp_path, text, name="model.py"):
-    path = tmp_path / name
-    path.write_text(textwrap.dedent(text).lstrip())
-    return str(path)
-
-
-def run(capsys, *argv):
-    try:
-        code = main(list(argv))
-    except SystemExit as exc:
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 # -- solve at the force levels --------------------------------------------------------------

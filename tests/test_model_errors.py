@@ -3,14 +3,14 @@ when the model comes from a file, whose ``where`` is that file's line; joints, l
 masses that act on nothing, complex numbers, and symbols or axes of another model are
 refused where they are written."""
 import os
-import textwrap
+from cli_runs import write
 
 import numpy as np
 import pytest
 import sympy as sp
 
 import mechgen
-import models
+from models import massive_slider_crank as slider_crank
 from mechgen import Line, Model, ModelError, T
 from mechgen.compiler.build import build, render
 from mechgen.model.loader import load_models, pick_model
@@ -242,12 +242,6 @@ def test_redundant_model_builds(tmp_path):
 
 
 # -- model files -------------------------------------------------------------------------------
-def write(tmp_path, text, name="model.py"):
-    path = tmp_path / name
-    path.write_text(textwrap.dedent(text).lstrip())
-    return str(path)
-
-
 def test_file_that_raises_names_its_line(tmp_path):
     path = write(tmp_path, """
         from mechgen import Model
@@ -341,19 +335,6 @@ def test_pick_model(tmp_path):
 def _plain_tier(monkeypatch, tmp_path):
     monkeypatch.setenv("MECHGEN_TIER", "python")
     monkeypatch.setenv("MECHGEN_CACHE", str(tmp_path / "cache"))
-
-
-def slider_crank(name="sc"):
-    """tests/models.py's slider-crank (crank 0.2, rod 0.7, θ = 0.3 + 3T) on the ground
-    "base" (0, 0), (1, 0), (0, 0.3), its guide base.line(1, 2): (m, base, crank, rod,
-    slider)."""
-    return models.slider_crank(
-        name, r=0.2, l=0.7, e=0.0, theta0=0.3, omega=3, ground=[(0, 0), (1, 0), (0, 0.3)],
-        ground_name="base", guide=(1, 2), slider_points=((0, 0), (0.1, 0)),
-        masses={"crank": dict(mass=1.0, inertia=0.01, centroid=(0.1, 0)),
-                "rod": dict(mass=2.0, inertia=0.1, centroid=(0.35, 0)),
-                "slider": dict(mass=0.5)},
-        joints=("A", "B", "C", "slide"), drive="drive")
 
 
 # -- joints, loads and masses that act on nothing ------------------------------------------

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import mechgen
-import models
+from models import massive_slider_crank as slider_crank
 from mechgen import Model, ModelError, T
 from mechgen.compiler.build import build
 
@@ -15,19 +15,6 @@ from mechgen.compiler.build import build
 def _plain_tier(monkeypatch, tmp_path):
     monkeypatch.setenv("MECHGEN_TIER", "python")
     monkeypatch.setenv("MECHGEN_CACHE", str(tmp_path / "cache"))
-
-
-def slider_crank(name="sc"):
-    """tests/models.py's slider-crank (crank 0.2, rod 0.7, θ = 0.3 + 3T) on the ground
-    "base" (0, 0), (1, 0), (0, 0.3), its guide base.line(1, 2): (m, base, crank, rod,
-    slider)."""
-    return models.slider_crank(
-        name, r=0.2, l=0.7, e=0.0, theta0=0.3, omega=3, ground=[(0, 0), (1, 0), (0, 0.3)],
-        ground_name="base", guide=(1, 2), slider_points=((0, 0), (0.1, 0)),
-        masses={"crank": dict(mass=1.0, inertia=0.01, centroid=(0.1, 0)),
-                "rod": dict(mass=2.0, inertia=0.1, centroid=(0.35, 0)),
-                "slider": dict(mass=0.5)},
-        joints=("A", "B", "C", "slide"), drive="drive")
 
 
 # -- free text that reaches the generated module ------------------------------------------

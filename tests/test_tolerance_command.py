@@ -6,12 +6,12 @@ from __future__ import annotations
 import csv
 import os
 import textwrap
+from cli_runs import run
 
 import numpy as np
 import pytest
 
 import mechgen
-from mechgen.cli import main
 
 MODEL = textwrap.dedent('''
     """A four-bar with named joints and a coupler point."""
@@ -54,15 +54,6 @@ def files(tmp_path_factory):
 def mech(files):
     path, outdir, _ = files
     return mechgen.compile(path, outdir=outdir, tier="python")
-
-
-def run(capsys, *argv):
-    try:
-        code = main([str(a) for a in argv])
-    except SystemExit as exc:           # argparse's usage errors, --help
-        code = exc.code
-    out, err = capsys.readouterr()
-    return code, out, err
 
 
 def read_csv(path):
