@@ -8,7 +8,6 @@ mech.explore() runs in a notebook (nbclient). One server and one browser for the
 import math
 import os
 import re
-import shutil
 import time
 
 import numpy as np
@@ -25,11 +24,7 @@ import mechgen  # noqa: E402
 from mechgen.cli import main  # noqa: E402
 
 MODEL = os.path.join(EXAMPLES, "quick_return.py")
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-DRIVER = shutil.which("chromedriver")
-need_browser = pytest.mark.skipif(
-    CHROMIUM is None or DRIVER is None,
-    reason="no headless browser: apt-get install chromium chromium-driver (.ci/run does)")
+from browsers import chromium, need_browser  # noqa: E402
 
 # the page's models, gathered in the browser: every layer's rows of one owner (a body's
 # name, or "joints"), their drawn vertices; a traced path; the message
@@ -68,13 +63,7 @@ def crank_pin(t, longitud):
 
 @pytest.fixture(scope="module")
 def browser():
-    from selenium.webdriver.chrome.options import Options
-    from selenium.webdriver.chrome.service import Service
-    opts = Options()
-    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1400,1000"):
-        opts.add_argument(arg)
-    opts.binary_location = CHROMIUM
-    drv = webdriver.Chrome(options=opts, service=Service(DRIVER))
+    drv = chromium()
     yield drv
     drv.quit()
 

@@ -5,7 +5,6 @@ every host name resolves to nothing and whose proxy is a dead address, and the s
 block of the quick-return must be drawn where mech.solve puts it at T = 0."""
 import os
 import re
-import shutil
 import time
 
 import pytest
@@ -20,11 +19,7 @@ import mechgen  # noqa: E402
 from mechgen.cli import main  # noqa: E402
 
 MODEL = os.path.join(EXAMPLES, "quick_return.py")
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-DRIVER = shutil.which("chromedriver")
-need_browser = pytest.mark.skipif(
-    CHROMIUM is None or DRIVER is None,
-    reason="no headless browser: apt-get install chromium chromium-driver (.ci/run does)")
+from browsers import chromium, need_browser  # noqa: E402
 BLOCK = """
 if (typeof Bokeh === 'undefined' || !Bokeh.documents.length) { return null; }
 const doc = Bokeh.documents[0];
@@ -47,15 +42,8 @@ REMOTE = re.compile(r"<script[^>]*\ssrc=[\"']?(https?:)?//", re.I)
 def offline():
     """Chromium with the network off: no host name resolves, every request would go to
     a proxy at a port where nothing listens."""
-    from selenium.webdriver.chrome.options import Options
-    from selenium.webdriver.chrome.service import Service
-    opts = Options()
-    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1400,1000",
-                "--host-resolver-rules=MAP * ~NOTFOUND", "--proxy-server=127.0.0.1:9",
-                "--proxy-bypass-list=<-loopback>"):
-        opts.add_argument(arg)
-    opts.binary_location = CHROMIUM
-    drv = webdriver.Chrome(options=opts, service=Service(DRIVER))
+    drv = chromium("--host-resolver-rules=MAP * ~NOTFOUND", "--proxy-server=127.0.0.1:9",
+                   "--proxy-bypass-list=<-loopback>")
     yield drv
     drv.quit()
 

@@ -9,7 +9,6 @@ sending message as connection was closed"). The quick-return's default plots sho
 quantities that move."""
 import logging
 import os
-import shutil
 import time
 
 import numpy as np
@@ -24,11 +23,9 @@ webdriver = pytest.importorskip("selenium.webdriver",
 import mechgen  # noqa: E402
 
 MODEL = os.path.join(EXAMPLES, "quick_return.py")
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
-DRIVER = shutil.which("chromedriver")
-pytestmark = pytest.mark.skipif(
-    CHROMIUM is None or DRIVER is None,
-    reason="no headless browser: apt-get install chromium chromium-driver (.ci/run does)")
+from browsers import chromium, need_browser  # noqa: E402
+
+pytestmark = need_browser
 
 # a widget's element inside its shadow root (Bokeh 3 draws each widget in one)
 PART = """
@@ -98,13 +95,7 @@ def server(mech, errors):
 
 @pytest.fixture(scope="module")
 def page(server):
-    from selenium.webdriver.chrome.options import Options
-    from selenium.webdriver.chrome.service import Service
-    opts = Options()
-    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--window-size=1400,1000"):
-        opts.add_argument(arg)
-    opts.binary_location = CHROMIUM
-    drv = webdriver.Chrome(options=opts, service=Service(DRIVER))
+    drv = chromium()
     drv.get(server.url)
     end = time.monotonic() + 60
     while not drv.execute_script("return window.mechgen_redraws || 0"):
