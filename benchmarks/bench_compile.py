@@ -159,7 +159,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--models", default=",".join(MODELS))
     ap.add_argument("--root", default=ROOT, help="the checkout whose mechgen runs")
-    ap.add_argument("--modes", default="build,sweep,whole",
+    ap.add_argument("--modes", default="build,sweep,auto,whole",
                     help="of build, sweep, auto, whole")
     ap.add_argument("--builds", type=int, default=3, help="fresh build processes (best of)")
     ap.add_argument("--functions", type=int, default=10, help="rows of the per-function tables")

@@ -73,6 +73,8 @@ def test_second_process_never_waits_for_anothers_worker(fresh):
                                  recursive=True)}
     assert "sweep_fast" in cached
     assert not cached & {"start_designs", "sweep_designs", "_carry", "newton_full"}, cached
+    # the sweep's start is one point: solved in Python (mechgen.runtime.loading.mixed)
+    assert not cached & {"solve_point_sorted", "unwrap_turns", "pivot_ratio"}, cached
 
 
 def test_worker_yields_the_machine():

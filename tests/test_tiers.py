@@ -275,8 +275,25 @@ def test_a_large_call_compiles_what_it_needs(fresh):
         for x in ("Q", "QD", "QDD", "info"):       # bit for bit, the tiers' promise
             assert np.array_equal(getattr(big, x), getattr(small, x), equal_nan=True), x
         assert not tiers.cache_ready({path!r})      # the worker was stopped before the end
-        assert m.state.tiers.worker is not None          # and started again for the rest
-        m.state.tiers.stop_worker()
+        state = m.state.tiers
+        assert state.worker is not None          # and started again for the rest
+        # the loop compiled here, the one-point solves left to Python until the cache is
+        # ready: the mixed module (mechgen.runtime.loading.mixed)
+        assert state.mixed and m.module.sweep_fast.signatures
+        assert not hasattr(m.module.solve_point_sorted, "signatures")
+        point = m.solve(0.3, level="acceleration")
+        state.worker.wait(timeout=280)              # the worker fills the cache ...
+        assert tiers.cache_ready({path!r})
+        import time
+        end = time.monotonic() + 60
+        while state.mixed and time.monotonic() < end:   # ... and after SWITCH_AFTER
+            m.solve(0.3, level="acceleration")      # seconds of plain calls, the whole
+        assert not state.mixed                      # module
+        again = m.solve(0.3, level="acceleration")  # compiled (loaded from the cache)
+        assert m.module.solve_point_sorted.signatures
+        for x in ("q", "qd", "qdd"):
+            assert np.array_equal(getattr(again, x), getattr(point, x)), x
+        state.stop_worker()
         print("ok")
     """
     out = _run(code, env)

@@ -12,7 +12,11 @@ on. A call too large for Python (a long sweep, a design table: ``expect``) switc
 once: from the cache when it is ready, else by compiling what the call needs in this
 process (the worker, if it is ours, is stopped first; a worker of another process is
 never waited for: this process compiles, or loads from the cache, just what the call
-needs), then starts a worker again for the rest.
+needs), then starts a worker again for the rest. What the call needs is its loop: until
+the worker's cache is ready the process answers with a mixed module (loading.mixed),
+the compiled loops over the plain module, so that the call's few one-point solves run
+in Python instead of waiting for numba to compile them; the next calls after the mark
+is there load the compiled module whole, as above.
 
 ``tier="python"`` never compiles; ``tier="compiled"`` imports with numba at once and
 compiles what each call needs on first use (no worker).
@@ -28,6 +32,7 @@ import sys
 from ...errors import MechgenError
 from ...protocol import MECHGEN_VERSION
 from .loader import import_path, open_module, check_version
+from .mixed import mixed_module
 from .plain import Clock, NoPlainTier, python_module, state_dir
 
 TIERS = ("auto", "python", "compiled")
@@ -158,6 +163,7 @@ class Tiers:
         self.python = module if tier == "python" else None
         self.clock = clock
         self.worker = None            # our warmup process, when we started one
+        self.mixed = False            # answering with a mixed module (loading.mixed)
         self._next_look = SWITCH_AFTER
         self._rate = POINT_COST * max(1, int(getattr(module, "N_COORDS", 1)))
 
@@ -229,7 +235,7 @@ class Tiers:
         """After each plain-Python call: once they have cost SWITCH_AFTER seconds, switch
         to the compiled tier as soon as its cache is ready (checked every 50 ms of calls)."""
         clock = self.clock
-        if clock.spent < self._next_look or self.tier != "python":
+        if clock.spent < self._next_look or not (self.tier == "python" or self.mixed):
             return
         self._next_look = clock.spent + 0.05
         if self.worker is not None and self.worker.poll() is not None:
@@ -237,26 +243,38 @@ class Tiers:
         if cache_ready(self.path):
             self._switch_or_stay()
 
-    def _switch_or_stay(self, compile_first=None):
-        """switch(), after ``compile_first()`` when given; where numba cannot load the
+    def _switch_or_stay(self, mix=None):
+        """switch(), or with ``mix`` (mech, kind) mix(); where numba cannot load the
         module (not installed, broken), stay in the python tier for good."""
         try:
-            if compile_first is not None:
-                compile_first()
-            self.switch()
+            if mix is None:
+                self.switch()
+            else:
+                self.mix(*mix)
         except MechgenError:
-            self.mode = "python"
-            self.clock.after = None
+            if self.tier == "python":
+                self.mode = "python"
+                self.clock.after = None
 
     def switch(self):
         """Load the compiled module and answer with it from now on."""
         module = import_path(self.path)
         check_version(module)
-        for key, value in vars(self.python).items():     # the runtime's own marks
+        for key, value in vars(self.module).items():     # the runtime's own marks
             if key.startswith("_mechgen_") and not key.startswith("__"):
                 setattr(module, key, value)
         self.clock.after = None
-        self.module, self.tier = module, "compiled"
+        self.module, self.tier, self.mixed = module, "compiled", False
+
+    def mix(self, mech, kind):
+        """Answer with the mixed module (loading.mixed: the compiled loops, the rest in
+        Python) from now on, its loops that a ``kind`` call needs compiled here first;
+        the whole compiled module once the worker's cache is ready (_look)."""
+        module = import_path(self.path)
+        check_version(module)
+        mixed = mixed_module(self.module, module)
+        self._compile_here(mech, kind, mixed)
+        self.module, self.tier, self.mixed = mixed, "compiled", True
 
     def expect(self, mech, points, kind="sweep"):
         """Before ``mech``'s call of about ``points`` solves (a sweep, a design table): in the
@@ -271,16 +289,17 @@ class Tiers:
             self._switch_or_stay()
             return
         self.stop_worker()
-        self._switch_or_stay(lambda: self._compile_here(mech, kind))
+        self._switch_or_stay(mix=(mech, kind))
         if self.tier == "compiled" and not cache_ready(self.path):
             # the entry points this call did not need, compiled in the background again:
             # numba looks in its cache before compiling, so this process's later first
             # calls load them from there once the worker has written them
             self.start_worker()
 
-    def _compile_here(self, mech, kind):
-        """Compile in this process what a ``kind`` call needs (numba loads from its cache
-        what is there already). The module's lock is taken when it is free, never waited
+    def _compile_here(self, mech, kind, module):
+        """Compile in this process what a ``kind`` call needs on ``module`` (a mixed one:
+        its loops; numba loads from its cache what is there already). The module's lock
+        is taken when it is free, never waited
         for: a worker of another process may be compiling the whole module, and this
         call needs a few of its functions (numba writes each cache file whole, by a
         rename, so that two processes compiling one function at once both leave a good
@@ -290,8 +309,6 @@ class Tiers:
         try:
             if not cache_ready(self.path):
                 from .warm import STAGES_FOR, warm
-                module = import_path(self.path)
-                check_version(module)
                 warm(type(mech)(module), STAGES_FOR[kind])
         finally:
             if held:
