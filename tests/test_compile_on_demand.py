@@ -91,3 +91,44 @@ def test_worker_yields_the_machine():
     nice, before, after = map(int, out.stdout.split())
     assert nice == 19
     assert after == min(before, 1)
+
+
+SENSITIVITIES = textwrap.dedent("""
+    import json, sys
+    import numpy as np
+    import mechgen
+    from mechgen.runtime.loading import tiers
+    from mechgen.runtime.sensitivity.companion import companion
+    mech = mechgen.compile(sys.argv[1], outdir=sys.argv[2], tier="auto")
+    tiers.BIG_CALL = 1e-9                     # any sweep is large now
+    names = list(mech.parameter_names)
+    sw = mech.sweep(0.0, 1.0, 200, level="acceleration", sensitivities=names)
+    sol = mech.solve(0.3, level="acceleration", sensitivities=names)
+    comp = companion(mech)[0]
+    mech.state.tiers.stop_worker()
+    print(json.dumps({"mixed": mech.state.tiers.mixed,
+                      "rows": len(comp.sensitivities_rows.signatures),
+                      "point": hasattr(comp.sensitivities_at, "signatures"),
+                      "sweep": [d.tolist() for d in sw.sensitivities.full],
+                      "solution": [d.tolist() for d in sol.sensitivities.full]}))
+""")
+
+
+def test_a_sensitivity_sweep_compiles_its_loop_and_leaves_points_to_python(fresh, tmp_path):
+    """The sensitivity module follows the mixed module: its loop over a sweep's points
+    compiled, a single solution's derivatives in Python, both as the plain tier's."""
+    path, env = fresh
+    model = os.path.join(ROOT, "examples", "quick_return.py")
+    res = subprocess.run([sys.executable, "-c", SENSITIVITIES, model, str(tmp_path / "gen")],
+                         env=env, cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr[-2000:]
+    got = json.loads(res.stdout.strip().splitlines()[-1])
+    assert got["mixed"] and got["rows"] == 1 and not got["point"]
+    plain = mechgen.compile(model, outdir=str(tmp_path / "gen"), tier="python")
+    names = list(plain.parameter_names)
+    ref_sw = plain.sweep(0.0, 1.0, 200, level="acceleration", sensitivities=names)
+    ref = plain.solve(0.3, level="acceleration", sensitivities=names)
+    for mine, theirs in zip(got["sweep"], ref_sw.sensitivities.full):
+        assert np.array_equal(np.array(mine), theirs, equal_nan=True)
+    for mine, theirs in zip(got["solution"], ref.sensitivities.full):
+        assert np.array_equal(np.array(mine), theirs)

@@ -94,6 +94,19 @@ def _import(path, module_hash, tier):
     return mod
 
 
+def _import_like(module, path, tier):
+    """The companion as ``module`` runs: plain, compiled, or mixed (its loops compiled,
+    the rest plain: mechgen.runtime.loading.mixed) where the module is."""
+    if not getattr(module, "__mechgen_mixed__", False):
+        return _import(path, module.MODEL_HASH, tier)
+    plain = _import(path, module.MODEL_HASH, "python")
+    compiled = _import(path, module.MODEL_HASH, "compiled")
+    if plain is None or compiled is None:
+        return None
+    from ..loading.mixed import mixed_module
+    return mixed_module(plain, compiled)
+
+
 def companion(mech):
     """(sensitivity module, Blocks) of ``mech``'s module, loading or building it."""
     module = mech.module
@@ -110,7 +123,7 @@ def companion(mech):
             return hit
         path = path_of(module)
         tier = getattr(module, "__mechgen_tier__", "compiled")
-        found = _import(path, module.MODEL_HASH, tier)
+        found = _import_like(module, path, tier)
         if found is None:
             builder = getattr(mech.symbolic, "build_sensitivities", None)
             if builder is None:
@@ -119,7 +132,7 @@ def companion(mech):
                     "build it with `mechgen build MODEL.py --sensitivities`, or load the "
                     "mechanism with mechgen.compile(model), which builds it when first asked")
             builder(os.path.abspath(module.__file__))
-            found = _import(path, module.MODEL_HASH, tier)
+            found = _import_like(module, path, tier)
             if found is None:
                 raise MechgenError(f"the sensitivity module {path} was built but does not "
                                    f"belong to the module of '{mech.name}' (MODEL_HASH)")
