@@ -132,3 +132,32 @@ def test_a_sensitivity_sweep_compiles_its_loop_and_leaves_points_to_python(fresh
         assert np.array_equal(np.array(mine), theirs, equal_nan=True)
     for mine, theirs in zip(got["solution"], ref.sensitivities.full):
         assert np.array_equal(np.array(mine), theirs)
+
+
+def test_a_one_point_function_called_in_a_loop_is_compiled_once_it_costs_as_much(fresh):
+    """In a mixed module a one-point function stays plain Python until its calls have cost
+    the budget, then answers compiled (a caller holding the function too), bit for bit."""
+    from mechgen.runtime.loading.loader import import_path
+    from mechgen.runtime.loading.mixed import mixed_module, promoting
+    from mechgen.runtime.loading.plain import python_module
+    path, _ = fresh
+    plain, compiled = python_module(path), import_path(path)
+    mixed = mixed_module(plain, compiled)
+    assert mixed.sweep_fast is compiled.sweep_fast          # a loop: compiled at once
+    assert mixed.phi_q is not compiled.phi_q and not compiled.phi_q.signatures
+    mixed.phi_q = promoting(mixed, "phi_q", plain.phi_q, compiled.phi_q, after=0.02)
+    held = mixed.phi_q
+    q = np.array(compiled.GUESS, dtype=float)
+    p = np.array(compiled.PARAMETER_DEFAULTS, dtype=float)
+    first = np.empty((compiled.N_EQS, compiled.N_COORDS))
+    held(q, 0.1, p, first)
+    assert not compiled.phi_q.signatures                     # plain still
+    J = np.empty_like(first)
+    for _ in range(100000):
+        held(q, 0.1, p, J)
+        if mixed.phi_q is compiled.phi_q:
+            break
+    assert mixed.phi_q is compiled.phi_q                    # the module's name promoted
+    held(q, 0.1, p, J)
+    assert compiled.phi_q.signatures                         # and the holder's calls too
+    assert np.array_equal(J, first)

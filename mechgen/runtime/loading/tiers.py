@@ -252,9 +252,9 @@ class Tiers:
             else:
                 self.mix(*mix)
         except MechgenError:
+            self.clock.after = None     # (tried no more: the tier answering stays)
             if self.tier == "python":
                 self.mode = "python"
-                self.clock.after = None
 
     def switch(self):
         """Load the compiled module and answer with it from now on."""
@@ -299,11 +299,10 @@ class Tiers:
     def _compile_here(self, mech, kind, module):
         """Compile in this process what a ``kind`` call needs on ``module`` (a mixed one:
         its loops; numba loads from its cache what is there already). The module's lock
-        is taken when it is free, never waited
-        for: a worker of another process may be compiling the whole module, and this
-        call needs a few of its functions (numba writes each cache file whole, by a
-        rename, so that two processes compiling one function at once both leave a good
-        one)."""
+        is taken when it is free, never waited for: a worker of another process may be
+        compiling the whole module, and this call needs a few of its functions (numba
+        writes each cache file whole, by a rename, so that two processes compiling one
+        function at once both leave a good one)."""
         lock = Lock(state_paths(self.path)[1])
         held = lock.acquire(wait=False)
         try:
