@@ -59,3 +59,20 @@ def test_a_pruned_build_with_sensitivities_is_refused(tmp_path, capsys):
     assert code not in (0, None)
     assert "--outputs" in capsys.readouterr().err
     assert not os.listdir(tmp_path) or not (tmp_path / "fourbar_sensitivities.py").exists()
+
+
+def test_the_parameters_asked_are_read_again_at_every_solve(tmp_path):
+    """A list of parameter names changed in place between two solves is read afresh (the
+    last question is remembered by identity and value), and another module's mechanism
+    gets its own columns."""
+    mech = mechgen.compile(FOURBAR, outdir=str(tmp_path), tier="python", sensitivities=True)
+    names = list(mech.parameter_names)
+    asked = [names[0]]
+    first = mech.solve(0.1, sensitivities=asked)
+    asked[:] = [names[2], names[1]]
+    second = mech.solve(0.1, sensitivities=asked)
+    assert first.sensitivities.params == (names[0],)
+    assert second.sensitivities.params == (names[2], names[1])
+    both = mech.solve(0.1, sensitivities=True)
+    assert np.array_equal(second.dq_dp, both.dq_dp[:, [2, 1]])
+    assert np.array_equal(first.dq_dp, both.dq_dp[:, [0]])

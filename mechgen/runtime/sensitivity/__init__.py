@@ -5,6 +5,7 @@ derivative of any named or symbolic quantity (``values``); tolerance bands (``to
 when first used: a call that asks for none pays nothing."""
 from __future__ import annotations
 
+from ..results import Solution
 from .solve import Sensitivities, of_solution, of_sweep, parameter_columns
 from .values import sensitivity
 
@@ -13,6 +14,9 @@ def attach(mech, result, which):
     """``result`` (a Solution or Sweep of ``mech``) with its sensitivities to the
     parameters ``which`` (True: all; a name; a list of names) computed and attached
     (``result.sensitivities``); returns it."""
+    if result.__class__ is Solution:        # (the most frequent, answered first)
+        result.sensitivities = of_solution(mech, result, which)
+        return result
     if "Q" not in result.__dict__:
         result.sensitivities = of_solution(mech, result, which)
     elif "P" in result.__dict__:            # a design table

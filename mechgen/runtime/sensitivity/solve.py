@@ -7,6 +7,8 @@ a sweep gives NaN there and lists the times (``sw.sensitivity_singular``).
 """
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
 from ...errors import SolveError
@@ -65,34 +67,49 @@ def _level(qd, qdd) -> int:
         LEVEL["velocity"] if qdd is None else LEVEL["acceleration"]
 
 
-_COLUMNS = {}       # (parameter names, which) -> parameter_columns' answer
+_PLANS = {}     # (id(module), which) -> (weak reference to the module, _plan's answer)
+_LAST = [None, None, None, None]    # the last call's module, which, a copy of it, its plan
 
 
-def _columns(mech, which):
-    key = (mech.parameter_names, which if which is True or isinstance(which, str)
-           else tuple(which))
-    hit = _COLUMNS.get(key)
-    if hit is None:
-        hit = _COLUMNS[key] = parameter_columns(mech, which)
-    return hit
+def _plan(mech, which) -> tuple:
+    """(companion, Blocks, names, columns) of the parameters ``which`` on ``mech``'s
+    module: looked up once per module and question (a single solve's derivatives cost
+    about a microsecond; finding them again would cost half as much), the last one
+    answered at once (the same module, and ``which`` the same object, still equal)."""
+    module = mech.module
+    last = _LAST
+    if module is last[0] and which is last[1] and which == last[2]:
+        return last[3]
+    key = (id(module), which if which is True or which.__class__ is str else tuple(which))
+    hit = _PLANS.get(key)
+    if hit is not None and hit[0]() is module:
+        plan = hit[1]
+    else:
+        comp, blocks = companion(mech)
+        plan = (comp, blocks) + parameter_columns(mech, which)
+        _PLANS[key] = (weakref.ref(module), plan)
+    if which is True or which.__class__ in (str, tuple, list):
+        last[:] = (module, which, which[:] if which.__class__ is list else which, plan)
+    return plan
 
 
 def of_solution(mech, sol, which) -> Sensitivities:
     """The sensitivities of a Solution; SingularError where Φ_q has lost rank."""
-    names, cols = _columns(mech, which)
-    comp, blocks = companion(mech)
+    comp, blocks, names, cols = _plan(mech, which)
     qd, qdd = sol.qd, sol.qdd
-    level = 0 if qd is None else 1 if qdd is None else 2
+    if qd is None:
+        level, qd, qdd = 0, blocks.zero, blocks.zero
+    elif qdd is None:
+        level, qdd = 1, blocks.zero
+    else:
+        level = 2
     D = np.empty(blocks.shape)
     if blocks.square:
-        status = comp.sensitivities_at(sol.q, blocks.zero if qd is None else qd,
-                                       blocks.zero if qdd is None else qdd, sol.t, mech.p,
-                                       level, cols, D, blocks.packed, blocks.scratch)
+        status = comp.sensitivities_at(sol.q, qd, qdd, sol.t, mech.p, level, cols, D,
+                                       blocks.packed, blocks.scratch)
     else:
         D[:] = np.nan
-        status = _least_squares(comp, mech, sol.q, blocks.zero if qd is None else qd,
-                                blocks.zero if qdd is None else qdd, sol.t, mech.p, level,
-                                cols, D)
+        status = _least_squares(comp, mech, sol.q, qd, qdd, sol.t, mech.p, level, cols, D)
     if status != 0:
         from ..analysis.locks import singular_error
         raise singular_error(mech, sol.t, sol.q, "parameter derivatives")

@@ -8,7 +8,7 @@ import numpy as np
 
 from ...protocol import LEVEL
 from .companion import companion
-from .solve import Sensitivities, _columns
+from .solve import Sensitivities, parameter_columns
 
 
 class TableSensitivities:
@@ -27,7 +27,7 @@ class TableSensitivities:
 
 def of_table(mech, tab, which) -> TableSensitivities:
     """The sensitivities of every design of ``tab`` (a DesignTable that kept its points)."""
-    names, cols = _columns(mech, which)
+    names, cols = parameter_columns(mech, which)
     comp, blocks = companion(mech)
     if not blocks.square:
         raise ValueError(f"sensitivities of a design table need a square build of "
