@@ -8,8 +8,11 @@ error against central differences of the closed-form-free module itself at a few
     python benchmarks/bench_sensitivities.py --n 100000 --rounds 5
 
 Prints per model: the sweep's wall time per point without and with sensitivities (the
-sweep is mech.sweep's, the sensitivities the sensitivity module's compiled pass over its
-points), their ratio, and the same for a single solve (median of many).
+sweep is mech.sweep's; at position level its quick path solves them on its way where the
+sensitivity module has it: SWEEP_FUSED, mechgen/compiler/sensitivity_sweep.py), their
+ratio, the same sweep then the separate compiled pass over its points (of_sweep, what a
+sweep without the fused path does: "pass ns/pt" and its ratio), and the same for a single
+solve (median of many).
 """
 from __future__ import annotations
 
@@ -28,6 +31,7 @@ os.environ.setdefault("MECHGEN_TIER", "compiled")
 
 import mechgen  # noqa: E402
 from mechgen.model.loader import load_models, pick_model  # noqa: E402
+from mechgen.runtime.sensitivity.solve import of_sweep  # noqa: E402
 
 MODELS = (("examples", "quick_return"), ("benchmarks", "strandbeest_params"))
 
@@ -54,15 +58,18 @@ def main(argv=None):
     args = ap.parse_args(argv)
     folder = tempfile.mkdtemp(prefix="mechgen-bench-sens-")
     print(f"{'model':14s} {'params':>6s} {'sweep ns/pt':>12s} {'+sens ns/pt':>12s} {'ratio':>6s}"
-          f" {'solve us':>9s} {'+sens us':>9s} {'ratio':>6s}")
+          f" {'pass ns/pt':>11s} {'ratio':>6s} {'solve us':>9s} {'+sens us':>9s} {'ratio':>6s}")
     for where, name in MODELS:
         mech = _mech(where, name, folder)
         params = list(mech.parameter_names)[:4]
         n = args.n
         mech.sweep(0, 1, 11, level=args.level, sensitivities=params)     # compile, warm
+        of_sweep(mech, mech.sweep(0, 1, 11, level=args.level), params)
         plain = best(lambda: mech.sweep(0, 1, n, level=args.level), args.rounds)
         sens = best(lambda: mech.sweep(0, 1, n, level=args.level, sensitivities=params),
                     args.rounds)
+        apart = best(lambda: of_sweep(mech, mech.sweep(0, 1, n, level=args.level), params),
+                     args.rounds)
         ts = np.linspace(0.05, 0.95, 200)
         mech.solve(0.3, level=args.level, sensitivities=params)
         mech.solve(0.3, level=args.level)
@@ -74,7 +81,8 @@ def main(argv=None):
         s0 = best(lambda: solves(False), args.rounds) / len(ts)
         s1 = best(lambda: solves(True), args.rounds) / len(ts)
         print(f"{name:14s} {len(params):6d} {plain / n * 1e9:12.1f} {sens / n * 1e9:12.1f} "
-              f"{sens / plain:6.2f} {s0 * 1e6:9.1f} {s1 * 1e6:9.1f} {s1 / s0:6.2f}")
+              f"{sens / plain:6.2f} {apart / n * 1e9:11.1f} {apart / plain:6.2f} "
+              f"{s0 * 1e6:9.1f} {s1 * 1e6:9.1f} {s1 / s0:6.2f}")
 
 
 if __name__ == "__main__":

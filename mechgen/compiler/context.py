@@ -99,27 +99,8 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
         written = plan.sorted and not profiles and len(eq.q) <= SHARE_MAX
         if written and plan.share and not plan.position_parts and derivatives is not None:
             step = written_step(plan, eq, derivatives)
-        pairs = [trig_pair(y) for y in plan.position.trig_pairs]
-        signs = [Derived("_sg_", y) for y in plan.position.signs]
-        # the coordinates a block solves other than explicitly (Newton's tears, closed
-        # forms', dyads'): predicted, and their corrections watched: a dyad's or a signed
-        # form's result does not depend on its guess, but a coarse step over a window where
-        # it does not assemble shows as a correction its sign alone cannot see; the
-        # tangent at a position sweep's first point predicts its second
-        # (not those it solves once, before its loop: position.solved_once)
-        once = solved_once(plan) if step is not None else set()
-        guessed = sorted({v for b in plan.blocks if b.method != EXPLICIT for v in b.tears
-                          if eq.q[v] not in once})
-        tangent = bool(guessed)
-        # the reach margins of the blocks solved whatever the guess (dyads.reach_body):
-        # kept by the written-out solver's blocks, else from reach()
-        watch = None if "reach" not in bodies else "written" if step else "call"
-        rotations = {f"Th{b.number}" for b in model.bodies.values() if not b.is_ground}
-        angles = [j for j, y in enumerate(eq.q) if y.name in rotations and y not in once]
-        # the coordinates that come out a constant number are finite at every point
-        constant = {y for y, v in plan.known_values.items() if v.is_number and v.is_finite}
-        checked = [j for j, y in enumerate(eq.q) if y not in constant]
-        det = written_det(plan, eq) if step is not None else None
+        pairs, signs, guessed, tangent, watch, angles, checked, det = \
+            sweep_arguments(model, plan, eq, step, "reach" in bodies)
         bodies["sweep_fast"] = sweep_fast_body(step, pairs, signs, guessed, tangent, watch,
                                                angles, checked=checked, det=det)
         # a dynamic solve's derivatives and multipliers in one pass, and the dynamic
@@ -200,6 +181,34 @@ def module_context(model, sort=True, level="acceleration", outputs=None, cse=Tru
     ctx.update(drawing_context(model, points))
     ctx["hash"] = model_hash(ctx)
     return ctx
+
+
+def sweep_arguments(model, plan, eq, step, reach) -> tuple:
+    """What sweep_fast_body takes besides the step (its docstring): (pairs, signs, guessed,
+    tangent, watch, angles, checked, det) of a sorted plan; ``step``: written_step's
+    pieces or None, ``reach``: whether the module has a reach() (dyads.reach_body)."""
+    pairs = [trig_pair(y) for y in plan.position.trig_pairs]
+    signs = [Derived("_sg_", y) for y in plan.position.signs]
+    # the coordinates a block solves other than explicitly (Newton's tears, closed
+    # forms', dyads'): predicted, and their corrections watched: a dyad's or a signed
+    # form's result does not depend on its guess, but a coarse step over a window where
+    # it does not assemble shows as a correction its sign alone cannot see; the
+    # tangent at a position sweep's first point predicts its second
+    # (not those it solves once, before its loop: position.solved_once)
+    once = solved_once(plan) if step is not None else set()
+    guessed = sorted({v for b in plan.blocks if b.method != EXPLICIT for v in b.tears
+                      if eq.q[v] not in once})
+    tangent = bool(guessed)
+    # the reach margins of the blocks solved whatever the guess (dyads.reach_body):
+    # kept by the written-out solver's blocks, else from reach()
+    watch = None if not reach else "written" if step else "call"
+    rotations = {f"Th{b.number}" for b in model.bodies.values() if not b.is_ground}
+    angles = [j for j, y in enumerate(eq.q) if y.name in rotations and y not in once]
+    # the coordinates that come out a constant number are finite at every point
+    constant = {y for y, v in plan.known_values.items() if v.is_number and v.is_finite}
+    checked = [j for j, y in enumerate(eq.q) if y not in constant]
+    det = written_det(plan, eq) if step is not None else None
+    return pairs, signs, guessed, tangent, watch, angles, checked, det
 
 
 def load_constants_context(model, eq) -> dict:

@@ -6,7 +6,9 @@ nothing: its module is the one it was.
 
 It holds Φ_q again, the derivatives of Φ, of the velocity and acceleration equations, of
 the points and of the outputs with respect to every parameter
-(functions/sensitivity_code.py), and the library's block solve (library/sensitivity.py).
+(functions/sensitivity_code.py), the library's block solve (library/sensitivity.py)
+and, where the module's fast sweep writes its solvers out, a position sweep's quick path
+with the derivatives in its loop (sensitivity_sweep.py: SWEEP_FUSED).
 It imports only math, numpy and numba, as every generated module, and states the
 MODEL_HASH of the module it belongs to.
 """
@@ -37,11 +39,19 @@ from .functions.sensitivity_code import (acceleration_rhs_body, driver_factors_p
                                          position_sensitivities_body, solve_sorted_body,
                                          velocity_rhs_body)
 from .library import body as library_body
+from .sensitivity_sweep import DOC as SWEEP_DOC
+from .sensitivity_sweep import SIGNATURE as SWEEP_SIGNATURE
+from .sensitivity_sweep import constants as fused_constants
+from .sensitivity_sweep import fused_bodies
+from .sensitivity_sweep import library as fused_library
 from .solver.plan import CHUNK_STORES, make_plan
+from .solver.scratch import scalar_scratch, scratch_names
+from .solver.sweep import options as sweep_options
 from .render import environment
 
 SUFFIX = "_sensitivities"
 _HASH = re.compile(r'^MODEL_HASH = "([0-9a-f]+)"$', re.M)
+_OPTIONS = re.compile(r"^# Regenerate with: .* --(level|closed-forms|outputs)\b", re.M)
 
 # (name, arguments, docstring) of the functions, in the module's order
 SIGNATURES = (
@@ -106,10 +116,11 @@ def module_hash_of(module_path: str) -> str:
     return found.group(1)
 
 
-def render_sensitivities(model, module_hash: str, sort=True) -> str:
+def render_sensitivities(model, module_hash: str, sort=True, fuse=True) -> str:
     """The text of ``model``'s sensitivity module, for the module whose MODEL_HASH is
     ``module_hash`` (``sort``: whether that module is sorted; its Φ_q is then solved on
-    the same blocks, written out: solve_sorted)."""
+    the same blocks, written out: solve_sorted; ``fuse``: whether that module is the
+    default build, whose fast sweep sweep_fast_sensitivities copies)."""
     model = held(model)
     eq = model.equations()
     check_square(model, eq)
@@ -140,14 +151,21 @@ def render_sensitivities(model, module_hash: str, sort=True) -> str:
         bodies[name] = outputs_p_body(model, eq, outputs, order) if outputs else [Code("pass")]
     # a cam profile's functions (and their derivatives in parameters) as helpers
     used = [e for b in bodies.values() for st in walk(b) for e in expressions(st)]
-    helpers = profile_helpers(model, eq, extra=used) + list(helpers)
+    profiles = profile_helpers(model, eq, extra=used)
+    helpers = profiles + list(helpers)
+    # a position sweep's quick path with the derivatives in its loop (sensitivity_sweep)
+    fused = fuse and fused_bodies(model, eq, solver if sorted_ else None, bool(profiles)) or {}
     library = library_body("linalg.py") + "\n\n" + library_body("sensitivity.py")
-    everything = [st for b in bodies.values() for st in b] + \
+    if fused:
+        library += "\n\n" + fused_library()
+    everything = [st for b in list(bodies.values()) + list(fused.values()) for st in b] + \
         [st for h in helpers for st in h.body]
     derived, plain = emitter_symbols(symbols(everything))
     used = set(module_words()) | module_level_names(library) | plain
     words = set(code_words(everything)) | {a for _, a2, _ in SIGNATURES for a in a2.split(", ")}
-    words |= {name for name, _, _ in SIGNATURES}
+    words |= {name for name, _, _ in SIGNATURES} | set(fused)
+    if fused:
+        words |= set(SWEEP_SIGNATURE.split(", ")) | set(scratch_names(len(eq.q)).split())
     used |= identifiers("\n".join(sorted(words)))
     names = Names([*eq.params, *eq.q, *eq.qd, *eq.qdd, T], used, derived)
     options = Options(names=names)
@@ -158,6 +176,8 @@ def render_sensitivities(model, module_hash: str, sort=True) -> str:
                       options=inline.get(fn, "")) for fn, args, doc in SIGNATURES]
     helpers = [dict(name=h.name, args=h.args, doc=h.doc, lines=render(h.body, options),
                     options="") for h in helpers]
+    if fused:
+        functions += fused_functions(fused, names, options, len(eq.q))
     constants = [("MODEL_NAME", json.dumps(model.name)), ("MODULE_HASH", json.dumps(module_hash)),
                  ("COMPANION", '"sensitivities"'), ("SENSITIVITY_FORMAT", str(SENSITIVITY_FORMAT)),
                  ("N_COORDS", str(len(eq.q))),
@@ -167,7 +187,8 @@ def render_sensitivities(model, module_hash: str, sort=True) -> str:
                  ("N_POINTS", str(len(points))), ("OUTPUTS", _tuple(outputs)),
                  ("SING_RTOL", repr(SING_RTOL)), ("TINY", repr(TINY)),
                  ("SORTED", str(sorted_)), ("FORCES", str(bool(model.has_dynamics))),
-                 ("TURNED", "np.array(%s, dtype=np.int64)" % _tuple(turned).replace('"', ""))]
+                 ("TURNED", "np.array(%s, dtype=np.int64)" % _tuple(turned).replace('"', "")),
+                 ("SWEEP_FUSED", str(bool(fused)))] + (fused_constants() if fused else [])
     ctx = dict(name=model.name, module_name=model.name + SUFFIX, doc=DOC,
                mechgen_version=MECHGEN_VERSION, coordinates=[s.name for s in eq.q],
                parameters=[s.name for s in eq.params], constants=constants,
@@ -180,13 +201,32 @@ def render_sensitivities(model, module_hash: str, sort=True) -> str:
     return STAMP.format(digest=content_digest(text)) + text
 
 
+def fused_functions(fused, names, options, n) -> list:
+    """The function dicts of the fused quick path (sensitivity_sweep) and of the module
+    functions its loop calls, as the template writes them."""
+    sweep = scalar_scratch(render(fused["sweep_fast_sensitivities"], sweep_options(names)), n)
+    doc = {"jacobian_det": "det Φ_q up to a constant sign into piv[0] (as in the module), "
+                           "the pattern of its blocks' signs into piv[1].",
+           "reach": "The smallest reach margin of the blocks solved whatever the guess "
+                    "(as in the module; 1.0: none)."}
+    return [dict(name="jacobian_det", args="q, t, p, piv", doc=doc["jacobian_det"],
+                 lines=render(fused["jacobian_det"], options), options=""),
+            dict(name="reach", args="q, t, p", doc=doc["reach"],
+                 lines=render(fused["reach"], options), options=""),
+            dict(name="sweep_fast_sensitivities", args=SWEEP_SIGNATURE, doc=SWEEP_DOC,
+                 lines=sweep, options="")]
+
+
 def build_sensitivities(model, module_path: str) -> str:
     """Write the sensitivity module of ``model`` beside its module at ``module_path``
     (unless the file there already holds the same text); returns its path."""
     path = companion_path(module_path)
     with open(module_path, encoding="utf-8") as fh:
-        sort = "\nSORTED = True\n" in fh.read()
-    text = render_sensitivities(model, module_hash_of(module_path), sort)
+        module = fh.read()
+    sort = "\nSORTED = True\n" in module
+    # the fused quick path copies the fast sweep of a default build (make_plan's options)
+    fuse = _OPTIONS.search(module) is None
+    text = render_sensitivities(model, module_hash_of(module_path), sort, fuse)
     try:
         with open(path, encoding="utf-8") as fh:
             if fh.read() == text:

@@ -340,10 +340,10 @@ class Mechanism:
         -------
         Sweep or DesignTable
         """
-        if sensitivities:
-            result = self.sweep(t0, t1, n, level, guess, method, tol, maxit, times, params,
-                                out, backend, workers, client, reduce, **table_options)
-            return _attach()(self, result, sensitivities)
+        if sensitivities:               # (at position level, solved in the sweep's loop)
+            from .sensitivity.fused import sweep_with
+            return sweep_with(self, sensitivities, t0, t1, n, level, guess, method, tol, maxit,
+                              times, params, out, backend, workers, client, reduce, table_options)
         if level.__class__ is str and level in FORCE_LEVELS and params is None:
             if out is not None or backend != "cpu" or reduce is not None:
                 raise ValueError(f"level={level!r}: out=, backend= and reduce= are for a "

@@ -21,7 +21,7 @@ from ...errors import ModelError
 from ...model.rates import almost_everywhere
 from ...model.symbolic import total_derivative
 from ..codegen.inputs import free, prologue, sym
-from ..codegen.ir import Assign, Code, Loop, Store, expressions, replaced, walk
+from ..codegen.ir import Assign, Code, If, Loop, Store, expressions, replaced, walk
 from ..codegen.schedule import TempNames, emit
 
 # the loop over the parameters' columns and the names the loop reads
@@ -244,18 +244,46 @@ def driver_factors_p_body(model, eq):
 
 
 def position_sensitivities_body(model, plan, eq) -> tuple:
+    """position_sensitivity_parts as the function's statements: Dq = −Φ_q⁻¹ Φ_p into
+    X[:, j] for the parameters with ``want[j]``, the sin and cos of the coordinates TURNED
+    read from ``sc``. Returns (statements, TURNED)."""
+    parts = position_sensitivity_parts(model, plan, eq)
+    if parts is None:
+        return [Code("return -1")], ()
+    head, common, per, trig = parts
+    exprs = [a.expr for a in head] + [st.expr for _, b, s in per for st in b + s]
+    exprs += [e for st in common for e in _exprs(st)]
+    read = free(exprs)
+    loads, turned = [], []
+    for k, x in enumerate(eq.q):
+        for row, fn in enumerate((sp.sin, sp.cos)):
+            if trig[fn(x)] in read:
+                loads.append(Code(f"{{0}} = sc[{row}, {k}]", (trig[fn(x)],)))
+        if trig[sp.sin(x)] in read or trig[sp.cos(x)] in read:
+            turned.append(k)
+    out = prologue(eq, exprs) + loads + emit(head + common, TempNames("_s"), plan.cse)
+    temps = TempNames()
+    for j, body, stores in per:
+        out.append(If(Code(f"want[{j}]"), tuple(emit(body + stores, temps, plan.cse)),
+                      tail=f"  # ∂/∂{eq.params[j].name}"))
+    return out + [Code("return 0")], tuple(turned)
+
+
+def position_sensitivity_parts(model, plan, eq, target="X[{k}, {j}]"):
     """Dq = −Φ_q⁻¹ Φ_p in one pass for the parameters j with ``want[j]`` (into X[:, j]):
     Φ_q's entries, Φ_p's and each block's singularity test once, common subexpressions
     shared, then per parameter the block forward substitution of its own right side, whose
     zeros are carried forward symbolically (a parameter that moves one loop touches only
     that loop's unknowns). Returns 2 where a block's pivot is below SING_RTOL of its
     scale; -1 in a model with a block of three or more unknowns (the library then solves
-    on solve_sorted). Returns (statements, the indices of the coordinates whose sin and
-    cos it reads from ``sc``: the module's TURNED)."""
-    from ..codegen.ir import Guard, If
+    on solve_sorted). Returns (head: Φ_q's and Φ_p's entries, common: the blocks'
+    determinants, pivot guards and reciprocals, per: [(j, body, stores into ``target``)],
+    trig: {sin(x): _sin_x, cos(x): _cos_x} the symbols that stand for the calls), or None
+    where a block has three or more unknowns."""
+    from ..codegen.ir import Guard
     from ..solver.linear import linear_code
     if any(b.size > 2 for b in plan.blocks):
-        return [Code("return -1")], ()
+        return None
     m, params = eq.phi.rows, list(eq.params)
     entries, derivs = {}, []
     for i in range(m):
@@ -287,7 +315,7 @@ def position_sensitivities_body(model, plan, eq) -> tuple:
                     known[st.target] = value
                 else:
                     body.append(Assign(st.target, value))
-        stores = [Store(f"X[{k}, {j}]", known.get(x, x), f"∂{eq.q[k].name}/∂{pj.name}"
+        stores = [Store(target.format(k=k, j=j), known.get(x, x), f"∂{eq.q[k].name}/∂{pj.name}"
                         if k == 0 else "") for k, x in enumerate(eq.qd)]
         per.append((j, body, stores))
     # each pivot's reciprocal once, in place of a division per parameter
@@ -325,19 +353,4 @@ def position_sensitivities_body(model, plan, eq) -> tuple:
     common = [turned(st) for st in common]
     per = [(j, [turned(st) for st in body], [turned(st) for st in stores])
            for j, body, stores in per]
-    exprs = [a.expr for a in head] + [st.expr for _, b, s in per for st in b + s]
-    exprs += [e for st in common for e in _exprs(st)]
-    read = free(exprs)
-    loads, turned = [], []
-    for k, x in enumerate(eq.q):
-        for row, fn in enumerate((sp.sin, sp.cos)):
-            if trig[fn(x)] in read:
-                loads.append(Code(f"{{0}} = sc[{row}, {k}]", (trig[fn(x)],)))
-        if trig[sp.sin(x)] in read or trig[sp.cos(x)] in read:
-            turned.append(k)
-    out = prologue(eq, exprs) + loads + emit(head + common, TempNames("_s"), plan.cse)
-    temps = TempNames()
-    for j, body, stores in per:
-        out.append(If(Code(f"want[{j}]"), tuple(emit(body + stores, temps, plan.cse)),
-                      tail=f"  # ∂/∂{params[j].name}"))
-    return out + [Code("return 0")], tuple(turned)
+    return head, common, per, trig

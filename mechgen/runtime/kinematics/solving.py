@@ -113,10 +113,11 @@ def solve_derivatives(state, ts, Q, QD=None, QDD=None, level="velocity"):
 
 
 def sweep(state, t0, t1, n, level="position", guess=None, method=None, tol=None, maxit=None,
-          times=None, out=None, forces=None):
+          times=None, out=None, forces=None, quick=None):
     """One kinematic sweep (Mechanism.sweep without params); ``forces``: a dict that a
     dynamic or static sweep's quick path fills with the multipliers it solved on the
-    way (sweeping.compiled), where the module has it."""
+    way (sweeping.compiled), where the module has it; ``quick``: a quick path in place
+    of the module's sweep_fast (sweeping.compiled; not in a sweep across stages)."""
     mech = state.owner
     if module_attr(state.module, "SWITCH_TIMES", ()):
         # a model with stages: a sweep across a switch runs stage by stage, each piece
@@ -156,7 +157,7 @@ def sweep(state, t0, t1, n, level="position", guess=None, method=None, tol=None,
         except MechgenError as exc:
             exc.sweep = no_points(mech, ts, lev)
             raise
-    return run(mech, ts, q0, lev, tol, maxit, meth, out, shared, forces)
+    return run(mech, ts, q0, lev, tol, maxit, meth, out, shared, forces, quick)
 
 
 def convergence_error(*args, **kwargs):

@@ -199,7 +199,7 @@ def out_arrays(out, N, n, lev):
 
 
 def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=None,
-             unwrap=True):
+             unwrap=True, quick=None):
     """The module's quick path (sweep_fast) while nothing is hard, then its careful
     continuation (sweep) from the last point the quick path accepted: (count solved, the
     first point the careful sweep solved: len(ts) when it did not run). Only the careful
@@ -209,7 +209,9 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
     multipliers too, and the dict receives "LAM", "FACTORS", "FPIV" and "count", the
     points before which they hold (the careful sweep's are not solved). ``unwrap``: q0's
     angles are first turned as the drivers ask (a guess's; False for a configuration
-    already solved at ts[0])."""
+    already solved at ts[0]). ``quick``: a callable that runs in place of the module's
+    sweep_fast, with its arguments and its answer (a layer above that solves more on the
+    way: sensitivity.fused); called at most once, where the quick path runs."""
     state = mech.state
     mod, p, xtol = state.tiers.module, state.p, state.xtol
     N = ts.shape[0]
@@ -236,7 +238,7 @@ def compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report, forces=
                               count=start if start == N else max(start - 1, 0))
         if start < 0:
             try:
-                start = mod.sweep_fast(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, S)
+                start = (quick or mod.sweep_fast)(ts, q0, p, tol, xtol, maxit, Q, QD, QDD, S)
             except ZeroDivisionError:   # the equations divide by zero at some point (a
                 start = 0               # driver 1/T at T = 0): the careful sweep says where
         if start == N:
@@ -270,11 +272,12 @@ def divides(mech, ts, what, **where) -> SingularError:
         "time", **where)
 
 
-def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False, forces=None) -> Sweep:
+def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False, forces=None,
+        quick=None) -> Sweep:
     """A checked sweep: the compiled loops, the result, its warnings, or the error of the
     point where it stopped (carrying the points solved before it as ``.sweep``).
-    ``shared``: ts is times()'s, copied before the result holds it. ``forces``: see
-    compiled()."""
+    ``shared``: ts is times()'s, copied before the result holds it. ``forces``,
+    ``quick``: see compiled()."""
     N, n = ts.shape[0], mech.n
     if out is None:
         ts, Q, QD, QDD, S = fresh_arrays(ts, n, lev, shared, mech)
@@ -285,7 +288,7 @@ def run(mech, ts, q0, lev, tol, maxit, meth, out=None, shared=False, forces=None
     report = np.zeros(REPORT_SIZE)
     try:
         done, careful = compiled(mech, ts, q0, lev, tol, maxit, meth, Q, QD, QDD, S, report,
-                                 forces)
+                                 forces, quick=quick)
     except ZeroDivisionError:       # Python's and numba's default error model raise
         raise divides(mech, ts, "the sweep", level=LEVELS[lev]) from None
     if done == N:
