@@ -107,3 +107,18 @@ def test_the_careful_continuation_takes_the_separate_pass(mech, monkeypatch):
         np.testing.assert_allclose(got[k][:, cols], dq, rtol=1e-6,
                                    atol=1e-6 * max(1.0, np.abs(dq).max()),
                                    err_msg=f"dq/dp at t={t}, {k} of {n}")
+
+
+@pytest.mark.parametrize("options", [dict(level="velocity"), dict(cse=False)])
+def test_only_a_default_build_gets_the_fused_quick_path(tmp_path, options):
+    """The fused quick path copies a default build's fast sweep: a module built otherwise
+    (another level, no common subexpressions) has none, and its sweep's sensitivities
+    come from the separate pass, still those of the closed form's module."""
+    fb = models.four_bar("sens_other", **FOURBAR, params={k: k for k in FOURBAR})
+    other = mechgen.compile(fb.m, outdir=str(tmp_path / "other"), tier=TIER, **options)
+    plain = mechgen.compile(fb.m, outdir=str(tmp_path / "plain"), tier=TIER)
+    assert companion(plain)[0].SWEEP_FUSED
+    assert not companion(other)[0].SWEEP_FUSED
+    a = other.sweep(0.0, 0.5, 40, level="position", sensitivities=True)
+    b = plain.sweep(0.0, 0.5, 40, level="position", sensitivities=True)
+    assert np.allclose(a.dq_dp, b.dq_dp, rtol=1e-10, atol=1e-12)

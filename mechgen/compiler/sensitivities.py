@@ -51,7 +51,6 @@ from .render import environment
 
 SUFFIX = "_sensitivities"
 _HASH = re.compile(r'^MODEL_HASH = "([0-9a-f]+)"$', re.M)
-_OPTIONS = re.compile(r"^# Regenerate with: .* --(level|closed-forms|outputs)\b", re.M)
 
 # (name, arguments, docstring) of the functions, in the module's order
 SIGNATURES = (
@@ -217,6 +216,29 @@ def fused_functions(fused, names, options, n) -> list:
                  lines=sweep, options="")]
 
 
+def _function_text(text: str, name: str):
+    """The text of module-level function ``name`` in a module's ``text`` (from its def
+    line to the next decorator or definition), or None."""
+    start = text.find(f"\ndef {name}(")
+    if start < 0:
+        return None
+    end = re.search(r"\n(@|def |class )", text[start + 1:])
+    return text[start:start + 1 + end.start()] if end else text[start:]
+
+
+def _default_fast_sweep(model, module_text: str) -> bool:
+    """Whether the module's sweep_fast is the one a default build writes (the fused quick
+    path's copy holds only then: a build with --level, --closed-forms, --outputs or
+    without CSE solves another way)."""
+    import warnings
+    from .render import render as render_module
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")     # (the module's build said them already)
+        default = render_module(model)
+    mine = _function_text(module_text, "sweep_fast")
+    return mine is not None and mine == _function_text(default, "sweep_fast")
+
+
 def build_sensitivities(model, module_path: str) -> str:
     """Write the sensitivity module of ``model`` beside its module at ``module_path``
     (unless the file there already holds the same text); returns its path."""
@@ -224,8 +246,9 @@ def build_sensitivities(model, module_path: str) -> str:
     with open(module_path, encoding="utf-8") as fh:
         module = fh.read()
     sort = "\nSORTED = True\n" in module
-    # the fused quick path copies the fast sweep of a default build (make_plan's options)
-    fuse = _OPTIONS.search(module) is None
+    # the fused quick path copies the fast sweep of a default build (make_plan's options):
+    # written only where the module's own sweep_fast is that build's, word for word
+    fuse = _default_fast_sweep(model, module)
     text = render_sensitivities(model, module_hash_of(module_path), sort, fuse)
     try:
         with open(path, encoding="utf-8") as fh:
