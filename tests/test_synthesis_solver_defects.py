@@ -116,7 +116,10 @@ def test_every_four_bar_of_five_poses(check):
 
 def test_one_module_serves_every_four_bar(check):
     """The check built its model once (the first four-bar's) and answers others with it;
-    defects_by_solver takes the check to reuse."""
+    defects_by_solver takes the check to reuse (a first four-bar builds it here: the test
+    runs alone, or first in its worker, as well as after the others)."""
+    first = crank_rocker(np.random.default_rng(4))
+    check(four_bar(first, poses_of(first, [0.2, 1.0, 2.1], [1, 1, 1])))
     mech = check.mech
     assert mech is not None and mech.tier == "python"
     link = crank_rocker(np.random.default_rng(9))
