@@ -12,6 +12,11 @@ runs with their parameters and times. Exits 1 on a wrong or crashed run, or a fa
 that answered less than --min-answered. Deterministic for a given --seed.
 
     PYTHONPATH=$PWD MECHGEN_TIER=compiled python benchmarks/random_mechanisms.py --count 10000
+
+``--large``: the auto tier with an empty numba cache and every sweep counted too large for
+Python, so that sweeps run on the mixed module (compiled loops, one-point solves in
+Python: mechgen.runtime.loading.mixed) until the worker's cache is ready, then on the
+whole compiled module (unset MECHGEN_TIER for it).
 """
 from __future__ import annotations
 
@@ -49,7 +54,14 @@ def main(argv=None):
     ap.add_argument("--min-answered", type=float, default=0.9,
                     help="the least share of the points a run's mode reaches from its start "
                          "(the closed form assembles) answered right, per family (0.9)")
+    ap.add_argument("--large", action="store_true",
+                    help="every sweep counted large, an empty numba cache (the mixed module)")
     args = ap.parse_args(argv)
+    if args.large:
+        import tempfile
+        from mechgen.runtime.loading import tiers
+        os.environ["NUMBA_CACHE_DIR"] = tempfile.mkdtemp(prefix="mechgen-profile-nc-")
+        tiers.BIG_CALL = 1e-9
     names = [n.strip() for n in args.families.split(",") if n.strip()]
     per = max(1, args.count // len(names))
     counts, started = Counter(), time.perf_counter()
