@@ -5,7 +5,9 @@
   slider's pin on the line y = e (an offset slider-crank; e = 0: in-line);
 - four_bar / four_bar_q: crank a about the origin, coupler b, rocker c about (d, 0);
 - quick_return / quick_return_q: seed 001's crank-driven quick-return
-  (examples/quick_return.py; its closed form is tests/closed_forms.quick_return).
+  (examples/quick_return.py; its closed form is tests/closed_forms.quick_return);
+- sprung_crank: a driven crank with a spring and a damper whose constants are parameters
+  (the loads' limits, the force arrows' names).
 
 A builder takes the numbers, which of them are parameters (``params``: role -> the
 parameter's name), the bodies' masses, and the names of joints and driver; its guess is the
@@ -95,6 +97,24 @@ def massive_slider_crank(name="sc"):
                 "rod": dict(mass=2.0, inertia=0.1, centroid=(0.35, 0)),
                 "slider": dict(mass=0.5)},
         joints=("A", "B", "C", "slide"), drive="drive")
+
+
+def sprung_crank(name="sprung_crank"):
+    """A crank turning 2π rad/s with mass mm (a parameter, default 1), a spring ``spr``
+    (k = kk, free length L0) and a damper ``dmp`` (c = cc) from its tip to the ground
+    point (0, 3); its pivot "pivot" and driver "drive" named."""
+    from mechgen import Model, T
+    m = Model(name)
+    g = m.ground("g", points=[(0, 0), (0, 3)])
+    mm = m.param("mm", 1.0)
+    crank = m.body("crank", points=[(0, 0), (1, 0)], guess=(0, 0, 0), mass=mm,
+                   inertia=0.1, centroid=(0.5, 0))
+    m.revolute(g[1], crank[1], name="pivot")
+    m.rotation_lock(crank, 2 * math.pi * T, name="drive")
+    kk, L0, cc = m.param("kk", 100.0), m.param("L0", 0.5), m.param("cc", 2.0)
+    m.spring(crank[2], g[2], kk, L0, name="spr")
+    m.damper(crank[2], g[2], cc, name="dmp")
+    return m
 
 
 # -- the four-bar -----------------------------------------------------------------------------

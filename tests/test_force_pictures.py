@@ -457,3 +457,19 @@ def test_springs_and_dampers_are_drawn_between_their_points_and_move_with_them(t
         rod, cyl = (np.column_stack(a.get_data()) for a in lines[1:])
         assert np.allclose(rod[0], P[1]) and np.allclose(cyl[-1], P[3])
     plt.close(d.figure)
+
+
+def test_force_arrows_name_the_body_and_point(tmp_path):
+    """An arrow at a point is labelled body.point (crank.P1) beside its constraint's name;
+    a driver's torque, at no one point, by its name."""
+    from models import sprung_crank
+    mech = mechgen.compile(sprung_crank("force_arrow_names"), outdir=str(tmp_path),
+                           tier="python")
+    s = mech.solve(0.1, level="dynamic")
+    d = plot.draw(mech, s, forces=True)
+    by = {a.short: a for a in d.forces.arrows}
+    pivot = by["pivot"]
+    assert pivot.where == "crank.P1"
+    assert pivot.label.get_text().startswith("crank.P1 (pivot) ")
+    drive = by["drive"]             # a torque on the crank: no one point, its name
+    assert drive.where is None and drive.label.get_text().startswith("drive ")
