@@ -6,6 +6,9 @@ an empty numba cache and a fresh build folder (CPU time, the child's own and its
 - ``sweep``: edit -> the first compiled 10^5-point acceleration sweep: import, build, load
   with the compiled tier, ``mech.sweep(0, 1, 10**5, level="acceleration")`` (the whole
   child: what a user waits for);
+- ``table``: edit -> the first design table in the auto tier (the first parameter at 8
+  values within 2 % of its default, 2001 times from 0 to 1, acceleration level; this
+  process's CPU, not the worker's);
 - ``whole``: the warm-up worker's work, every entry point compiled
   (mechgen.runtime.loading.warm, all stages) after the build;
 - per emitted function: numba's compile CPU (its own, the functions it compiled on its way
@@ -96,7 +99,8 @@ if MODE == "build":
     res["build"] = cpu() - t0
 else:
     m = model()
-    mech = mechgen.compile(m, outdir=OUT, tier="auto" if MODE == "auto" else "compiled")
+    tier = "auto" if MODE in ("auto", "table") else "compiled"
+    mech = mechgen.compile(m, outdir=OUT, tier=tier)
     res["build+load"] = cpu() - t0
     path = os.path.join(OUT, mech.name + ".py")
     res["module_lines"] = sum(1 for _ in open(path))
@@ -113,6 +117,19 @@ else:
             tiers = state.tiers if state is not None else getattr(mech, "_tiers", None)
             if tiers is not None:
                 tiers.stop_worker()
+    elif MODE == "table" and not mech.parameter_names:
+        res[MODE] = None
+    elif MODE == "table":     # the auto tier, this process only, as "auto"
+        import numpy as np
+        name, value = mech.parameter_names[0], float(mech.p[0])
+        t1 = cpu()
+        tab = mech.design_sweep(0.0, 1.0, 2001, {name: value * np.linspace(0.98, 1.02, 8)},
+                                level="acceleration", on_fail="ignore")
+        res[MODE] = cpu() - t1
+        res["check"] = int(np.sum(tab.status == 0))
+        own = resource.getrusage(resource.RUSAGE_SELF)
+        res["total"] = own.ru_utime + own.ru_stime
+        mech.state.tiers.stop_worker()
     else:
         from mechgen.runtime.loading.warm import STAGES, warm
         t1 = cpu()
@@ -160,7 +177,7 @@ def main():
     ap.add_argument("--models", default=",".join(MODELS))
     ap.add_argument("--root", default=ROOT, help="the checkout whose mechgen runs")
     ap.add_argument("--modes", default="build,sweep,auto,whole",
-                    help="of build, sweep, auto, whole")
+                    help="of build, sweep, auto, table, whole")
     ap.add_argument("--builds", type=int, default=3, help="fresh build processes (best of)")
     ap.add_argument("--functions", type=int, default=10, help="rows of the per-function tables")
     ap.add_argument("--json", help="write every result here")
@@ -183,13 +200,18 @@ def main():
                 r["load_model"] = min(b["load_model"] for b in builds)
                 print(f"{name}: build {r['build']:.2f} s (load_model {r['load_model']:.2f}; "
                       f"best of {args.builds})", flush=True)
-            for mode in ("sweep", "auto", "whole"):
+            for mode in ("sweep", "auto", "table", "whole"):
                 if mode not in modes:
                     continue
                 got = r[mode] = child(root, mode, name, tmp)
+                if got[mode] is None:
+                    print(f"{name}: {mode}: the model has no parameters", flush=True)
+                    continue
                 spent = sum(v[0] for v in got["functions"].values())
                 what = {"sweep": "edit -> first 10^5-point acceleration sweep (compiled tier)",
                         "auto": "the same in the auto tier (this process only)",
+                        "table": "edit -> first design table, 8 designs x 2001 times at "
+                                 "acceleration level (auto tier, this process only)",
                         "whole": "whole module (warm-up worker)"}[mode]
                 print(f"{name}: {what}: {got[mode]:.2f} s for that call, "
                       f"{got['total']:.2f} s the whole process (build+load "

@@ -161,3 +161,47 @@ def test_a_one_point_function_called_in_a_loop_is_compiled_once_it_costs_as_much
     held(q, 0.1, p, J)
     assert compiled.phi_q.signatures                         # and the holder's calls too
     assert np.array_equal(J, first)
+
+
+TABLE = textwrap.dedent("""
+    import json, sys
+    import numpy as np
+    import mechgen
+    from mechgen.runtime.loading import tiers
+    mech = mechgen.load(sys.argv[1], tier="auto")
+    tiers.BIG_CALL = 1e-9                     # any table is large now
+    tab = mech.design_sweep(float(sys.argv[2]), 1.0, 201, {"a": [0.7, 0.8, 0.9]},
+                            level="acceleration")
+    mech.state.tiers.stop_worker()
+    print(json.dumps({"mixed": mech.state.tiers.mixed, "Q": tab.Q.tolist(),
+                      "QDD": tab.QDD.tolist(), "ok": bool(np.all(tab.status == 0))}))
+""")
+
+
+def _cached(env):
+    return {os.path.basename(f).split("-")[0].split(".", 1)[1]
+            for f in glob.glob(os.path.join(env["NUMBA_CACHE_DIR"], "**", "*.nbi"),
+                               recursive=True)}
+
+
+@pytest.mark.parametrize("t0", [0.0, 0.25])
+def test_a_table_of_easy_designs_compiles_no_careful_sweep(fresh, t0):
+    """A first design table whose designs all take the quick path compiles the quick path
+    and the carrying of the guess's mode, not the careful sweep (sweep(), the design loop
+    that goes on with it); one starting after the guess's time (t0 0.25) compiles the
+    careful position sweep that takes each design there (walk_designs), and nothing
+    else more. Its numbers are the plain tier's, bit for bit."""
+    path, env = fresh
+    res = subprocess.run([sys.executable, "-c", TABLE, path, str(t0)], env=env, cwd=ROOT,
+                         capture_output=True, text=True, timeout=300)
+    assert res.returncode == 0, res.stderr[-2000:]
+    got = json.loads(res.stdout.strip().splitlines()[-1])
+    assert got["mixed"] and got["ok"]
+    cached = _cached(env)
+    assert {"sweep_designs_fast", "carry_designs", "sweep_fast"} <= cached, cached
+    assert not cached & {"sweep_designs_rest", "sweep_designs", "start_designs"}, cached
+    assert ("sweep" in cached) == ("walk_designs" in cached) == (t0 > 0.0), cached
+    plain = mechgen.load(path, tier="python")
+    ref = plain.design_sweep(t0, 1.0, 201, {"a": [0.7, 0.8, 0.9]}, level="acceleration")
+    assert np.array_equal(np.array(got["Q"]), ref.Q)
+    assert np.array_equal(np.array(got["QDD"]), ref.QDD)

@@ -282,6 +282,82 @@ def test_sweep_designs_is_a_sweep_per_design():
             np.testing.assert_allclose(QDD[d, k], qdd_, atol=1e-8)
 
 
+
+def _design_arrays(D, N):
+    n = toy.N_COORDS
+    return (np.zeros((D, N, n)), np.zeros((D, N, n)), np.zeros((D, N, n)),
+            np.zeros((D, N, protocol.STATUS_COLUMNS), dtype=np.int16))
+
+
+@pytest.mark.parametrize("start", [0, 1, 12, 31])
+def test_the_careful_rest_of_a_design_goes_on_from_its_quick_paths_last_point(start):
+    """sweep_designs_rest after a quick path that accepted ``start`` of the 31 points (its
+    points there put in by hand from the closed form, the rows after them left holding
+    the other branch, as a table's scratch arrays may): sweep() from the last accepted
+    point gives the closed form at every later point, and leaves a design swept whole
+    (start 31) as it is."""
+    ts = np.linspace(0.0, 3.0, 31)
+    P2 = np.array([P, [1.0, 2.5, 1.5]])
+    N = ts.size
+    Q, QD, QDD, STATUS = _design_arrays(2, N)
+    for d in range(2):
+        for k in range(N):
+            Q[d, k], QD[d, k], QDD[d, k] = exact(ts[k], P2[d])
+            if k >= start:                          # cos ph < 0: the other branch
+                Q[d, k, 1] = math.pi - Q[d, k, 1]
+                Q[d, k, 2] -= 2.0 * P2[d, 1] * math.cos(Q[d, k, 1] - math.pi)
+    START = np.full(2, start, dtype=np.int64)
+    done = designs.sweep_designs_rest(ts, np.tile(GUESS, (2, 1)), P2, 2, TOL, TOL, 50,
+                                      protocol.METHOD_AUTO, Q, QD, QDD, STATUS, START)
+    assert list(done) == [N, N]
+    for d in range(2):
+        for k, t in enumerate(ts):
+            q_, qd_, qdd_ = exact(t, P2[d])
+            np.testing.assert_allclose(Q[d, k], q_, atol=1e-9)
+            np.testing.assert_allclose(QD[d, k], qd_, atol=1e-8)
+            np.testing.assert_allclose(QDD[d, k], qdd_, atol=1e-8)
+        if start == N:
+            assert not STATUS[d].any()              # not touched: the quick path's
+
+
+def test_the_quick_path_of_every_design_counts_what_it_accepted():
+    """sweep_designs_fast: each design's sweep_fast() count (all 31 points of an easy
+    sweep, on the closed form); none with METHOD_FULL."""
+    ts = np.linspace(0.0, 3.0, 31)
+    P2 = np.array([P, [1.0, 2.5, 1.5]])
+    Q, QD, QDD, STATUS = _design_arrays(2, ts.size)
+    START = np.full(2, -1, dtype=np.int64)
+    designs.sweep_designs_fast(ts, np.tile(GUESS, (2, 1)), P2, TOL, TOL, 50,
+                               protocol.METHOD_AUTO, Q, QD, QDD, STATUS, START)
+    assert list(START) == [ts.size, ts.size]
+    for d in range(2):
+        for k, t in enumerate(ts):
+            np.testing.assert_allclose(Q[d, k], exact(t, P2[d])[0], atol=1e-9)
+    designs.sweep_designs_fast(ts, np.tile(GUESS, (2, 1)), P2, TOL, TOL, 50,
+                               protocol.METHOD_FULL, Q, QD, QDD, STATUS, START)
+    assert list(START) == [0, 0]
+
+
+def test_each_design_starts_carried_to_its_parameters_then_walked_to_the_first_time():
+    """carry_designs at the guess's time (0), then walk_designs to the table's first time
+    (0.8): each design's start is the closed form at its own parameters there, on the
+    guess's branch; start_designs, the two in one call, gives the same."""
+    tw = np.linspace(0.0, 0.8, 9)
+    P3 = np.array([[1.0, 2.0, 1.0], [1.2, 2.0, 1.0], [0.9, 2.4, 1.3]])
+    q = exact(0.0)[0]
+    Q0, S0 = np.zeros((3, toy.N_COORDS)), np.full(3, -1, dtype=np.int64)
+    designs.carry_designs(0.0, q, GUESS, P, P3, TOL, TOL, 50, protocol.METHOD_AUTO, Q0, S0)
+    assert list(S0) == [protocol.OK] * 3
+    for d in range(3):
+        np.testing.assert_allclose(Q0[d], exact(0.0, P3[d])[0], atol=1e-9)
+    designs.walk_designs(tw, P3, TOL, TOL, 50, protocol.METHOD_AUTO, Q0, S0)
+    assert list(S0) == [protocol.OK] * 3
+    for d in range(3):
+        np.testing.assert_allclose(Q0[d], exact(0.8, P3[d])[0], atol=1e-9)
+    both, S1 = np.zeros_like(Q0), np.full(3, -1, dtype=np.int64)
+    designs.start_designs(tw, q, GUESS, P, P3, TOL, TOL, 50, protocol.METHOD_AUTO, both, S1)
+    assert np.array_equal(both, Q0) and np.array_equal(S1, S0)
+
 def test_eval_points_and_outputs():
     ts = np.linspace(0.0, 1.0, 5)
     count, Q, QD, QDD, _ = run_sweep(continuation, ts)

@@ -130,36 +130,53 @@ def _carry(q, t, p0, p1, tol, xtol, maxit, method, info, angle, da, sa, ma):
 def start_designs(tw, q, g, p0, P, tol, xtol, maxit, method, Q0, S0):
     """Where each design (row d of P) starts, into Q0[d] and S0[d]: q, a solved
     configuration at time tw[0] with parameters p0, carried to the design's parameters
-    (carry_params), then along the times tw (a careful sweep: tw[-1] is the table's first
-    time; one time: none). S0[d] is OK, or the status of what blocked the way: JUMP or
-    THROUGH_SINGULAR where the parameters could not be carried (the design then starts
-    from g, the guess, as a table without a known start does, and is flagged with it),
-    the status of the sweep's failed solve where the design cannot reach the table's
-    first time from the guess's (the design is not solved). Releases the GIL."""
+    (carry_designs), then along the times tw (walk_designs: tw[-1] is the table's first
+    time; one time: none). The runtime makes the two calls itself, so that a table
+    starting at its guess's time never compiles the careful sweep. Releases the GIL."""
+    carry_designs(tw[0], q, g, p0, P, tol, xtol, maxit, method, Q0, S0)
+    if tw.shape[0] > 1:
+        walk_designs(tw, P, tol, xtol, maxit, method, Q0, S0)
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def carry_designs(t, q, g, p0, P, tol, xtol, maxit, method, Q0, S0):
+    """q, a solved configuration at time t with parameters p0, carried to each design's
+    parameters (row d of P; carry_params) into Q0[d]. S0[d] is OK, or JUMP or
+    THROUGH_SINGULAR where the parameters could not be carried: the design then starts
+    from g, the guess, as a table without a known start does, and is flagged with it.
+    Releases the GIL."""
     info = np.zeros(POINT_INFO_SIZE)
+    piv = np.zeros(2)
+    da = jacobian_det(q, t, p0, piv)
+    angle = angle_mask(q, t, p0)
+    ma = reach(q, t, p0) if REACH else 1.0
+    for d in range(P.shape[0]):
+        qd = Q0[d]
+        for j in range(N_COORDS):
+            qd[j] = q[j]
+        status = _carry(qd, t, p0, P[d], tol, xtol, maxit, method, info, angle, da,
+                        piv[1], ma)
+        if status != OK:
+            for j in range(N_COORDS):
+                qd[j] = g[j]
+        S0[d] = status
+
+
+@njit(cache=True, nogil=True, error_model="numpy")
+def walk_designs(tw, P, tol, xtol, maxit, method, Q0, S0):
+    """Each design carried at time tw[0] (S0[d] OK) taken along the times tw by a careful
+    position sweep, Q0[d] from its configuration there to the one at tw[-1], the table's
+    first time. S0[d] becomes the status of the sweep's failed solve where the design
+    cannot get there (it is then not solved). Releases the GIL."""
     m = tw.shape[0]
     Qw = np.empty((m, N_COORDS))
     Sw = np.zeros((m, 1), dtype=np.int16)
     none = np.empty((0, N_COORDS))
     report = np.zeros(REPORT_SIZE)
-    piv = np.zeros(2)
-    da = jacobian_det(q, tw[0], p0, piv)
-    angle = angle_mask(q, tw[0], p0)
-    ma = reach(q, tw[0], p0) if REACH else 1.0
     for d in range(P.shape[0]):
+        if S0[d] != OK:
+            continue
         qd = Q0[d]
-        for j in range(N_COORDS):
-            qd[j] = q[j]
-        status = _carry(qd, tw[0], p0, P[d], tol, xtol, maxit, method, info, angle, da,
-                        piv[1], ma)
-        if status != OK:
-            for j in range(N_COORDS):
-                qd[j] = g[j]
-            S0[d] = status
-            continue
-        S0[d] = OK
-        if m == 1:
-            continue
         # (the level as an int64, not the literal 0: numba would compile sweep() again
         # for Literal[int](0), some 5 s, beside the int64 one every sweep uses)
         k = sweep(tw, qd, P[d], np.int64(0), tol, xtol, maxit, method, Qw, none, none, Sw,
@@ -180,25 +197,50 @@ def sweep_designs(ts, Q0, P, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS
     configuration near ts[0]: start_designs), and Q[d], QD[d], QDD[d], STATUS[d] receive
     its sweep (as sweep() fills them: QD and QDD may have no rows below the levels that
     need them). Each design goes as a single sweep does in mechgen: sweep_fast() while
-    nothing is hard, then sweep() from its last accepted point. Returns the count of
-    solved times of each design. It releases the GIL (nogil): the runtime runs chunks of
-    designs on several threads at once, each design on its own."""
-    done = np.zeros(P.shape[0], dtype=np.int64)
-    report = np.zeros(REPORT_SIZE)
-    for d in range(P.shape[0]):
-        start = 0
-        if SORTED and LEVEL >= 2 and method != METHOD_FULL:
-            start = sweep_fast(ts, Q0[d], P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d],
-                               STATUS[d])
-        done[d] = sweep_on(ts, Q0[d], P[d], level, tol, xtol, maxit, method, Q[d], QD[d],
-                           QDD[d], STATUS[d], start, report)
-    return done
+    nothing is hard (sweep_designs_fast), then sweep() from its last accepted point
+    (sweep_designs_rest). Returns the count of solved times of each design. The runtime
+    makes the two calls itself, the second only where a design needs it, so that a
+    table whose designs are all easy never compiles the careful sweep."""
+    start = np.zeros(P.shape[0], dtype=np.int64)
+    sweep_designs_fast(ts, Q0, P, tol, xtol, maxit, method, Q, QD, QDD, STATUS, start)
+    return sweep_designs_rest(ts, Q0, P, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS,
+                              start)
 
 
 @njit(cache=True, nogil=True)
+def sweep_designs_fast(ts, Q0, P, tol, xtol, maxit, method, Q, QD, QDD, STATUS, START):
+    """The quick path of every design (sweep_fast(), arrays as sweep_designs fills them):
+    START[d] the count of times it accepted, ts.shape[0] where it swept them all; 0 where
+    the module has none or the method is METHOD_FULL. It releases the GIL (nogil): the
+    runtime runs chunks of designs on several threads at once, each design on its own."""
+    for d in range(P.shape[0]):
+        START[d] = 0
+        if SORTED and LEVEL >= 2 and method != METHOD_FULL:
+            START[d] = sweep_fast(ts, Q0[d], P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d],
+                                  STATUS[d])
+
+
+@njit(cache=True, nogil=True)
+def sweep_designs_rest(ts, Q0, P, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS,
+                       START):
+    """The careful rest of every design after its quick path accepted START[d] points
+    (sweep_designs_fast): sweep() from the last of them (sweep_on); a design swept whole
+    is left as it is. Returns the count of solved times of each design; releases the
+    GIL."""
+    done = np.zeros(P.shape[0], dtype=np.int64)
+    report = np.zeros(REPORT_SIZE)
+    for d in range(P.shape[0]):
+        done[d] = sweep_on(ts, Q0[d], P[d], level, tol, xtol, maxit, method, Q[d], QD[d],
+                           QDD[d], STATUS[d], START[d], report)
+    return done
+
+
+@njit(cache=True, nogil=True, inline="always")
 def sweep_on(ts, q0, p, level, tol, xtol, maxit, method, Q, QD, QDD, STATUS, start, report):
     """One design after its quick path accepted ``start`` points: sweep() from the last of
-    them (from q0 where there is none) over the rest; the count of solved times."""
+    them (from q0 where there is none) over the rest; the count of solved times. (Inlined
+    into its callers: a function of its own would be optimized by LLVM with all of
+    sweep() linked in, once more.)"""
     if start == ts.shape[0]:
         return start
     start = max(start - 1, 0)

@@ -567,7 +567,7 @@ def sweep_designs_statics(ts, Q0, P, method, tol, xtol, maxit, Q, STATUS, FACTOR
     for d in range(P.shape[0]):
         fast = sweep_fast_statics(ts, Q0[d], P[d], tol, xtol, maxit, Q[d], _none, _none,
                                   STATUS[d], LAM[d], FACTORS[d], PIV[d])
-        k = sweep_on(ts, Q0[d], P[d], 0, tol, xtol, maxit, method, Q[d], _none, _none,
+        k = sweep_on(ts, Q0[d], P[d], np.int64(0), tol, xtol, maxit, method, Q[d], _none, _none,
                      STATUS[d], fast, report)
         done[d] = k
         start = max(fast - 1, 0)            # where sweep() went on (its points: not yet)

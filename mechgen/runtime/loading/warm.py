@@ -18,9 +18,11 @@ from ...errors import MechgenError
 from ...protocol import LEVEL, LEVELS
 
 # in the order users need them: a position, its derivatives, a sweep (the quick path,
-# then the careful continuation), what pictures and diagnostics call, a design table, and
-# for a model with mass or loads its solves and sweeps at the force levels
-STAGES = ("position", "derivatives", "sweep", "careful", "diagnostics", "design", "forces")
+# then the careful continuation), what pictures and diagnostics call, a design table (its
+# quick path, then its careful one), and for a model with mass or loads its solves and
+# sweeps at the force levels
+STAGES = ("position", "derivatives", "sweep", "careful", "diagnostics", "design",
+          "design_careful", "forces")
 STAGES_FOR = {"sweep": ("sweep",), "design": ("design",), "simulate": ("simulate",)}
 
 
@@ -69,8 +71,18 @@ def _diagnostics(mech, t):
 def _design(mech, t):
     if mech.parameter_names:
         value = float(mech.p[0])
-        mech.design_sweep(t, t + 0.01, 3, {mech.parameter_names[0]: [value, value]},
-                          level=_top(mech), on_fail="ignore")
+        designs = {mech.parameter_names[0]: [value, value]}
+        mech.design_sweep(t, t + 0.01, 3, designs, level=_top(mech), on_fail="ignore")
+
+
+def _design_careful(mech, t):
+    # what a table of easy designs starting at the guess's time never calls: the careful
+    # sweep to a first time that is not the guess's (walk_designs) and after a quick path
+    # (sweep_designs_rest)
+    if mech.parameter_names:
+        value = float(mech.p[0])
+        mech.design_sweep(t + 0.01, t + 0.02, 3, {mech.parameter_names[0]: [value, value]},
+                          level=_top(mech), method="full", on_fail="ignore")
 
 
 def _forces(mech, t):
@@ -89,6 +101,7 @@ def _simulate(mech, t):
 
 _RUN = {"position": _position, "derivatives": _derivatives, "sweep": _sweep,
         "careful": _careful, "diagnostics": _diagnostics, "design": _design,
+        "design_careful": _design_careful,
         "forces": _forces, "simulate": _simulate}
 
 

@@ -1,5 +1,5 @@
 """Where a design table runs: ``backend="cpu"`` (chunks of designs on a pool of threads,
-each chunk one call of the module's compiled sweep_designs, which releases the GIL),
+each chunk through the module's compiled sweep_designs, which releases the GIL),
 ``"dask"`` (chunks over a dask.distributed cluster, mechgen.runtime.tables.dask_backend) or
 ``"cuda"`` (a generated GPU kernel, mechgen.runtime.tables.cuda). Every backend returns a
 TableData: the full arrays, or only the reductions when ``slots`` is given, and the

@@ -1,5 +1,6 @@
-"""Chunks of a design table: one call of the generated module's sweep_designs over a
-slice of the designs (it releases the GIL), its designs' statuses and, when asked, its
+"""Chunks of a design table: the generated module's sweep_designs over a slice of the
+designs (its two steps, each releasing the GIL: the careful one only where a design
+needs it), its designs' statuses and, when asked, its
 reductions, and the table the chunks are gathered into. Shared by the backends that run
 the compiled loop (mechgen.runtime.tables.backends' threads, mechgen.runtime.tables.dask_backend's
 workers).
@@ -12,6 +13,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from ...protocol import FORCE_LEVELS, METHOD, OK, STATUS_CODE, fused_path
+from ..kinematics.entry import module_attr
 from .reduce import DRIVER, design_status, reduce_chunk, repaired
 
 # A design table's per-point record: the first column of a sweep's STATUS rows (int16: the
@@ -105,13 +107,24 @@ def new_arrays(D, N, nq, lev):
 
 
 def sweep_chunk(module, ts, Q0, P, lev, tol, xtol, maxit, meth, Q, QD, QDD, INFO):
-    """The compiled sweep_designs over one chunk (Q0: each design's start; QD, QDD None
-    above the level): the count of solved times per design."""
+    """The module's sweep_designs over one chunk (Q0: each design's start; QD, QDD None
+    above the level): the count of solved times per design. Its two steps are called
+    one by one: the careful rest (sweep_designs_rest) only where a design's quick path
+    (sweep_designs_fast) stopped early, so that a table of easy designs never compiles
+    the careful sweep."""
     D, nq = P.shape[0], Q0.shape[1]
-    return np.asarray(module.sweep_designs(ts, Q0, P, lev, tol, xtol, maxit, meth, Q,
-                                           no_rows(D, nq) if QD is None else QD,
-                                           no_rows(D, nq) if QDD is None else QDD, INFO),
-                      dtype=np.int64)
+    QD = no_rows(D, nq) if QD is None else QD
+    QDD = no_rows(D, nq) if QDD is None else QDD
+    fast = module_attr(module, "sweep_designs_fast")
+    if fast is None:            # a module built before the two steps were split
+        return np.asarray(module.sweep_designs(ts, Q0, P, lev, tol, xtol, maxit, meth, Q, QD,
+                                               QDD, INFO), dtype=np.int64)
+    start = np.zeros(D, dtype=np.int64)
+    fast(ts, Q0, P, tol, xtol, maxit, meth, Q, QD, QDD, INFO, start)
+    if (start == ts.shape[0]).all():
+        return start
+    return np.asarray(module.sweep_designs_rest(ts, Q0, P, lev, tol, xtol, maxit, meth, Q, QD,
+                                                QDD, INFO, start), dtype=np.int64)
 
 
 def solve_chunk(module, ts, Q0, P, lev, tol, xtol, maxit, meth, slots, scratch=None):

@@ -1,5 +1,5 @@
 """Where each design of a table starts: on the assembly mode of the guess, carried to the
-design's parameters (the module's start_designs, on threads), and what the table's
+design's parameters (the module's carry_designs and walk_designs, on threads), and what the table's
 results say of a design whose start could not be carried.
 
 The reference is a mechanism's guess, a configuration at its time (``guess_t``) for its
@@ -91,8 +91,17 @@ def _starts(mech, ts, P, tol, maxit, meth, workers, followed):
     S0 = np.zeros(D, dtype=np.int64)
     p_ref = np.ascontiguousarray(p_ref, dtype=np.float64)
 
+    carry, walk = module_attr(mod, "carry_designs"), module_attr(mod, "walk_designs")
+
     def job(a, b):
-        start(tw, q, g, p_ref, P[a:b], tol, mech.xtol, maxit, meth, Q0[a:b], S0[a:b])
+        if carry is None:       # a module built before the two were split
+            start(tw, q, g, p_ref, P[a:b], tol, mech.xtol, maxit, meth, Q0[a:b], S0[a:b])
+            return
+        # the careful sweep to the table's first time only where it is not the guess's:
+        # a table starting there never compiles it
+        carry(tw[0], q, g, p_ref, P[a:b], tol, mech.xtol, maxit, meth, Q0[a:b], S0[a:b])
+        if tw.shape[0] > 1:
+            walk(tw, P[a:b], tol, mech.xtol, maxit, meth, Q0[a:b], S0[a:b])
 
     spans = [(a, min(D, a + CHUNK)) for a in range(0, D, CHUNK)]
     threads = 1 if getattr(mod, "__mechgen_tier__", "compiled") == "python" else \
