@@ -212,11 +212,12 @@ def test_static_design_table_solves_the_multipliers_in_its_sweeps(qr, monkeypatc
     assert chunks.fused_level(qr.module, np.array([[2, 0, 0]]), 0, 0) == 0
     assert chunks.fused_level(qr.module, np.array([[2, 0, 0]]), 2, 0) is None
     calls = []
-    real = qr.module.sweep_designs_statics
-    monkeypatch.setattr(qr.module, "sweep_designs_statics",
-                        lambda *a: calls.append(1) or real(*a))
+    for step in ("fast", "rest"):       # its quick paths, then the rests of the designs
+        real = getattr(qr.module, "sweep_designs_statics_" + step)  # that cannot turn
+        monkeypatch.setattr(qr.module, "sweep_designs_statics_" + step,
+                            lambda *a, _real=real, _step=step: calls.append(_step) or _real(*a))
     fused = qr.sweep(0.0, 1.0, 201, **kw)
-    assert calls
+    assert calls == ["fast", "rest"]
     monkeypatch.setattr(chunks, "fused_level", lambda *args: None)
     separate = qr.sweep(0.0, 1.0, 201, **kw)
     _same_tables(fused, separate)

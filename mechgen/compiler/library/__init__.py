@@ -5,7 +5,8 @@ acceleration solves, the solve entry points), continuation.py (the sweep, evalua
 along a sweep), designs.py (each design's start: the guess carried to its parameters; a
 sweep per design) and, for a model with mass or loads, forces.py (the
 multipliers block by block, forward dynamics and its integrator, the loops over points
-and designs) each have a head that imports what the code needs to
+and designs) and force_designs.py (the tables that solve the multipliers in their own
+sweeps) each have a head that imports what the code needs to
 run on its own, the marker line MARKER, and the body below it: the renderer copies the
 bodies verbatim into every generated module (library_text), after the module's own
 constants and model functions, so that a generated module runs where mechgen is not
@@ -23,7 +24,7 @@ import os
 MARKER = "# -- module body: below this line, the text as a generated module holds it --"
 # their order in a generated module
 FILES = ("linalg.py", "solve.py", "continuation.py", "designs.py")
-FORCE_FILES = ("forces.py",)    # after those, in a module built with mass or loads
+FORCE_FILES = ("forces.py", "force_designs.py")    # after those, with mass or loads
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 

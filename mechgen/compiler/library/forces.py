@@ -1,6 +1,7 @@
 """The forces of a generated module with masses or loads: the multipliers block by block,
 forward dynamics (the accelerations of a mechanism with drivers set free, and its compiled
-integrator), and the compiled loops over the points of a sweep and the designs of a table.
+integrator), and the compiled loops over the points of a sweep and the designs of a table
+(the loops that solve the multipliers in a table's own sweeps: force_designs.py).
 
 The renderer copies the body below the marker into a module built with mass or loads,
 after its own force functions (force_terms, energies, driver_factors, mass_matrix, and
@@ -16,13 +17,11 @@ import math
 
 import numpy as np
 
-from .designs import sweep_on
 from .linalg import _fp_solve
 from .solve import pivot_ratio
 from .toy import (FORCE_BLOCK_COLS, FORCE_BLOCK_ROWS, FORCE_BLOCK_START, FORCE_POINT,
-                  FORCE_SORTED, N_COORDS, N_EQS, REPORT_SIZE, SING_RTOL, driver_factors,
-                  energies, force_terms, gamma, mass_matrix, multipliers_point, njit, phi_q,
-                  sweep_fast_forces, sweep_fast_statics)
+                  FORCE_SORTED, N_COORDS, N_EQS, SING_RTOL, driver_factors,
+                  energies, force_terms, gamma, mass_matrix, multipliers_point, njit, phi_q)
 
 # -- module body: below this line, the text as a generated module holds it --
 # ---------------------------------------------------------------------------------------
@@ -518,61 +517,3 @@ def force_rows_designs(ts, Q, QD, QDD, P, done, FACTORS, PIV, LAM):
         if _k > 0:
             force_rows(ts[:_k], Q[_d, :_k], QD[_d, :_k], QDD[_d, :_k], P[_d], _jac, _terms,
                        _nu, _energy, FACTORS[_d, :_k], PIV[_d, :_k], LAM[_d, :_k])
-
-
-@njit(cache=True, nogil=True)
-def sweep_designs_forces(ts, Q0, P, method, tol, xtol, maxit, Q, QD, QDD, STATUS, FACTORS,
-                         PIV, LAM):
-    """sweep_designs at level acceleration with the multipliers of a dynamic table: each
-    design's quick path solves them on its way (sweep_fast_forces), the careful rest of
-    it by force_rows after sweep(). Row d of FACTORS, PIV and LAM receives design d's at
-    the times it solved (PIV below SING_RTOL: that λ is not to be used, the runtime
-    solves it by the SVD). Only for a module that has sweep_fast_forces (its multipliers
-    written out). Returns the count of solved times of each design; releases the GIL."""
-    done = np.zeros(P.shape[0], dtype=np.int64)
-    report = np.zeros(REPORT_SIZE)
-    _jac = np.empty((1, LAM.shape[2], N_COORDS))
-    _terms = np.empty((0, 3, N_COORDS))
-    _nu = np.empty((0, LAM.shape[2]))
-    _energy = np.empty((0, 3))
-    for d in range(P.shape[0]):
-        fast = sweep_fast_forces(ts, Q0[d], P[d], tol, xtol, maxit, Q[d], QD[d], QDD[d],
-                                 STATUS[d], LAM[d], FACTORS[d], PIV[d])
-        k = sweep_on(ts, Q0[d], P[d], np.int64(2), tol, xtol, maxit, method, Q[d], QD[d], QDD[d],
-                     STATUS[d], fast, report)
-        done[d] = k
-        start = max(fast - 1, 0)            # where sweep() went on (its points: not yet)
-        if fast < ts.shape[0] and k > start:
-            force_rows(ts[start:k], Q[d, start:k], QD[d, start:k], QDD[d, start:k], P[d],
-                       _jac, _terms, _nu, _energy, FACTORS[d, start:k], PIV[d, start:k],
-                       LAM[d, start:k])
-    return done
-
-
-@njit(cache=True, nogil=True)
-def sweep_designs_statics(ts, Q0, P, method, tol, xtol, maxit, Q, STATUS, FACTORS, PIV, LAM):
-    """sweep_designs at level position with the multipliers of a static table: each
-    design's quick path solves them on its way (sweep_fast_statics), the careful rest of
-    it by force_rows (q̇ = q̈ = 0) after sweep(); rows as sweep_designs_forces'. Only for
-    a module whose STATIC_FUSED is True. Returns the count of solved times of each
-    design; releases the GIL."""
-    done = np.zeros(P.shape[0], dtype=np.int64)
-    report = np.zeros(REPORT_SIZE)
-    _none = np.zeros((0, N_COORDS))         # a position sweep: no derivative rows
-    _still = np.zeros((ts.shape[0], N_COORDS))
-    _jac = np.empty((1, LAM.shape[2], N_COORDS))
-    _terms = np.empty((0, 3, N_COORDS))
-    _nu = np.empty((0, LAM.shape[2]))
-    _energy = np.empty((0, 3))
-    for d in range(P.shape[0]):
-        fast = sweep_fast_statics(ts, Q0[d], P[d], tol, xtol, maxit, Q[d], _none, _none,
-                                  STATUS[d], LAM[d], FACTORS[d], PIV[d])
-        k = sweep_on(ts, Q0[d], P[d], np.int64(0), tol, xtol, maxit, method, Q[d], _none, _none,
-                     STATUS[d], fast, report)
-        done[d] = k
-        start = max(fast - 1, 0)            # where sweep() went on (its points: not yet)
-        if fast < ts.shape[0] and k > start:
-            force_rows(ts[start:k], Q[d, start:k], _still[start:k], _still[start:k], P[d],
-                       _jac, _terms, _nu, _energy, FACTORS[d, start:k], PIV[d, start:k],
-                       LAM[d, start:k])
-    return done

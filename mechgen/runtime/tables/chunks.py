@@ -127,6 +127,21 @@ def sweep_chunk(module, ts, Q0, P, lev, tol, xtol, maxit, meth, Q, QD, QDD, INFO
                                                 QDD, INFO, start), dtype=np.int64)
 
 
+def two_steps(module, name, ts, Q0, P, meth, tol, xtol, maxit, *arrays):
+    """The module's design loop ``name`` (sweep_designs_forces, sweep_designs_statics:
+    arguments as there) in its two steps, as sweep_chunk makes sweep_designs: every
+    design's quick path (``name``_fast), then the careful rest (``name``_rest) only where
+    a quick path stopped early; the count of solved times per design."""
+    fast = module_attr(module, name + "_fast")
+    if fast is None:            # a module built before the two steps were split
+        return getattr(module, name)(ts, Q0, P, meth, tol, xtol, maxit, *arrays)
+    start = np.zeros(P.shape[0], dtype=np.int64)
+    fast(ts, Q0, P, tol, xtol, maxit, *arrays, start)
+    if (start == ts.shape[0]).all():
+        return start
+    return getattr(module, name + "_rest")(ts, Q0, P, meth, tol, xtol, maxit, *arrays, start)
+
+
 def solve_chunk(module, ts, Q0, P, lev, tol, xtol, maxit, meth, slots, scratch=None):
     """One chunk of designs through the compiled sweep_designs: (done, status, Q, QD, QDD,
     INFO) with the full arrays (QD, QDD None above the table's level), or (done, status,
@@ -169,12 +184,12 @@ def _solve_forces(module, ts, Q0, P, lev, tol, xtol, maxit, meth, slots, Q, QD, 
             FACTORS = np.empty((b - a, N, len(module.DRIVER_ROWS)))
             PIV = np.empty((b - a, N))
             if FORCE_LEVELS[fused] == "dynamic":
-                done[a:b] = module.sweep_designs_forces(ts, Q0[a:b], P[a:b], meth, tol, xtol,
-                                                        maxit, *part, FACTORS, PIV, LAM)
+                done[a:b] = two_steps(module, "sweep_designs_forces", ts, Q0[a:b], P[a:b],
+                                      meth, tol, xtol, maxit, *part, FACTORS, PIV, LAM)
             else:                   # static: a position sweep, λ at q̇ = q̈ = 0
-                done[a:b] = module.sweep_designs_statics(ts, Q0[a:b], P[a:b], meth, tol, xtol,
-                                                         maxit, part[0], part[3], FACTORS,
-                                                         PIV, LAM)
+                done[a:b] = two_steps(module, "sweep_designs_statics", ts, Q0[a:b], P[a:b],
+                                      meth, tol, xtol, maxit, part[0], part[3], FACTORS, PIV,
+                                      LAM)
             forces = {fused: repaired(module, ts, P[a:b], *part[:3], done[a:b], LAM, FACTORS,
                                       PIV)}
         else:
