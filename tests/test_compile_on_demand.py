@@ -191,9 +191,15 @@ def test_a_table_of_easy_designs_compiles_no_careful_sweep(fresh, t0):
     that goes on with it); one starting after the guess's time (t0 0.25) compiles the
     careful position sweep that takes each design there (walk_designs), and nothing
     else more. Its numbers are the plain tier's, bit for bit."""
+    from mechgen.runtime.loading.tiers import Lock, state_paths
     path, env = fresh
-    res = subprocess.run([sys.executable, "-c", TABLE, path, str(t0)], env=env, cwd=ROOT,
-                         capture_output=True, text=True, timeout=300)
+    lock = Lock(state_paths(path)[1])       # no worker: what is cached is the table's
+    assert lock.acquire(wait=False)
+    try:
+        res = subprocess.run([sys.executable, "-c", TABLE, path, str(t0)], env=env, cwd=ROOT,
+                             capture_output=True, text=True, timeout=300)
+    finally:
+        lock.release()
     assert res.returncode == 0, res.stderr[-2000:]
     got = json.loads(res.stdout.strip().splitlines()[-1])
     assert got["mixed"] and got["ok"]
