@@ -9,6 +9,8 @@ an empty numba cache and a fresh build folder (CPU time, the child's own and its
 - ``table``: edit -> the first design table in the auto tier (the first parameter at 8
   values within 2 % of its default, 2001 times from 0 to 1, acceleration level; this
   process's CPU, not the worker's);
+- ``force_table``: the same at level "dynamic", the first driver's effort reduced (a model
+  with masses or loads: the design loops that solve the multipliers in their sweeps);
 - ``whole``: the warm-up worker's work, every entry point compiled
   (mechgen.runtime.loading.warm, all stages) after the build;
 - per emitted function: numba's compile CPU (its own, the functions it compiled on its way
@@ -117,14 +119,19 @@ else:
             tiers = state.tiers if state is not None else getattr(mech, "_tiers", None)
             if tiers is not None:
                 tiers.stop_worker()
-    elif MODE == "table" and not mech.parameter_names:
+    elif MODE in ("table", "force_table") and not mech.parameter_names or \
+            MODE == "force_table" and not getattr(mech.module, "FORCES", False):
         res[MODE] = None
-    elif MODE == "table":     # the auto tier, this process only, as "auto"
+    elif MODE in ("table", "force_table"):   # the auto tier, this process only, as "auto"
         import numpy as np
         name, value = mech.parameter_names[0], float(mech.p[0])
+        kw = {"level": "acceleration"}
+        if MODE == "force_table":   # the first driver's effort, reduced: the fused sweeps
+            driver = [c[0] for c in mech.module.CONSTRAINTS if c[4]][0]
+            kw = {"level": "dynamic", "reduce": [driver]}
         t1 = cpu()
         tab = mech.design_sweep(0.0, 1.0, 2001, {name: value * np.linspace(0.98, 1.02, 8)},
-                                level="acceleration", on_fail="ignore")
+                                on_fail="ignore", **kw)
         res[MODE] = cpu() - t1
         res["check"] = int(np.sum(tab.status == 0))
         own = resource.getrusage(resource.RUSAGE_SELF)
@@ -177,7 +184,7 @@ def main():
     ap.add_argument("--models", default=",".join(MODELS))
     ap.add_argument("--root", default=ROOT, help="the checkout whose mechgen runs")
     ap.add_argument("--modes", default="build,sweep,auto,whole",
-                    help="of build, sweep, auto, table, whole")
+                    help="of build, sweep, auto, table, force_table, whole")
     ap.add_argument("--builds", type=int, default=3, help="fresh build processes (best of)")
     ap.add_argument("--functions", type=int, default=10, help="rows of the per-function tables")
     ap.add_argument("--json", help="write every result here")
@@ -200,18 +207,21 @@ def main():
                 r["load_model"] = min(b["load_model"] for b in builds)
                 print(f"{name}: build {r['build']:.2f} s (load_model {r['load_model']:.2f}; "
                       f"best of {args.builds})", flush=True)
-            for mode in ("sweep", "auto", "table", "whole"):
+            for mode in ("sweep", "auto", "table", "force_table", "whole"):
                 if mode not in modes:
                     continue
                 got = r[mode] = child(root, mode, name, tmp)
                 if got[mode] is None:
-                    print(f"{name}: {mode}: the model has no parameters", flush=True)
+                    print(f"{name}: {mode}: the model has no parameters (or, for a force "
+                          "table, no masses or loads)", flush=True)
                     continue
                 spent = sum(v[0] for v in got["functions"].values())
                 what = {"sweep": "edit -> first 10^5-point acceleration sweep (compiled tier)",
                         "auto": "the same in the auto tier (this process only)",
                         "table": "edit -> first design table, 8 designs x 2001 times at "
                                  "acceleration level (auto tier, this process only)",
+                        "force_table": "edit -> first dynamic design table reducing the "
+                                       "driver's effort, 8 x 2001 (auto tier, this process)",
                         "whole": "whole module (warm-up worker)"}[mode]
                 print(f"{name}: {what}: {got[mode]:.2f} s for that call, "
                       f"{got['total']:.2f} s the whole process (build+load "
