@@ -6,6 +6,8 @@ an empty numba cache and a fresh build folder (CPU time, the child's own and its
 - ``sweep``: edit -> the first compiled 10^5-point acceleration sweep: import, build, load
   with the compiled tier, ``mech.sweep(0, 1, 10**5, level="acceleration")`` (the whole
   child: what a user waits for);
+- ``force_sweep``: edit -> the first 10^5-point sweep at level "dynamic" in the auto tier
+  (a model with masses or loads; this process's CPU);
 - ``table``: edit -> the first design table in the auto tier (the first parameter at 8
   values within 2 % of its default, 2001 times from 0 to 1, acceleration level; this
   process's CPU, not the worker's);
@@ -120,8 +122,17 @@ else:
             if tiers is not None:
                 tiers.stop_worker()
     elif MODE in ("table", "force_table") and not mech.parameter_names or \
-            MODE == "force_table" and not getattr(mech.module, "FORCES", False):
+            MODE in ("force_table", "force_sweep") and not getattr(mech.module, "FORCES", False):
         res[MODE] = None
+    elif MODE == "force_sweep":   # the auto tier, this process only, as "auto"
+        import numpy as np
+        t1 = cpu()
+        sw = mech.sweep(0.0, 1.0, 10**5, level="dynamic")
+        res[MODE] = cpu() - t1
+        res["check"] = float(np.nansum(abs(sw.LAM)))
+        own = resource.getrusage(resource.RUSAGE_SELF)
+        res["total"] = own.ru_utime + own.ru_stime
+        mech.state.tiers.stop_worker()
     elif MODE in ("table", "force_table"):   # the auto tier, this process only, as "auto"
         import numpy as np
         name, value = mech.parameter_names[0], float(mech.p[0])
@@ -184,7 +195,7 @@ def main():
     ap.add_argument("--models", default=",".join(MODELS))
     ap.add_argument("--root", default=ROOT, help="the checkout whose mechgen runs")
     ap.add_argument("--modes", default="build,sweep,auto,whole",
-                    help="of build, sweep, auto, table, force_table, whole")
+                    help="of build, sweep, auto, force_sweep, table, force_table, whole")
     ap.add_argument("--builds", type=int, default=3, help="fresh build processes (best of)")
     ap.add_argument("--functions", type=int, default=10, help="rows of the per-function tables")
     ap.add_argument("--json", help="write every result here")
@@ -207,7 +218,7 @@ def main():
                 r["load_model"] = min(b["load_model"] for b in builds)
                 print(f"{name}: build {r['build']:.2f} s (load_model {r['load_model']:.2f}; "
                       f"best of {args.builds})", flush=True)
-            for mode in ("sweep", "auto", "table", "force_table", "whole"):
+            for mode in ("sweep", "auto", "force_sweep", "table", "force_table", "whole"):
                 if mode not in modes:
                     continue
                 got = r[mode] = child(root, mode, name, tmp)
@@ -218,6 +229,8 @@ def main():
                 spent = sum(v[0] for v in got["functions"].values())
                 what = {"sweep": "edit -> first 10^5-point acceleration sweep (compiled tier)",
                         "auto": "the same in the auto tier (this process only)",
+                        "force_sweep": "edit -> first 10^5-point dynamic sweep (auto tier, "
+                                       "this process only)",
                         "table": "edit -> first design table, 8 designs x 2001 times at "
                                  "acceleration level (auto tier, this process only)",
                         "force_table": "edit -> first dynamic design table reducing the "

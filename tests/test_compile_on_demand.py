@@ -211,3 +211,50 @@ def test_a_table_of_easy_designs_compiles_no_careful_sweep(fresh, t0):
     ref = plain.design_sweep(t0, 1.0, 201, {"a": [0.7, 0.8, 0.9]}, level="acceleration")
     assert np.array_equal(np.array(got["Q"]), ref.Q)
     assert np.array_equal(np.array(got["QDD"]), ref.QDD)
+
+
+FORCE_SWEEP = textwrap.dedent("""
+    import json, sys
+    import mechgen
+    from mechgen.runtime.loading import tiers
+    mech = mechgen.load(sys.argv[1], tier="auto")
+    tiers.BIG_CALL = 1e-9                     # any sweep is large now
+    sw = mech.sweep(0.0, 1.0, 201, level=sys.argv[2])
+    mech.state.tiers.stop_worker()
+    print(json.dumps({"mixed": mech.state.tiers.mixed, "Q": sw.Q.tolist(),
+                      "effort": sw.driver("crank driver").tolist()}))
+""")
+
+
+@pytest.mark.parametrize("level, loop", [("dynamic", "sweep_fast_forces"),
+                                         ("static", "sweep_fast_statics")])
+def test_a_force_sweep_compiles_its_own_quick_path_not_the_kinematic_one(tmp_path,
+                                                                         monkeypatch, level,
+                                                                         loop):
+    """A large force sweep before the cache is ready compiles the quick path that solves
+    the multipliers on its way, not the kinematic sweep_fast it does not call; its
+    numbers are the plain tier's, bit for bit."""
+    from mechgen.runtime.loading.tiers import Lock, state_paths
+    folder = tmp_path / "mod"
+    folder.mkdir()
+    path = str(folder / "quick_return_forces.py")
+    shutil.copy(os.path.join(GENERATED, "quick_return_forces.py"), path)
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path / "nc"))   # (the lock's place)
+    env = dict(os.environ, PYTHONPATH=ROOT)
+    env.pop("MECHGEN_TIER", None)
+    lock = Lock(state_paths(path)[1])       # no worker: what is cached is the sweep's
+    assert lock.acquire(wait=False)
+    try:
+        res = subprocess.run([sys.executable, "-c", FORCE_SWEEP, path, level], env=env,
+                             cwd=ROOT, capture_output=True, text=True, timeout=300)
+    finally:
+        lock.release()
+    assert res.returncode == 0, res.stderr[-2000:]
+    got = json.loads(res.stdout.strip().splitlines()[-1])
+    assert got["mixed"]
+    cached = _cached(env)
+    assert loop in cached and "sweep_fast" not in cached, " ".join(sorted(cached))
+    plain = mechgen.load(path, tier="python")
+    ref = plain.sweep(0.0, 1.0, 201, level=level)
+    assert np.array_equal(np.array(got["Q"]), ref.Q)
+    assert np.array_equal(np.array(got["effort"]), ref.driver("crank driver"))

@@ -144,7 +144,9 @@ def sweep(state, t0, t1, n, level="position", guess=None, method=None, tol=None,
         ts = sweep_times(t0, t1, n, times, each=point_bytes(mech.n, lev))
     tol = state.tol if tol is None else state.tol_of(tol)
     maxit = state.maxit if maxit is None else state.maxit_of(maxit)
-    state.tiers.expect(mech, ts.shape[0])
+    # (a force sweep's quick path is its own: what a large one compiles first)
+    kind = "sweep" if forces is None else ("dynamic" if lev >= 2 else "static")
+    state.tiers.expect(mech, ts.shape[0], kind)
     if guess is None and ts[0] == state.guess_t and at_guess_params(state):
         try:                # the guess solved where it was given, its angles kept
             with state.lock:    # near it as solve(t) keeps them (kinematics.follow)

@@ -23,7 +23,10 @@ from ...protocol import LEVEL, LEVELS
 # sweeps at the force levels
 STAGES = ("position", "derivatives", "sweep", "careful", "diagnostics", "design",
           "design_careful", "forces")
-STAGES_FOR = {"sweep": ("sweep",), "design": ("design",), "simulate": ("simulate",)}
+# what a large call of each kind compiles in its own process before the worker's cache is
+# ready (loading.tiers): a force sweep its own quick path, not the kinematic one's
+STAGES_FOR = {"sweep": ("sweep",), "design": ("design",), "simulate": ("simulate",),
+              "dynamic": ("dynamic_sweep",), "static": ("static_sweep",)}
 
 
 def _top(mech):
@@ -94,6 +97,16 @@ def _forces(mech, t):
             mech.sweep(t, t + 0.01, 3, level="dynamic")
 
 
+def _dynamic_sweep(mech, t):
+    if getattr(mech.module, "FORCES", False) and mech.built_level >= LEVEL["acceleration"]:
+        mech.sweep(t, t + 0.01, 3, level="dynamic")
+
+
+def _static_sweep(mech, t):
+    if getattr(mech.module, "FORCES", False):
+        mech.sweep(t, t + 0.01, 3, level="static")
+
+
 def _simulate(mech, t):
     if getattr(mech.module, "FORCES", False):
         mech.simulate(t, t + 1e-3, 2)
@@ -102,7 +115,8 @@ def _simulate(mech, t):
 _RUN = {"position": _position, "derivatives": _derivatives, "sweep": _sweep,
         "careful": _careful, "diagnostics": _diagnostics, "design": _design,
         "design_careful": _design_careful,
-        "forces": _forces, "simulate": _simulate}
+        "forces": _forces, "simulate": _simulate, "dynamic_sweep": _dynamic_sweep,
+        "static_sweep": _static_sweep}
 
 
 def warm(mech, stages=STAGES, t=0.0) -> list:
