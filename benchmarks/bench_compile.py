@@ -103,7 +103,7 @@ if MODE == "build":
     res["build"] = cpu() - t0
 else:
     m = model()
-    tier = "auto" if MODE in ("auto", "table") else "compiled"
+    tier = "compiled" if MODE in ("sweep", "whole") else "auto"
     mech = mechgen.compile(m, outdir=OUT, tier=tier)
     res["build+load"] = cpu() - t0
     path = os.path.join(OUT, mech.name + ".py")
