@@ -21,6 +21,7 @@ import numpy as np
 import pytest
 
 import mechgen
+from models import four_bar, four_bar_q
 
 GENERATED = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
                          "generated")
@@ -60,6 +61,31 @@ def test_design_table_from_another_time_follows_the_mode_given(qr):
             tab = qr.sweep(0.0, 1.0, 11, params={"longitud": [3.0]}, guess=mode)
         assert np.allclose(tab["X4"][0], [x4(t, sign) for t in tab.t], atol=1e-9)
         assert np.allclose(tab.sweep(0).mechanism.solve(0.35).q, mode.q, atol=1e-9)
+
+
+@pytest.fixture(scope="module")
+def crank_four_bar(tmp_path_factory):
+    """models.four_bar with its crank's length a parameter, guessed at T = 0 on mode 1."""
+    out = tmp_path_factory.mktemp("modes")
+    return mechgen.compile(four_bar("modes_four_bar", params={"a": "a"}).m, outdir=str(out),
+                           tier="python")
+
+
+@pytest.mark.parametrize("t0", [0.6, 0.8])
+def test_design_table_far_from_the_guess_time_keeps_its_mode(crank_four_bar, t0):
+    """A table starting most of a turn after its guess's time, by the full Newton: each
+    design, carried to its crank length at T = 0, is walked along the motion to t0 before
+    its sweep starts. (Without that walk, or from the walk's first point, the Newton from
+    the T = 0 configuration lands the a = 0.8 design on the other mode at t0, every
+    status OK. The sorted solver picks its dyads' sides by sign, so method "auto" keeps
+    the mode either way.)"""
+    lengths = [0.8, 0.9, 1.0]
+    tab = crank_four_bar.design_sweep(t0, t0 + 0.05, 3, {"a": lengths}, method="full",
+                                      level="position")
+    assert (tab.status == 0).all()
+    for d, a in enumerate(lengths):
+        want = [four_bar_q(float(t), a=a, mode=1) for t in tab.t]
+        assert np.allclose(tab.Q[d], want, atol=1e-9), (a, tab.Q[d][0], want[0])
 
 
 def test_singularities_from_another_time_start_on_the_mode_given():
